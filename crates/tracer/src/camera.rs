@@ -1,0 +1,241 @@
+//! The stereo camera: two parallel, off-axis eyes looking through one shared window.
+//!
+//! Head space follows Adelson & Hodges (1993) and the seed paper: left-handed, +z into the
+//! scene, the shared view window on the plane z = 0 centred on the view axis, the eyes at
+//! (∓e/2, 0, −d). The window is 2·d·tan(fov/2) wide, so changing `d` moves the
+//! zero-parallax plane without zooming. The head pose (`position`, the midpoint between the
+//! eyes, plus yaw and pitch) places head space in the world:
+//! `world = position + R · (head + (0, 0, d))`, R = R_y(yaw) · R_x(−pitch).
+
+use glam::{Mat3, Vec2, Vec3};
+
+use crate::ray::Ray;
+
+/// Which eye.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Eye {
+    /// The eye at x = −e/2; traced fully.
+    Left,
+    /// The eye at x = +e/2; reprojected by `stereo`.
+    Right,
+}
+
+impl Eye {
+    /// −1 for the left eye, +1 for the right.
+    #[must_use]
+    pub fn sign(self) -> f32 {
+        match self {
+            Eye::Left => -1.0,
+            Eye::Right => 1.0,
+        }
+    }
+}
+
+/// Head pose and stereo parameters, as in a scene file's `[camera]` table.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    /// Interpupillary distance e (world units), ≥ 0.
+    pub ipd: f32,
+    /// Distance d from the eyes to the zero-parallax window, > 0.
+    pub distance: f32,
+    /// Horizontal field of view in degrees, in (0, 180).
+    pub fov_deg: f32,
+    /// Midpoint between the eyes (world space).
+    pub position: Vec3,
+    /// Turn about +y in degrees; positive turns towards +x (right).
+    pub yaw_deg: f32,
+    /// Tilt in degrees; positive looks up.
+    pub pitch_deg: f32,
+}
+
+impl Default for Camera {
+    fn default() -> Self {
+        Self { ipd: 0.65, distance: 12.0, fov_deg: 45.0, position: Vec3::ZERO, yaw_deg: 0.0, pitch_deg: 0.0 }
+    }
+}
+
+impl Camera {
+    /// Width of the shared window at z = 0 (world units): 2·d·tan(fov/2).
+    #[must_use]
+    pub fn window_width(&self) -> f32 {
+        2.0 * self.distance * (0.5 * self.fov_deg.to_radians()).tan()
+    }
+
+    /// Rotation taking head-space directions to world space.
+    #[must_use]
+    pub fn world_from_head(&self) -> Mat3 {
+        Mat3::from_rotation_y(self.yaw_deg.to_radians()) * Mat3::from_rotation_x(-self.pitch_deg.to_radians())
+    }
+
+    /// World position of one eye.
+    #[must_use]
+    pub fn eye_position(&self, eye: Eye) -> Vec3 {
+        self.position + self.world_from_head() * Vec3::new(eye.sign() * 0.5 * self.ipd, 0.0, 0.0)
+    }
+
+    /// Head-space z of a world point: its depth beyond the zero-parallax window.
+    #[must_use]
+    pub fn head_z(&self, p: Vec3) -> f32 {
+        (self.world_from_head() * Vec3::Z).dot(p - self.position) - self.distance
+    }
+
+    /// Horizontal shift, in window units, from the left eye's window position of a point at
+    /// head-space depth `z` to the right eye's: e·z/(d+z). A point at infinity (a miss) shifts
+    /// by exactly e.
+    #[must_use]
+    pub fn disparity(&self, z: f32) -> f32 {
+        // Written as e·(1 − d/(d+z)) so that z = +∞ gives e rather than ∞/∞.
+        self.ipd * (1.0 - self.distance / (self.distance + z))
+    }
+
+    /// The view of one eye for a `width` × `height` image.
+    #[must_use]
+    pub fn view(&self, eye: Eye, width: u32, height: u32) -> EyeView {
+        let window_width = self.window_width();
+        let window_height = window_width * height as f32 / width as f32;
+        let rot = self.world_from_head();
+        EyeView {
+            eye,
+            width,
+            height,
+            origin: self.eye_position(eye),
+            eye_x: eye.sign() * 0.5 * self.ipd,
+            distance: self.distance,
+            window_width,
+            window_height,
+            inv_width: 1.0 / width as f32,
+            inv_height: 1.0 / height as f32,
+            world_from_head: rot,
+            head_from_world: rot.transpose(),
+            head_position: self.position,
+        }
+    }
+}
+
+/// One eye's precomputed view: generates primary rays and projects points to pixels.
+#[derive(Clone, Copy, Debug)]
+pub struct EyeView {
+    /// Which eye this is.
+    pub eye: Eye,
+    /// Image width in pixels.
+    pub width: u32,
+    /// Image height in pixels.
+    pub height: u32,
+    /// The eye's world position; every primary ray starts here.
+    pub origin: Vec3,
+    eye_x: f32,
+    distance: f32,
+    window_width: f32,
+    window_height: f32,
+    inv_width: f32,
+    inv_height: f32,
+    world_from_head: Mat3,
+    head_from_world: Mat3,
+    head_position: Vec3,
+}
+
+impl EyeView {
+    /// Window width in world units.
+    #[must_use]
+    pub fn window_width(&self) -> f32 {
+        self.window_width
+    }
+
+    /// Pixels per window unit, horizontally (W / window width).
+    #[must_use]
+    pub fn pixels_per_unit(&self) -> f32 {
+        self.width as f32 / self.window_width
+    }
+
+    /// The camera ray through the centre of pixel (i, j).
+    ///
+    /// The pixel centre lies on the window at x = ((i + ½)/W − ½)·width,
+    /// y = (½ − (j + ½)/H)·height.
+    #[inline]
+    #[must_use]
+    pub fn primary_ray(&self, i: u32, j: u32) -> Ray {
+        let x = ((i as f32 + 0.5) * self.inv_width - 0.5) * self.window_width;
+        let y = (0.5 - (j as f32 + 0.5) * self.inv_height) * self.window_height;
+        let dir_head = Vec3::new(x - self.eye_x, y, self.distance);
+        Ray::new(self.origin, (self.world_from_head * dir_head).normalize())
+    }
+
+    /// Head-space depth beyond the window (the paper's z) of a world point.
+    #[inline]
+    #[must_use]
+    pub fn head_z(&self, p: glam::Vec3) -> f32 {
+        self.head_from_world.row(2).dot(p - self.head_position) - self.distance
+    }
+
+    /// Continuous pixel coordinates (centre of pixel (i, j) is (i + ½, j + ½)) of a world
+    /// point, or `None` if it is not in front of the eye.
+    #[must_use]
+    pub fn project(&self, p: Vec3) -> Option<Vec2> {
+        let h = self.head_from_world * (p - self.head_position) - Vec3::new(0.0, 0.0, self.distance);
+        let w = h.z + self.distance;
+        if w <= 0.0 {
+            return None;
+        }
+        let x = self.eye_x + (h.x - self.eye_x) * self.distance / w;
+        let y = h.y * self.distance / w;
+        Some(Vec2::new(
+            (x / self.window_width + 0.5) * self.width as f32,
+            (0.5 - y / self.window_height) * self.height as f32,
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn camera() -> Camera {
+        Camera { ipd: 0.65, distance: 12.0, fov_deg: 45.0, ..Camera::default() }
+    }
+
+    #[test]
+    fn eyes_sit_at_plus_minus_half_ipd() {
+        let c = camera();
+        assert_eq!(c.eye_position(Eye::Left), Vec3::new(-0.325, 0.0, 0.0));
+        assert_eq!(c.eye_position(Eye::Right), Vec3::new(0.325, 0.0, 0.0));
+    }
+
+    #[test]
+    fn pixel_centre_ray_projects_back_to_the_pixel_centre() {
+        let c = Camera { yaw_deg: 20.0, pitch_deg: -10.0, position: Vec3::new(1.0, 2.0, -3.0), ..camera() };
+        for eye in [Eye::Left, Eye::Right] {
+            let v = c.view(eye, 640, 360);
+            for (i, j) in [(0, 0), (319, 180), (639, 359), (17, 301)] {
+                let p = v.primary_ray(i, j).at(23.0);
+                let px = v.project(p).unwrap();
+                assert!((px - Vec2::new(i as f32 + 0.5, j as f32 + 0.5)).length() < 2e-3, "{eye:?} {i},{j}: {px}");
+            }
+        }
+    }
+
+    #[test]
+    fn disparity_of_a_point_at_known_depth() {
+        // x_r − x_l = e·z/(d+z) in window units, for points behind, on and in front of the window.
+        let c = camera();
+        let (w, h) = (1280, 720);
+        let (l, r) = (c.view(Eye::Left, w, h), c.view(Eye::Right, w, h));
+        for z in [8.0_f32, 3.0, 0.0, -2.0, -6.0] {
+            let p = Vec3::new(0.7, -0.4, c.distance + z);
+            let xl = l.project(p).unwrap();
+            let xr = r.project(p).unwrap();
+            let expected = c.ipd * z / (c.distance + z) * l.pixels_per_unit();
+            assert!((xr.x - xl.x - expected).abs() < 1e-3, "z = {z}: {} vs {expected}", xr.x - xl.x);
+            assert!((xr.y - xl.y).abs() < 1e-4);
+            assert!((c.disparity(z) * l.pixels_per_unit() - expected).abs() < 1e-3);
+        }
+        assert_eq!(c.disparity(f32::INFINITY), c.ipd);
+    }
+
+    #[test]
+    fn distance_moves_the_window_without_zooming() {
+        // The central pixel's ray direction does not depend on d.
+        let a = Camera { ipd: 0.0, distance: 5.0, ..camera() }.view(Eye::Left, 100, 50);
+        let b = Camera { ipd: 0.0, distance: 50.0, ..camera() }.view(Eye::Left, 100, 50);
+        assert!((a.primary_ray(10, 7).dir - b.primary_ray(10, 7).dir).length() < 1e-6);
+    }
+}

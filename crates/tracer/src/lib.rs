@@ -1,0 +1,42 @@
+//! # tracer — a CPU Whitted ray tracer for spheres
+//!
+//! This crate owns everything about making one eye's image: the scene (plain data loaded
+//! from TOML), the off-axis stereo camera, ray–sphere intersection, Whitted shading
+//! (ambient + Lambert diffuse with hard shadows + Blinn–Phong highlights + mirror
+//! reflection; Whitted 1980), and the parallel renderer that fills a [`Film`].
+//!
+//! Besides colour, the film keeps a per-pixel *visible-surface record*
+//! ([`Surface`]): hit point, normal, depth, object id, per-light visibility and the
+//! view-independent part of the light. The `stereo` crate reads that record to build the
+//! second eye by reprojection; this crate knows nothing about stereo pairs beyond the
+//! camera geometry.
+//!
+//! Conventions (see the README): left-handed, +x right, +y up, +z into the scene; world
+//! units are arbitrary but shared by positions and radii; light is linear inside and
+//! encoded to 8-bit sRGB only when a pixel is written; pixel (i, j) has its centre at
+//! (i + 0.5, j + 0.5), with j growing downwards.
+
+mod camera;
+mod color;
+mod error;
+mod film;
+mod ray;
+mod render;
+mod scene;
+mod scene_file;
+mod shade;
+mod sphere;
+mod stats;
+mod world;
+
+pub use camera::{Camera, Eye, EyeView};
+pub use color::{linear_to_srgb8, pack_rgb, srgb8_to_linear, unpack_rgb};
+pub use error::SceneError;
+pub use film::{Film, Surface, NO_OBJECT};
+pub use ray::{reflect, spawn_ray, Ray};
+pub use render::render_eye;
+pub use world::Tracer;
+pub use scene::{Light, Material, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
+pub use shade::Shaded;
+pub use sphere::{intersect_sphere, Sphere};
+pub use stats::RayCounts;

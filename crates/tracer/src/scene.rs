@@ -1,0 +1,151 @@
+//! The scene as plain data: camera, render settings, point lights and spheres.
+//!
+//! Loaded from TOML by [`Scene::load`] (see `scene_file.rs` for the format and its checks).
+//! Spheres may revolve: an `orbit` sphere is at `center + radius · (sin θ, 0, −cos θ)` with
+//! θ = phase + 2π·t/period.
+
+use glam::Vec3;
+
+use crate::camera::Camera;
+use crate::sphere::Sphere;
+
+/// Most lights a scene may have: each light takes one bit of [`crate::Surface::lights`].
+pub const MAX_LIGHTS: usize = 32;
+/// Largest allowed reflection depth.
+pub const MAX_DEPTH_LIMIT: u32 = 16;
+
+/// Surface material (Whitted 1980 with Blinn–Phong highlights).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Material {
+    /// Linear albedo, each channel 0..1.
+    pub color: Vec3,
+    /// Lambert diffuse coefficient, 0..1.
+    pub diffuse: f32,
+    /// Highlight strength, 0..1.
+    pub specular: f32,
+    /// Blinn–Phong exponent, ≥ 1.
+    pub shininess: f32,
+    /// Mirror reflectivity, 0..1.
+    pub reflectivity: f32,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self { color: Vec3::ONE, diffuse: 0.7, specular: 0.0, shininess: 32.0, reflectivity: 0.0 }
+    }
+}
+
+/// How a sphere's centre moves.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Motion {
+    /// Fixed centre.
+    Static(Vec3),
+    /// Revolves in a horizontal circle.
+    Orbit {
+        /// Centre of the circle.
+        center: Vec3,
+        /// Radius of the circle, ≥ 0.
+        radius: f32,
+        /// Seconds per revolution, > 0.
+        period_s: f32,
+        /// Angle at t = 0, degrees.
+        phase_deg: f32,
+    },
+}
+
+impl Motion {
+    /// Centre at time `t` seconds.
+    #[must_use]
+    pub fn center_at(&self, t: f32) -> Vec3 {
+        match *self {
+            Motion::Static(c) => c,
+            Motion::Orbit { center, radius, period_s, phase_deg } => {
+                // Reduce t modulo the period first so long-running viewers keep precision.
+                let turns = (t / period_s).rem_euclid(1.0);
+                let theta = phase_deg.to_radians() + std::f32::consts::TAU * turns;
+                center + radius * Vec3::new(theta.sin(), 0.0, -theta.cos())
+            }
+        }
+    }
+}
+
+/// A sphere as the scene describes it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SceneSphere {
+    /// Radius, > 0.
+    pub radius: f32,
+    /// Where its centre is over time.
+    pub motion: Motion,
+    /// Its material.
+    pub material: Material,
+}
+
+/// A point light; no fall-off with distance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Light {
+    /// World position.
+    pub position: Vec3,
+    /// Linear intensity per channel, ≥ 0.
+    pub color: Vec3,
+}
+
+/// Global render settings (`[render]`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RenderSettings {
+    /// Reflection bounces; 0 = no reflections.
+    pub max_depth: u32,
+    /// Linear colour of rays that miss everything.
+    pub background: Vec3,
+    /// Global ambient term, multiplied by each surface's colour.
+    pub ambient: f32,
+}
+
+impl Default for RenderSettings {
+    fn default() -> Self {
+        Self { max_depth: 3, background: Vec3::new(0.05, 0.05, 0.08), ambient: 0.1 }
+    }
+}
+
+/// A whole scene.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Scene {
+    /// The head pose and stereo parameters.
+    pub camera: Camera,
+    /// Global settings.
+    pub render: RenderSettings,
+    /// Point lights (at most [`MAX_LIGHTS`]; none means ambient only).
+    pub lights: Vec<Light>,
+    /// Spheres; their index is the object id in the visible-surface record.
+    pub spheres: Vec<SceneSphere>,
+}
+
+impl Scene {
+    /// Geometry of sphere `k` at time `t`.
+    #[must_use]
+    pub fn sphere_at(&self, k: usize, t: f32) -> Sphere {
+        let s = &self.spheres[k];
+        Sphere { center: s.motion.center_at(t), radius: s.radius }
+    }
+
+    /// Whether any sphere moves (the viewer only animates such scenes).
+    #[must_use]
+    pub fn is_animated(&self) -> bool {
+        self.spheres.iter().any(|s| matches!(s.motion, Motion::Orbit { .. }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn orbit_follows_the_documented_parametrisation() {
+        let m = Motion::Orbit { center: Vec3::new(0.0, 1.2, 15.0), radius: 2.0, period_s: 8.0, phase_deg: 0.0 };
+        // θ = 0: centre + r·(0, 0, −1); a quarter period later θ = 90°: centre + r·(1, 0, 0).
+        assert!((m.center_at(0.0) - Vec3::new(0.0, 1.2, 13.0)).length() < 1e-5);
+        assert!((m.center_at(2.0) - Vec3::new(2.0, 1.2, 15.0)).length() < 1e-5);
+        assert!((m.center_at(8.0) - m.center_at(0.0)).length() < 1e-5);
+        let phased = Motion::Orbit { center: Vec3::ZERO, radius: 1.0, period_s: 8.0, phase_deg: 90.0 };
+        assert!((phased.center_at(0.0) - Vec3::X).length() < 1e-6);
+    }
+}

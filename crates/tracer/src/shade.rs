@@ -1,0 +1,160 @@
+//! Whitted shading (Whitted 1980, "An improved illumination model for shaded display").
+//!
+//! At a hit with unit normal n, material (colour c, kd, ks, shininess s, kr) and view
+//! direction d (towards the surface):
+//!
+//! ```text
+//! L = c · (ambient + kd · Σ_k V_k · max(0, n·l_k) · I_k)      view-independent ("diffuse")
+//!   + ks · Σ_k V_k · max(0, n·h_k)^s · I_k                    view-dependent: highlight
+//!   + kr · L(reflected ray r = d − 2(d·n)n)                   view-dependent: reflection
+//! ```
+//!
+//! with l_k the unit vector to light k, h_k = normalize(l_k − d) (Blinn–Phong) and V_k the
+//! light's visibility: 1 when the surface faces the light (n·l > 0) and a shadow ray towards
+//! it is unblocked. Reflection recurses up to `max_depth` bounces; a miss returns the
+//! background. The two parts are computed by separate functions so that `stereo` can reuse
+//! the first from the other eye and recompute only the second.
+
+use glam::Vec3;
+
+use crate::camera::EyeView;
+use crate::color::pack_rgb;
+use crate::film::Surface;
+use crate::ray::{reflect, spawn_ray, Ray};
+use crate::stats::RayCounts;
+use crate::world::Tracer;
+
+/// Where light visibility comes from when shading a hit.
+#[derive(Clone, Copy, Debug)]
+enum Visibility {
+    /// Cast a shadow ray to each light the surface faces.
+    Trace,
+    /// Reuse known visibility bits (bit k = light k reaches the point).
+    Known(u32),
+}
+
+/// One shaded primary sample: the pixel colour and its visible-surface record.
+#[derive(Clone, Copy, Debug)]
+pub struct Shaded {
+    /// sRGB pixel, `0x00RRGGBB`.
+    pub rgb: u32,
+    /// Head-space depth beyond the window; +∞ for a miss.
+    pub z: f32,
+    /// What the ray saw.
+    pub surface: Surface,
+}
+
+impl Tracer {
+    /// Radiance arriving along `ray`, which is at reflection depth `depth`.
+    #[must_use]
+    pub fn trace(&self, ray: &Ray, depth: u32, counts: &mut RayCounts) -> Vec3 {
+        match self.intersect(ray, f32::INFINITY) {
+            Some((t, object)) => self.shade_hit(ray, t, object, depth, Visibility::Trace, counts).0,
+            None => self.settings.background,
+        }
+    }
+
+    /// Traces the primary ray of pixel (i, j) of `view` and shades it fully.
+    #[inline]
+    #[must_use]
+    pub fn trace_pixel(&self, view: &EyeView, i: u32, j: u32, counts: &mut RayCounts) -> Shaded {
+        counts.primary += 1;
+        let ray = view.primary_ray(i, j);
+        match self.intersect(&ray, f32::INFINITY) {
+            Some((t, object)) => self.shaded_sample(view, &ray, t, object, Visibility::Trace, counts),
+            None => self.miss_sample(),
+        }
+    }
+
+    /// Shades the hit of `ray` on sphere `object` at parameter `t` with known light
+    /// visibility `lights` (no shadow rays), recomputing everything else. With the right
+    /// visibility this is bit-for-bit what [`Tracer::trace_pixel`] would produce.
+    #[inline]
+    #[must_use]
+    pub fn shade_known_visibility(&self, view: &EyeView, ray: &Ray, t: f32, object: u32, lights: u32, counts: &mut RayCounts) -> Shaded {
+        self.shaded_sample(view, ray, t, object, Visibility::Known(lights), counts)
+    }
+
+    /// Re-shades a surface seen from another eye for the eye at `eye_origin`: keeps its
+    /// view-independent light and recomputes the highlight and reflection for the new view
+    /// direction. Casts no shadow ray for the surface itself.
+    #[inline]
+    #[must_use]
+    pub fn reshade(&self, eye_origin: Vec3, surface: &Surface, counts: &mut RayCounts) -> u32 {
+        let d = (surface.point - eye_origin).normalize();
+        let m = &self.materials[surface.object as usize];
+        let view_dependent = self.view_dependent(surface.point, surface.normal, d, m, surface.lights, 0, counts);
+        pack_rgb(surface.diffuse + view_dependent)
+    }
+
+    /// The sample of a pixel whose primary ray missed.
+    #[must_use]
+    pub fn miss_sample(&self) -> Shaded {
+        Shaded { rgb: pack_rgb(self.settings.background), z: f32::INFINITY, surface: Surface::MISS }
+    }
+
+    fn shaded_sample(&self, view: &EyeView, ray: &Ray, t: f32, object: u32, vis: Visibility, counts: &mut RayCounts) -> Shaded {
+        let (color, surface) = self.shade_hit(ray, t, object, 0, vis, counts);
+        Shaded { rgb: pack_rgb(color), z: view.head_z(surface.point), surface }
+    }
+
+    fn shade_hit(&self, ray: &Ray, t: f32, object: u32, depth: u32, vis: Visibility, counts: &mut RayCounts) -> (Vec3, Surface) {
+        let k = object as usize;
+        let p = ray.at(t);
+        let n = (p - self.centers[k]) / self.radii[k];
+        let m = &self.materials[k];
+        let (diffuse, lights) = self.view_independent(p, n, m.color, m.diffuse, vis, counts);
+        let color = diffuse + self.view_dependent(p, n, ray.dir, m, lights, depth, counts);
+        (color, Surface { point: p, normal: n, diffuse, object, lights })
+    }
+
+    /// Ambient + Lambert diffuse with hard shadows, and the visibility bits it found.
+    fn view_independent(&self, p: Vec3, n: Vec3, color: Vec3, kd: f32, vis: Visibility, counts: &mut RayCounts) -> (Vec3, u32) {
+        let mut sum = Vec3::ZERO;
+        let mut bits = 0u32;
+        for (k, light) in self.lights.iter().enumerate() {
+            let to_light = light.position - p;
+            let dist = to_light.length();
+            let l = to_light / dist;
+            let ndl = n.dot(l);
+            if ndl <= 0.0 {
+                continue;
+            }
+            let visible = match vis {
+                Visibility::Trace => {
+                    counts.shadow += 1;
+                    !self.occluded(&spawn_ray(p, n, l), dist)
+                }
+                Visibility::Known(known) => known & (1 << k) != 0,
+            };
+            if visible {
+                bits |= 1 << k;
+                sum += ndl * light.color;
+            }
+        }
+        (color * (self.settings.ambient + kd * sum), bits)
+    }
+
+    /// Blinn–Phong highlights from the visible lights plus the mirror reflection.
+    fn view_dependent(&self, p: Vec3, n: Vec3, d: Vec3, m: &crate::Material, lights: u32, depth: u32, counts: &mut RayCounts) -> Vec3 {
+        let mut out = Vec3::ZERO;
+        if m.specular > 0.0 {
+            for (k, light) in self.lights.iter().enumerate() {
+                if lights & (1 << k) == 0 {
+                    continue;
+                }
+                let l = (light.position - p).normalize();
+                let ndh = n.dot((l - d).normalize_or_zero());
+                if ndh > 0.0 {
+                    out += m.specular * ndh.powf(m.shininess) * light.color;
+                }
+            }
+        }
+        if m.reflectivity > 0.0 && depth < self.settings.max_depth {
+            counts.reflection += 1;
+            let reflected = spawn_ray(p, n, reflect(d, n));
+            out += m.reflectivity * self.trace(&reflected, depth + 1, counts);
+        }
+        out
+    }
+}

@@ -1,0 +1,92 @@
+//! The scene frozen at one instant, ready to trace: the two scene queries live here.
+
+use glam::Vec3;
+
+use crate::ray::Ray;
+use crate::scene::{Light, Material, RenderSettings, Scene};
+use crate::sphere::intersect_sphere;
+
+/// A scene at one instant, laid out for tracing. Build it once and [`Tracer::update`] it each
+/// frame: the buffers are reused, so a warm viewer does not allocate per frame.
+#[derive(Clone, Debug, Default)]
+pub struct Tracer {
+    pub(crate) centers: Vec<Vec3>,
+    pub(crate) radii: Vec<f32>,
+    pub(crate) materials: Vec<Material>,
+    pub(crate) lights: Vec<Light>,
+    pub(crate) settings: RenderSettings,
+}
+
+impl Tracer {
+    /// The scene at time `t` seconds.
+    #[must_use]
+    pub fn new(scene: &Scene, t: f32) -> Self {
+        let mut tracer = Self::default();
+        tracer.update(scene, t);
+        tracer
+    }
+
+    /// Re-resolves the scene at time `t`, reusing this tracer's buffers.
+    pub fn update(&mut self, scene: &Scene, t: f32) {
+        self.centers.clear();
+        self.radii.clear();
+        self.materials.clear();
+        for (k, s) in scene.spheres.iter().enumerate() {
+            let g = scene.sphere_at(k, t);
+            self.centers.push(g.center);
+            self.radii.push(g.radius);
+            self.materials.push(s.material);
+        }
+        self.lights.clear();
+        self.lights.extend_from_slice(&scene.lights);
+        self.settings = scene.render;
+    }
+
+    /// The render settings in force (reflection depth, background, ambient).
+    #[must_use]
+    pub fn settings(&self) -> &RenderSettings {
+        &self.settings
+    }
+
+    /// Overrides the reflection depth (the viewer's slider).
+    pub fn set_max_depth(&mut self, depth: u32) {
+        self.settings.max_depth = depth;
+    }
+
+    /// Number of spheres.
+    #[must_use]
+    pub fn sphere_count(&self) -> usize {
+        self.centers.len()
+    }
+
+    /// Closest hit in `(0, t_max)`: `(t, object id)`.
+    #[inline]
+    #[must_use]
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(f32, u32)> {
+        let mut best = None;
+        let mut t_best = t_max;
+        for (k, (&c, &r)) in self.centers.iter().zip(&self.radii).enumerate() {
+            if let Some(t) = intersect_sphere(ray, c, r, t_best) {
+                t_best = t;
+                best = Some((t, k as u32));
+            }
+        }
+        best
+    }
+
+    /// Whether anything blocks `ray` before `t_max` (any hit, early exit): the shadow query.
+    #[inline]
+    #[must_use]
+    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+        self.centers.iter().zip(&self.radii).any(|(&c, &r)| intersect_sphere(ray, c, r, t_max).is_some())
+    }
+
+    /// Hit parameter of `ray` against the one sphere `object`, ignoring all others. Used by
+    /// `stereo`'s exact mode: one sphere test, not a scene ray.
+    #[inline]
+    #[must_use]
+    pub fn intersect_object(&self, ray: &Ray, object: u32) -> Option<f32> {
+        let k = object as usize;
+        intersect_sphere(ray, self.centers[k], self.radii[k], f32::INFINITY)
+    }
+}
