@@ -75,13 +75,13 @@ impl Tracer {
         self.shaded_sample(view, ray, t, object, Visibility::Known(lights), counts)
     }
 
-    /// Re-shades a surface seen from another eye for the eye at `eye_origin`: keeps its
-    /// view-independent light and recomputes the highlight and reflection for the new view
-    /// direction. Casts no shadow ray for the surface itself.
+    /// Re-shades a surface seen from another eye for a view along the unit direction `d`
+    /// (the new pixel's ray): keeps its view-independent light and recomputes the highlight
+    /// and reflection. Casts no shadow ray for the surface itself. With `d` equal to the
+    /// original ray's direction the result is bit-for-bit the original pixel.
     #[inline]
     #[must_use]
-    pub fn reshade(&self, eye_origin: Vec3, surface: &Surface, counts: &mut RayCounts) -> u32 {
-        let d = (surface.point - eye_origin).normalize();
+    pub fn reshade(&self, d: Vec3, surface: &Surface, counts: &mut RayCounts) -> u32 {
         let m = &self.materials[surface.object as usize];
         let view_dependent = self.view_dependent(surface.point, surface.normal, d, m, surface.lights, 0, counts);
         pack_rgb(surface.diffuse + view_dependent)

@@ -1,0 +1,125 @@
+//! Per-scanline reprojection of the left eye into the right (Adelson & Hodges 1993, the
+//! seed paper's Algorithm 1).
+//!
+//! For the off-axis parallel camera a point at head-space depth z seen at window position
+//! x_l by the left eye is at x_r = x_l + e·z/(d+z) for the right eye, on the same scanline.
+//! In pixels, left pixel i's centre lands at the continuous position i + ½ + e·z/(d+z)·W/w
+//! (w the window width), i.e. in right pixel j = ⌊i + ½ + shift⌋.
+//!
+//! The scan goes left to right and keeps `oldx`, the previous target:
+//! - a write to j replaces whatever an earlier pixel wrote there: for a < b whose targets
+//!   cross, b is the nearer surface (nearer points shift less), so "later wins" resolves
+//!   occlusion without a z-buffer;
+//! - when j − oldx > 1, every right pixel strictly between them is marked for retracing,
+//!   even if an earlier (farther, further-left) write landed there: the surface stretched in
+//!   the right view, or a surface the left eye never saw is disoccluded;
+//! - pixels no left pixel lands on (the border strip the left eye never saw) stay unmarked
+//!   and are retraced too;
+//! - a miss is a point at infinity and shifts by exactly e·W/w, like any other pixel.
+//!
+//! Where this differs from the printed Algorithm 1, and why:
+//! - the printed `let oldx = j` sits after the pixel loop; it must be inside it, once per
+//!   pixel, or the gap test compares against the previous scanline;
+//! - the printed lines 8 and 15 say "left image" where they mean the right image's pixel j;
+//! - targets beyond the right edge are clamped to W (the paper's `M`) so the span up to the
+//!   edge is still gap-tested, and targets left of 0 are dropped without a write;
+//! - the paper reprojects the left *colour*; here a reprojected pixel only names its source
+//!   left pixel, and the mode decides what to reuse from its visible-surface record.
+
+/// "No left pixel fills this right pixel": it must be retraced.
+pub const NO_SOURCE: u32 = u32::MAX;
+
+/// Reprojects one scanline.
+///
+/// `z` holds the left row's head-space depths (+∞ for a miss); `shift_scale` is e·W/w, the
+/// shift in pixels of a point at infinity; `distance` is d. On return `src[j]` is
+/// `row_base + i` for the left pixel i that fills right pixel j, or [`NO_SOURCE`].
+pub fn reproject_row(z: &[f32], shift_scale: f32, distance: f32, row_base: u32, src: &mut [u32]) {
+    debug_assert_eq!(z.len(), src.len());
+    let w = src.len() as i64;
+    src.fill(NO_SOURCE);
+    let mut oldx: i64 = -1;
+    for (i, &zi) in z.iter().enumerate() {
+        // e·z/(d+z) written as e·(1 − d/(d+z)) so that z = +∞ shifts by exactly e.
+        let x = i as f32 + 0.5 + shift_scale * (1.0 - distance / (distance + zi));
+        let j = if x >= w as f32 { w } else { x.floor() as i64 };
+        if j - oldx > 1 {
+            let lo = (oldx + 1).max(0) as usize;
+            let hi = j.min(w) as usize;
+            if lo < hi {
+                src[lo..hi].fill(NO_SOURCE);
+            }
+        }
+        if (0..w).contains(&j) {
+            src[j as usize] = row_base + i as u32;
+        }
+        oldx = j;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const D: f32 = 12.0;
+
+    fn run(z: &[f32], scale: f32) -> Vec<u32> {
+        let mut src = vec![0; z.len()];
+        reproject_row(z, scale, D, 0, &mut src);
+        src
+    }
+
+    #[test]
+    fn zero_ipd_is_the_identity() {
+        let z = [f32::INFINITY, 3.0, -2.0, 0.0, 40.0];
+        assert_eq!(run(&z, 0.0), vec![0, 1, 2, 3, 4]);
+    }
+
+    #[test]
+    fn background_shifts_by_e_and_leaves_a_border() {
+        // Every pixel at infinity, shift 3: right pixels 0..3 are the unseen border.
+        let z = [f32::INFINITY; 8];
+        let n = NO_SOURCE;
+        assert_eq!(run(&z, 3.0), vec![n, n, n, 0, 1, 2, 3, 4]);
+    }
+
+    #[test]
+    fn window_plane_does_not_move() {
+        // z = 0 is the zero-parallax plane: no shift whatever the IPD.
+        let z = [0.0; 6];
+        assert_eq!(run(&z, 7.0), vec![0, 1, 2, 3, 4, 5]);
+    }
+
+    #[test]
+    fn nearer_surface_wins_and_disocclusion_is_a_gap() {
+        // Background (shift 4) then a near surface on the window (shift 0) from pixel 6 on.
+        let inf = f32::INFINITY;
+        let z = [inf, inf, inf, inf, inf, inf, 0.0, 0.0, 0.0, inf, inf, inf, inf, inf, inf, inf];
+        let src = run(&z, 4.0);
+        let n = NO_SOURCE;
+        // Background 0..6 lands on 4..10; the near surface 6..9 overwrites 6..9 in place;
+        // background 9.. lands on 13.., leaving 9..13 (was background 5 at 9) as a gap.
+        assert_eq!(src, vec![n, n, n, n, 0, 1, 6, 7, 8, n, n, n, n, 9, 10, 11]);
+    }
+
+    #[test]
+    fn stretched_span_is_retraced_even_over_an_earlier_write() {
+        // Targets 0, 1, 2 then 5: pixels 3 and 4 are between consecutive targets.
+        // An earlier pixel could have landed on 3, but the gap rule clears it.
+        let mut src = vec![0; 8];
+        // shift = scale·(1 − d/(d+z)); choose z so the shifts are 0, 0, 0, 2, 2...
+        let z2 = D * 2.0 / (8.0 - 2.0); // shift 2 with scale 8
+        let z = [0.0, 0.0, 0.0, z2, z2, z2, z2, z2];
+        reproject_row(&z, 8.0, D, 100, &mut src);
+        let n = NO_SOURCE;
+        assert_eq!(src, vec![100, 101, 102, n, n, 103, 104, 105]);
+    }
+
+    #[test]
+    fn pixels_in_front_of_the_window_shift_left_and_off_the_edge() {
+        // z = −d/2: shift = scale · (1 − 2) = −scale.
+        let z = [-D / 2.0; 6];
+        let n = NO_SOURCE;
+        assert_eq!(run(&z, 2.0), vec![2, 3, 4, 5, n, n]);
+    }
+}

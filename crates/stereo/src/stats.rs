@@ -1,0 +1,129 @@
+//! What a stereo frame cost and how its right-eye pixels were made.
+
+use tracer::RayCounts;
+
+/// How one right-eye pixel was made. Every pixel has exactly one class.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[repr(u8)]
+pub enum PixelClass {
+    /// Filled from a reprojected left pixel.
+    Reprojected = 0,
+    /// Retraced: no left pixel landed here, or it lies in a stretched span (a gap, the
+    /// disoccluded strip, or the border the left eye never saw).
+    #[default]
+    RetracedGap = 1,
+    /// Retraced: its reprojected object differs from a neighbour's (a silhouette).
+    RetracedEdge = 2,
+    /// Retraced: its reused light visibility differs from a neighbour's (a shadow edge).
+    RetracedShadow = 3,
+    /// Traced from scratch because the mode is `full`.
+    Traced = 4,
+}
+
+/// Pixel counts per class for the right eye.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct PixelCounts {
+    /// [`PixelClass::Reprojected`].
+    pub reprojected: u64,
+    /// [`PixelClass::RetracedGap`].
+    pub retraced_gap: u64,
+    /// [`PixelClass::RetracedEdge`].
+    pub retraced_edge: u64,
+    /// [`PixelClass::RetracedShadow`].
+    pub retraced_shadow: u64,
+    /// [`PixelClass::Traced`] (full mode).
+    pub traced: u64,
+}
+
+impl PixelCounts {
+    /// Counts the classes of a mask.
+    #[must_use]
+    pub fn of(mask: &[PixelClass]) -> Self {
+        let mut c = Self::default();
+        for &p in mask {
+            match p {
+                PixelClass::Reprojected => c.reprojected += 1,
+                PixelClass::RetracedGap => c.retraced_gap += 1,
+                PixelClass::RetracedEdge => c.retraced_edge += 1,
+                PixelClass::RetracedShadow => c.retraced_shadow += 1,
+                PixelClass::Traced => c.traced += 1,
+            }
+        }
+        c
+    }
+
+    /// All pixels.
+    #[must_use]
+    pub fn total(&self) -> u64 {
+        self.reprojected + self.retraced_gap + self.retraced_edge + self.retraced_shadow + self.traced
+    }
+
+    /// Share of pixels reprojected, 0..1.
+    #[must_use]
+    pub fn reprojected_share(&self) -> f64 {
+        if self.total() == 0 {
+            0.0
+        } else {
+            self.reprojected as f64 / self.total() as f64
+        }
+    }
+}
+
+/// One eye's cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct EyeStats {
+    /// Rays cast for this eye, by kind.
+    pub rays: RayCounts,
+    /// Wall time for this eye, milliseconds.
+    pub ms: f64,
+}
+
+/// Wall time per stage, milliseconds.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct StageTimes {
+    /// Tracing the left eye.
+    pub trace_left: f64,
+    /// Reprojection and classification of the right eye.
+    pub reproject: f64,
+    /// Retracing the right eye's gap, edge and shadow-boundary pixels (all pixels in full mode).
+    pub retrace: f64,
+    /// Filling the reprojected pixels (copy, reshade or exact shading).
+    pub reshade: f64,
+}
+
+/// Everything measured about one stereo frame.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameStats {
+    /// The left eye (always fully traced).
+    pub left: EyeStats,
+    /// The right eye.
+    pub right: EyeStats,
+    /// Right-eye pixels by class.
+    pub pixels: PixelCounts,
+    /// Time per stage.
+    pub stages: StageTimes,
+    /// Single-sphere tests made by exact mode (not scene rays, so not in `right.rays`).
+    pub sphere_tests: u64,
+}
+
+impl FrameStats {
+    /// The right eye's rays as a share of the left eye's.
+    #[must_use]
+    pub fn right_ray_ratio(&self) -> f64 {
+        ratio(self.right.rays.total() as f64, self.left.rays.total() as f64)
+    }
+
+    /// The right eye's time as a share of the left eye's.
+    #[must_use]
+    pub fn right_time_ratio(&self) -> f64 {
+        ratio(self.right.ms, self.left.ms)
+    }
+}
+
+fn ratio(a: f64, b: f64) -> f64 {
+    if b > 0.0 {
+        a / b
+    } else {
+        0.0
+    }
+}

@@ -1,0 +1,126 @@
+//! Command-line arguments (clap). `stereotrace` alone opens the window.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand};
+use stereo::Mode;
+
+/// Default scene, relative to the workspace root (also found next to the executable's
+/// workspace when run from elsewhere; see `scene_path`).
+pub const DEFAULT_SCENE: &str = "assets/scenes/seed.toml";
+
+/// Largest image side accepted, per eye, in pixels.
+pub const MAX_SIDE: u32 = 16_384;
+
+/// stereotrace — a real-time CPU ray tracer that renders a stereo pair and makes the right
+/// eye by reprojecting the left (Adelson & Hodges 1993).
+///
+/// Without a subcommand it opens the viewer window.
+#[derive(Debug, Parser)]
+#[command(name = "stereotrace", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    #[command(flatten)]
+    pub window: WindowArgs,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render one stereo frame headless to PNG files.
+    Render(RenderArgs),
+    /// Render the same frames in every mode and report time, rays and quality.
+    Bench(BenchArgs),
+}
+
+/// Options of the viewer window.
+#[derive(Debug, Args)]
+pub struct WindowArgs {
+    /// Scene file (TOML).
+    #[arg(long, value_name = "PATH", global = false)]
+    pub scene: Option<PathBuf>,
+    /// Initial window width in logical pixels (both eyes together).
+    #[arg(long, value_name = "W", default_value_t = 1600, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)))]
+    pub width: u32,
+    /// Initial window height in logical pixels.
+    #[arg(long, value_name = "H", default_value_t = 600, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)))]
+    pub height: u32,
+    /// Exit after this many presented frames (for tests).
+    #[arg(long, value_name = "N")]
+    pub frames: Option<u64>,
+    /// Write the last presented frame, UI included, to this PNG on exit (for tests).
+    #[arg(long, value_name = "PATH")]
+    pub dump: Option<PathBuf>,
+    /// Start with the orbit paused at this time, in seconds.
+    #[arg(long, value_name = "T")]
+    pub time: Option<f32>,
+}
+
+/// Camera and render overrides shared by `render` and `bench`.
+#[derive(Debug, Args, Clone)]
+pub struct FrameArgs {
+    /// Scene file (TOML).
+    #[arg(long, value_name = "PATH", default_value = DEFAULT_SCENE)]
+    pub scene: PathBuf,
+    /// Width of each eye in pixels.
+    #[arg(long, value_name = "W", default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)))]
+    pub width: u32,
+    /// Height of each eye in pixels.
+    #[arg(long, value_name = "H", default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)))]
+    pub height: u32,
+    /// Interpupillary distance e (scene units); default from the scene.
+    #[arg(long, value_name = "E")]
+    pub ipd: Option<f32>,
+    /// Distance d from the eyes to the zero-parallax window; default from the scene.
+    #[arg(long, value_name = "D")]
+    pub distance: Option<f32>,
+    /// Reflection depth (bounces); default from the scene.
+    #[arg(long, value_name = "N")]
+    pub depth: Option<u32>,
+    /// Scene time in seconds (positions the revolving spheres).
+    #[arg(long, value_name = "T", default_value_t = 0.0)]
+    pub time: f32,
+}
+
+/// `stereotrace render`.
+#[derive(Debug, Args)]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub frame: FrameArgs,
+    /// How the right eye is made.
+    #[arg(long, value_name = "MODE", default_value = "exact", value_parser = parse_mode)]
+    pub mode: Mode,
+    /// For copy and reshade: also retrace pixels on object edges.
+    #[arg(long)]
+    pub retrace_edges: bool,
+    /// Left-eye PNG to write.
+    #[arg(long, value_name = "L.png")]
+    pub left: Option<PathBuf>,
+    /// Right-eye PNG to write.
+    #[arg(long, value_name = "R.png")]
+    pub right: Option<PathBuf>,
+    /// Debug-mask PNG to write (how each right pixel was made).
+    #[arg(long, value_name = "M.png")]
+    pub mask: Option<PathBuf>,
+    /// Print the frame report as JSON on stdout (includes quality against a full trace).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `stereotrace bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    #[command(flatten)]
+    pub frame: FrameArgs,
+    /// Frames per mode; the report gives medians.
+    #[arg(long, value_name = "N", default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub frames: u32,
+    /// Print one JSON object instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+fn parse_mode(s: &str) -> Result<Mode, String> {
+    s.parse()
+}
