@@ -3,19 +3,30 @@
 use std::time::Instant;
 
 use rayon::prelude::*;
-use tracer::{render_eye, Camera, Eye, EyeView, Film, RayCounts, Tracer};
+use tracer::{render_eye, render_rgb, Camera, Eye, EyeView, Film, RayCounts, Tracer};
 
 use crate::classify::classify_row;
 use crate::mode::{Mode, Options};
 use crate::reproject::{reproject_row, NO_SOURCE};
 use crate::stats::{FrameStats, PixelClass, PixelCounts};
 
+/// An image without a visible-surface record: the right eye.
+#[derive(Clone, Debug, Default)]
+pub struct Image {
+    /// Width in pixels.
+    pub width: u32,
+    /// Height in pixels.
+    pub height: u32,
+    /// sRGB pixels packed `0x00RRGGBB`, row-major.
+    pub rgb: Vec<u32>,
+}
+
 /// The buffers of one stereo pair, reused from frame to frame: a warm `StereoFrame` renders
 /// without allocating.
 #[derive(Debug, Default)]
 pub struct StereoFrame {
     left: Film,
-    right: Film,
+    right: Image,
     /// For each right pixel, the left pixel that fills it, or [`NO_SOURCE`].
     src: Vec<u32>,
     mask: Vec<PixelClass>,
@@ -39,10 +50,9 @@ impl StereoFrame {
         &self.left
     }
 
-    /// The right eye. Its colour is complete in every mode; its records hold the reused or
-    /// recomputed surface of each pixel.
+    /// The right eye, complete in every mode.
     #[must_use]
-    pub fn right(&self) -> &Film {
+    pub fn right(&self) -> &Image {
         &self.right
     }
 
@@ -72,15 +82,15 @@ impl StereoFrame {
 
         self.mask.resize(n, PixelClass::Traced);
         self.src.resize(n, NO_SOURCE);
+        (self.right.width, self.right.height) = (width, height);
+        self.right.rgb.resize(n, 0);
         if n == 0 {
-            self.right.resize(width, height);
         } else if opts.mode == Mode::Full {
             let t = Instant::now();
-            stats.right.rays = render_eye(tracer, &rv, &mut self.right);
+            stats.right.rays = render_rgb(tracer, &rv, &mut self.right.rgb);
             self.mask.fill(PixelClass::Traced);
             stats.stages.retrace = ms_since(t);
         } else {
-            self.right.resize(width, height);
             let t = Instant::now();
             self.reproject(camera, &rv, opts);
             stats.stages.reproject = ms_since(t);
@@ -117,20 +127,16 @@ impl StereoFrame {
     /// Stage 4: full primary rays for every pixel not reprojected.
     fn retrace(&mut self, tracer: &Tracer, rv: &EyeView) -> RayCounts {
         let w = rv.width as usize;
-        let right = &mut self.right;
-        right
+        self.right
             .rgb
             .par_chunks_mut(w)
-            .zip(right.z.par_chunks_mut(w))
-            .zip(right.surface.par_chunks_mut(w))
             .zip(self.mask.par_chunks(w))
             .enumerate()
-            .map(|(j, (((rgb, z), surface), mask))| {
+            .map(|(j, (rgb, mask))| {
                 let mut counts = RayCounts::default();
                 for (i, &class) in mask.iter().enumerate() {
                     if class != PixelClass::Reprojected {
-                        let s = tracer.trace_pixel(rv, i as u32, j as u32, &mut counts);
-                        (rgb[i], z[i], surface[i]) = (s.rgb, s.z, s.surface);
+                        rgb[i] = tracer.trace_pixel(rv, i as u32, j as u32, &mut counts).rgb;
                     }
                 }
                 counts
@@ -144,16 +150,13 @@ impl StereoFrame {
     fn fill(&mut self, tracer: &Tracer, rv: &EyeView, mode: Mode) -> (RayCounts, u64) {
         let w = rv.width as usize;
         let left = &self.left;
-        let right = &mut self.right;
-        right
+        self.right
             .rgb
             .par_chunks_mut(w)
-            .zip(right.z.par_chunks_mut(w))
-            .zip(right.surface.par_chunks_mut(w))
             .zip(self.mask.par_chunks_mut(w))
             .zip(self.src.par_chunks(w))
             .enumerate()
-            .map(|(j, ((((rgb, z), surface), mask), src))| {
+            .map(|(j, ((rgb, mask), src))| {
                 let mut counts = RayCounts::default();
                 let mut tests = 0u64;
                 for i in 0..w {
@@ -164,9 +167,7 @@ impl StereoFrame {
                     let seen = &left.surface[s];
                     match mode {
                         Mode::Full => unreachable!("full mode does not reproject"),
-                        Mode::Copy => {
-                            (rgb[i], z[i], surface[i]) = (left.rgb[s], left.z[s], *seen);
-                        }
+                        Mode::Copy => rgb[i] = left.rgb[s],
                         Mode::Reshade => {
                             rgb[i] = if seen.is_hit() {
                                 let dir = rv.primary_ray(i as u32, j as u32).dir;
@@ -174,22 +175,20 @@ impl StereoFrame {
                             } else {
                                 left.rgb[s]
                             };
-                            (z[i], surface[i]) = (left.z[s], *seen);
                         }
                         Mode::Exact => {
-                            let shaded = if seen.is_hit() {
+                            rgb[i] = if seen.is_hit() {
                                 tests += 1;
                                 let ray = rv.primary_ray(i as u32, j as u32);
                                 if let Some(t) = tracer.intersect_object(&ray, seen.object) {
-                                    tracer.shade_known_visibility(rv, &ray, t, seen.object, seen.lights, &mut counts)
+                                    tracer.shade_known_visibility(rv, &ray, t, seen.object, seen.lights, &mut counts).rgb
                                 } else {
                                     mask[i] = PixelClass::RetracedEdge;
-                                    tracer.trace_pixel(rv, i as u32, j as u32, &mut counts)
+                                    tracer.trace_pixel(rv, i as u32, j as u32, &mut counts).rgb
                                 }
                             } else {
-                                tracer.miss_sample()
+                                left.rgb[s]
                             };
-                            (rgb[i], z[i], surface[i]) = (shaded.rgb, shaded.z, shaded.surface);
                         }
                     }
                 }

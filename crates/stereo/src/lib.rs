@@ -23,7 +23,7 @@ mod mode;
 mod reproject;
 mod stats;
 
-pub use frame::StereoFrame;
+pub use frame::{Image, StereoFrame};
 pub use mask::{mask_color, MASK_LEGEND};
 pub use metrics::Quality;
 pub use mode::{Mode, Options};

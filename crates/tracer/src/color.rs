@@ -3,25 +3,92 @@
 //! Shading is done in linear light; a pixel is encoded to sRGB (IEC 61966-2-1) only when it
 //! is written to the film. Pixels are packed as `0x00RRGGBB`, the format softbuffer shows.
 
+use std::sync::LazyLock;
+
 use glam::Vec3;
 
-/// Encodes one linear channel (clamped to 0..1) as an 8-bit sRGB value.
-#[must_use]
-pub fn linear_to_srgb8(c: f32) -> u8 {
-    let c = if c.is_nan() { 0.0 } else { c.clamp(0.0, 1.0) };
-    let s = if c <= 0.003_130_8 { 12.92 * c } else { 1.055 * c.powf(1.0 / 2.4) - 0.055 };
-    (s * 255.0 + 0.5) as u8
+/// The exact sRGB transfer function, linear → encoded, in f64.
+fn encode(c: f64) -> f64 {
+    if c <= 0.003_130_8 {
+        12.92 * c
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    }
 }
 
-/// Decodes an 8-bit sRGB value to linear light.
-#[must_use]
-pub fn srgb8_to_linear(v: u8) -> f32 {
-    let s = f32::from(v) / 255.0;
+/// The inverse transfer function, encoded → linear, in f64.
+fn decode(s: f64) -> f64 {
     if s <= 0.040_45 {
         s / 12.92
     } else {
         ((s + 0.055) / 1.055).powf(2.4)
     }
+}
+
+/// Smallest linear value that can encode above 0: below it every value rounds to level 0.
+const MIN_LINEAR: f32 = 1.0 / 8192.0; // 2^-13
+/// Buckets per octave of linear values, from the top mantissa bits of the f32.
+const MANTISSA_BITS: u32 = 7;
+const BUCKET_SHIFT: u32 = 23 - MANTISSA_BITS;
+/// Bucket index of `MIN_LINEAR`.
+const FIRST_BUCKET: u32 = MIN_LINEAR.to_bits() >> BUCKET_SHIFT;
+/// Buckets from 2^-13 up to 1.
+const BUCKETS: usize = (13 << MANTISSA_BITS) as usize;
+
+/// Encoding table. `thresholds[k]` is the linear value where the nearest 8-bit sRGB level
+/// changes from k to k + 1, decode((k + ½)/255). The linear range [2^-13, 1) is cut into
+/// 128 buckets per octave by the float's exponent and top mantissa bits; `base[b]` is the
+/// level at the start of bucket b, and no bucket holds more than one threshold, so one
+/// comparison finishes the encoding. Same result as rounding the exact curve, without a
+/// `powf` per channel.
+struct EncodeTable {
+    thresholds: [f32; 256],
+    base: [u8; BUCKETS],
+}
+
+static TABLE: LazyLock<EncodeTable> = LazyLock::new(|| {
+    let level = |c: f32| (encode(f64::from(c)) * 255.0).round();
+    let mut thresholds = [f32::INFINITY; 256];
+    for (k, v) in thresholds.iter_mut().take(255).enumerate() {
+        // Start from the inverse curve, then settle on the exact first f32 of level k + 1.
+        let next = k as f64 + 1.0;
+        let mut t = decode((k as f64 + 0.5) / 255.0) as f32;
+        while level(t) < next {
+            t = f32::from_bits(t.to_bits() + 1);
+        }
+        while level(f32::from_bits(t.to_bits() - 1)) >= next {
+            t = f32::from_bits(t.to_bits() - 1);
+        }
+        *v = t;
+    }
+    let mut base = [0u8; BUCKETS];
+    for (b, level) in base.iter_mut().enumerate() {
+        let start = f32::from_bits((FIRST_BUCKET + b as u32) << BUCKET_SHIFT);
+        *level = thresholds.iter().take_while(|&&t| t <= start).count() as u8;
+    }
+    EncodeTable { thresholds, base }
+});
+
+/// Encodes one linear channel (clamped to 0..1; NaN as 0) as the nearest 8-bit sRGB value.
+#[inline]
+#[must_use]
+pub fn linear_to_srgb8(c: f32) -> u8 {
+    // `!(c >= MIN)` also catches NaN.
+    if !(c >= MIN_LINEAR) {
+        return 0;
+    }
+    if c >= 1.0 {
+        return 255;
+    }
+    let table = &*TABLE;
+    let k = table.base[((c.to_bits() >> BUCKET_SHIFT) - FIRST_BUCKET) as usize];
+    k + u8::from(c >= table.thresholds[k as usize])
+}
+
+/// Decodes one 8-bit sRGB value to linear light.
+#[must_use]
+pub fn srgb8_to_linear(v: u8) -> f32 {
+    decode(f64::from(v) / 255.0) as f32
 }
 
 /// Packs linear radiance into a `0x00RRGGBB` sRGB pixel.
@@ -47,6 +114,27 @@ mod tests {
     fn srgb_round_trips_every_byte() {
         for v in 0..=255u8 {
             assert_eq!(linear_to_srgb8(srgb8_to_linear(v)), v);
+        }
+    }
+
+    #[test]
+    fn table_matches_rounding_the_exact_curve() {
+        // Every 16th float in [0, 1]: the table must agree with the exact curve rounded.
+        for bits in (0..=1.0f32.to_bits()).step_by(16) {
+            let c = f32::from_bits(bits);
+            let exact = (encode(f64::from(c)) * 255.0).round();
+            assert_eq!(f64::from(linear_to_srgb8(c)), exact, "c = {c}");
+        }
+    }
+
+    #[test]
+    fn no_bucket_holds_two_thresholds() {
+        let t = &*TABLE;
+        for b in 0..BUCKETS {
+            let lo = f32::from_bits((FIRST_BUCKET + b as u32) << BUCKET_SHIFT);
+            let hi = f32::from_bits((FIRST_BUCKET + b as u32 + 1) << BUCKET_SHIFT);
+            let inside = t.thresholds.iter().filter(|&&x| x > lo && x < hi).count();
+            assert!(inside <= 1, "bucket {b} [{lo}, {hi}) holds {inside} thresholds");
         }
     }
 

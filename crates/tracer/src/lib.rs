@@ -34,7 +34,7 @@ pub use color::{linear_to_srgb8, pack_rgb, srgb8_to_linear, unpack_rgb};
 pub use error::SceneError;
 pub use film::{Film, Surface, NO_OBJECT};
 pub use ray::{reflect, spawn_ray, Ray};
-pub use render::render_eye;
+pub use render::{render_eye, render_rgb};
 pub use world::Tracer;
 pub use scene::{Light, Material, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
 pub use shade::Shaded;

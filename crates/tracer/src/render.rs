@@ -36,3 +36,24 @@ pub fn render_eye(tracer: &Tracer, view: &EyeView, film: &mut Film) -> RayCounts
         })
         .sum()
 }
+
+/// Traces every pixel of `view` for colour only into `rgb` (resized to the view), for
+/// images whose visible-surface record nobody reads. Returns the rays cast; pixels and
+/// counts are those of [`render_eye`].
+pub fn render_rgb(tracer: &Tracer, view: &EyeView, rgb: &mut Vec<u32>) -> RayCounts {
+    let w = view.width as usize;
+    rgb.resize(w * view.height as usize, 0);
+    if w == 0 {
+        return RayCounts::default();
+    }
+    rgb.par_chunks_mut(w)
+        .enumerate()
+        .map(|(j, row)| {
+            let mut counts = RayCounts::default();
+            for (i, px) in row.iter_mut().enumerate() {
+                *px = tracer.trace_pixel(view, i as u32, j as u32, &mut counts).rgb;
+            }
+            counts
+        })
+        .sum()
+}

@@ -3,8 +3,17 @@
 //! Exit codes: 0 success, 2 bad input (scene file, arguments), 1 any other failure.
 
 mod app;
+mod bench;
 mod cli;
 mod png_out;
+mod present;
+mod render_cmd;
+mod report;
+mod setup;
+mod syslibs;
+mod timing;
+mod ui;
+mod worker;
 
 use std::process::ExitCode;
 
@@ -16,13 +25,14 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         None => app::run(&cli.window),
-        Some(Command::Render(_) | Command::Bench(_)) => Ok(()),
+        Some(Command::Render(args)) => render_cmd::run(&args),
+        Some(Command::Bench(args)) => bench::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("stereotrace: error: {e:#}");
-            if e.downcast_ref::<tracer::SceneError>().is_some() {
+            if e.downcast_ref::<tracer::SceneError>().is_some() || e.downcast_ref::<setup::BadInput>().is_some() {
                 ExitCode::from(2)
             } else {
                 ExitCode::from(1)

@@ -1,0 +1,219 @@
+//! `stereotrace bench`: every mode on the same frames, with time, rays, pixel classes and
+//! quality against a full trace.
+//!
+//! Frames are taken at scene times t, t + 1/30 s, …; for each frame every mode renders in
+//! turn (interleaved, so a noisy neighbour on the machine hurts all modes alike) after one
+//! untimed warm-up frame per mode. Times and counts are medians over the frames; quality is
+//! the worst frame's.
+
+use std::fmt::Write as _;
+
+use anyhow::Result;
+use serde_json::{json, Map, Value};
+use stereo::{FrameStats, Mode, Options, Quality, StereoFrame};
+use tracer::{render_eye, Eye, Film, RayCounts, Tracer};
+
+use crate::cli::BenchArgs;
+use crate::report;
+use crate::setup::FrameSetup;
+
+/// The modes measured, as (name, options): the four modes plus copy and reshade with edge
+/// retracing.
+const VARIANTS: [(&str, Mode, bool); 6] = [
+    ("full", Mode::Full, false),
+    ("copy", Mode::Copy, false),
+    ("copy+edges", Mode::Copy, true),
+    ("reshade", Mode::Reshade, false),
+    ("reshade+edges", Mode::Reshade, true),
+    ("exact", Mode::Exact, false),
+];
+
+struct Measured {
+    name: &'static str,
+    frames: Vec<FrameStats>,
+    quality: Vec<Quality>,
+}
+
+/// Runs the command.
+pub fn run(args: &BenchArgs) -> Result<()> {
+    let setup = FrameSetup::load(&args.frame, 1)?;
+    let (w, h) = (args.frame.width, args.frame.height);
+    let mut tracer = Tracer::new(&setup.scene, args.frame.time);
+    let mut frame = StereoFrame::new();
+    let mut reference = Film::new(w, h);
+    let mut results: Vec<Measured> =
+        VARIANTS.iter().map(|&(name, ..)| Measured { name, frames: Vec::new(), quality: Vec::new() }).collect();
+
+    for (_, mode, retrace_edges) in VARIANTS {
+        frame.render(&tracer, &setup.camera, w, h, Options { mode, retrace_edges });
+    }
+    for k in 0..args.frames {
+        let t = args.frame.time + k as f32 / 30.0;
+        tracer.update(&setup.scene, t);
+        render_eye(&tracer, &setup.camera.view(Eye::Right, w, h), &mut reference);
+        for (m, &(_, mode, retrace_edges)) in results.iter_mut().zip(&VARIANTS) {
+            let stats = frame.render(&tracer, &setup.camera, w, h, Options { mode, retrace_edges });
+            m.frames.push(stats);
+            m.quality.push(Quality::compare(&frame.right().rgb, &reference.rgb));
+        }
+    }
+
+    let mut lefts: Vec<f64> = results.iter().flat_map(|m| m.frames.iter().map(|s| s.left.ms)).collect();
+    let mono_ms = median(&mut lefts);
+    let threads = rayon::current_num_threads();
+    let summaries: Vec<Summary> = results.iter().map(|m| Summary::of(m, mono_ms, threads)).collect();
+
+    if args.json {
+        let mut modes = Map::new();
+        for s in &summaries {
+            let mut v = report::frame(&s.stats);
+            if let Value::Object(o) = &mut v {
+                o.insert("quality".into(), report::quality(&s.quality));
+                o.insert("stereo_ms".into(), json!(s.stereo_ms));
+                o.insert("stereo_over_mono".into(), json!(s.stereo_ms / mono_ms));
+                o.insert("mrays_per_s_per_core".into(), json!(s.mrays_per_core));
+            }
+            modes.insert(s.name.to_owned(), v);
+        }
+        let out = json!({
+            "scene": setup.path.display().to_string(),
+            "width": w,
+            "height": h,
+            "frames": args.frames,
+            "threads": threads,
+            "spheres": setup.scene.spheres.len(),
+            "mono_ms": mono_ms,
+            "modes": modes,
+        });
+        println!("{}", serde_json::to_string_pretty(&out)?);
+    } else {
+        print!("{}", table(&setup.path.display().to_string(), w, h, args.frames, threads, mono_ms, &summaries));
+    }
+    Ok(())
+}
+
+struct Summary {
+    name: &'static str,
+    stats: FrameStats,
+    quality: Quality,
+    stereo_ms: f64,
+    mrays_per_core: f64,
+}
+
+impl Summary {
+    fn of(m: &Measured, mono_ms: f64, threads: usize) -> Self {
+        let _ = mono_ms;
+        let stats = median_stats(&m.frames);
+        let mut stereo: Vec<f64> = m.frames.iter().map(|s| s.left.ms + s.right.ms).collect();
+        let stereo_ms = median(&mut stereo);
+        let mut rates: Vec<f64> = m
+            .frames
+            .iter()
+            .map(|s| (s.left.rays.total() + s.right.rays.total()) as f64 / ((s.left.ms + s.right.ms) * 1e3) / threads as f64)
+            .collect();
+        Self { name: m.name, stats, quality: worst(&m.quality), stereo_ms, mrays_per_core: median(&mut rates) }
+    }
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+fn median_u64(frames: &[FrameStats], f: impl Fn(&FrameStats) -> u64) -> u64 {
+    let mut v: Vec<f64> = frames.iter().map(|s| f(s) as f64).collect();
+    median(&mut v).round() as u64
+}
+
+fn median_f64(frames: &[FrameStats], f: impl Fn(&FrameStats) -> f64) -> f64 {
+    let mut v: Vec<f64> = frames.iter().map(f).collect();
+    median(&mut v)
+}
+
+fn median_rays(frames: &[FrameStats], f: impl Fn(&FrameStats) -> RayCounts) -> RayCounts {
+    RayCounts {
+        primary: median_u64(frames, |s| f(s).primary),
+        shadow: median_u64(frames, |s| f(s).shadow),
+        reflection: median_u64(frames, |s| f(s).reflection),
+    }
+}
+
+/// Field-by-field medians.
+fn median_stats(frames: &[FrameStats]) -> FrameStats {
+    let mut s = FrameStats::default();
+    s.left.rays = median_rays(frames, |s| s.left.rays);
+    s.right.rays = median_rays(frames, |s| s.right.rays);
+    s.left.ms = median_f64(frames, |s| s.left.ms);
+    s.right.ms = median_f64(frames, |s| s.right.ms);
+    s.pixels.reprojected = median_u64(frames, |s| s.pixels.reprojected);
+    s.pixels.retraced_gap = median_u64(frames, |s| s.pixels.retraced_gap);
+    s.pixels.retraced_edge = median_u64(frames, |s| s.pixels.retraced_edge);
+    s.pixels.retraced_shadow = median_u64(frames, |s| s.pixels.retraced_shadow);
+    s.pixels.traced = median_u64(frames, |s| s.pixels.traced);
+    s.stages.trace_left = median_f64(frames, |s| s.stages.trace_left);
+    s.stages.reproject = median_f64(frames, |s| s.stages.reproject);
+    s.stages.retrace = median_f64(frames, |s| s.stages.retrace);
+    s.stages.reshade = median_f64(frames, |s| s.stages.reshade);
+    s.sphere_tests = median_u64(frames, |s| s.sphere_tests);
+    s
+}
+
+/// The worst frame on each quality measure.
+fn worst(q: &[Quality]) -> Quality {
+    q.iter().fold(Quality { psnr_db: f64::INFINITY, ..Quality::default() }, |a, b| Quality {
+        psnr_db: a.psnr_db.min(b.psnr_db),
+        mean_abs: a.mean_abs.max(b.mean_abs),
+        max_abs: a.max_abs.max(b.max_abs),
+        share_over_2_255: a.share_over_2_255.max(b.share_over_2_255),
+        share_not_identical: a.share_not_identical.max(b.share_not_identical),
+    })
+}
+
+fn table(scene: &str, w: u32, h: u32, frames: u32, threads: usize, mono_ms: f64, rows: &[Summary]) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "{scene}: {w}×{h} per eye, {frames} frames, {threads} threads; medians (quality: worst frame); mono frame {mono_ms:.1} ms"
+    );
+    let _ = writeln!(
+        out,
+        "{:<14} {:>8} {:>8} {:>7} {:>7} {:>9} {:>9} {:>11} {:>7} {:>8} {:>9} {:>8} {:>7}",
+        "mode", "left ms", "right ms", "R/L ms", "st/mono", "left Mr", "right Mr", "ray % L/R", "reproj", "PSNR dB", "identical", ">2/255", "Mr/s/c"
+    );
+    for r in rows {
+        let s = &r.stats;
+        let share = 100.0 * s.left.rays.total() as f64 / (s.left.rays.total() + s.right.rays.total()).max(1) as f64;
+        let psnr = if r.quality.psnr_db.is_finite() { format!("{:.1}", r.quality.psnr_db) } else { "inf".into() };
+        let _ = writeln!(
+            out,
+            "{:<14} {:>8.1} {:>8.1} {:>6.0}% {:>6.2}× {:>9.3} {:>9.3} {:>5.0}/{:<5.0} {:>6.1}% {:>8} {:>8.3}% {:>7.3}% {:>7.1}",
+            r.name,
+            s.left.ms,
+            s.right.ms,
+            100.0 * s.right_time_ratio(),
+            r.stereo_ms / mono_ms,
+            s.left.rays.total() as f64 / 1e6,
+            s.right.rays.total() as f64 / 1e6,
+            share,
+            100.0 - share,
+            100.0 * s.pixels.reprojected_share(),
+            psnr,
+            100.0 * (1.0 - r.quality.share_not_identical),
+            100.0 * r.quality.share_over_2_255,
+            r.mrays_per_core,
+        );
+    }
+    let _ = writeln!(
+        out,
+        "ray % L/R: share of all rays spent per eye (the seed paper's §5.1: 87/13 for copy). st/mono: stereo frame time over a left-only frame."
+    );
+    out
+}
