@@ -62,6 +62,13 @@ impl StereoFrame {
         &self.mask
     }
 
+    /// For each right pixel, the index of the left pixel reprojected into it, or
+    /// [`NO_SOURCE`] (not meaningful in full mode).
+    #[must_use]
+    pub fn sources(&self) -> &[u32] {
+        &self.src
+    }
+
     /// The last frame's statistics.
     #[must_use]
     pub fn stats(&self) -> &FrameStats {
@@ -120,7 +127,10 @@ impl StereoFrame {
             reproject_row(z, shift_scale, d, (j * w) as u32, src);
         });
         let (src, left) = (&self.src, &self.left.surface);
-        let (edges, shadows) = (opts.edges(), opts.shadow_boundaries());
+        // With IPD 0 every left pixel lands exactly on its own centre: the reprojection is
+        // exact and no edge or shadow boundary needs a second look.
+        let exact_landing = shift_scale == 0.0;
+        let (edges, shadows) = (opts.edges() && !exact_landing, opts.shadow_boundaries() && !exact_landing);
         self.mask.par_chunks_mut(w).enumerate().for_each(|(j, out)| classify_row(src, left, w, j, edges, shadows, out));
     }
 
@@ -195,5 +205,28 @@ impl StereoFrame {
                 (counts, tests)
             })
             .reduce(|| (RayCounts::default(), 0), |a, b| (a.0 + b.0, a.1 + b.1))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use tracer::Scene;
+
+    use super::*;
+
+    #[test]
+    fn retracing_every_pixel_reproduces_the_full_trace() {
+        let scene = Scene::from_toml(include_str!("../../../assets/scenes/window.toml"), "window.toml").unwrap();
+        let tracer = Tracer::new(&scene, 0.7);
+        let (w, h) = (120, 68);
+        let mut frame = StereoFrame::new();
+        frame.render(&tracer, &scene.camera, w, h, Options { mode: Mode::Copy, retrace_edges: false });
+        frame.mask.fill(PixelClass::RetracedGap);
+        let rv = scene.camera.view(Eye::Right, w, h);
+        let counts = frame.retrace(&tracer, &rv);
+        let mut full = Vec::new();
+        let full_counts = render_rgb(&tracer, &rv, &mut full);
+        assert_eq!(frame.right.rgb, full);
+        assert_eq!(counts, full_counts);
     }
 }

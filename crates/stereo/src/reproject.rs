@@ -45,7 +45,7 @@ pub fn reproject_row(z: &[f32], shift_scale: f32, distance: f32, row_base: u32, 
         let j = if x >= w as f32 { w } else { x.floor() as i64 };
         if j - oldx > 1 {
             let lo = (oldx + 1).max(0) as usize;
-            let hi = j.min(w) as usize;
+            let hi = j.clamp(0, w) as usize;
             if lo < hi {
                 src[lo..hi].fill(NO_SOURCE);
             }
@@ -121,5 +121,14 @@ mod tests {
         let z = [-D / 2.0; 6];
         let n = NO_SOURCE;
         assert_eq!(run(&z, 2.0), vec![2, 3, 4, 5, n, n]);
+    }
+
+    #[test]
+    fn a_gap_that_starts_left_of_the_image_is_clipped() {
+        // Pixel 0 in front of the window lands at −3, then background lands far right:
+        // the span between is clipped to the image and nothing panics.
+        let n = NO_SOURCE;
+        let z = [-D / 2.0, f32::INFINITY, f32::INFINITY, f32::INFINITY, f32::INFINITY];
+        assert_eq!(run(&z, 3.0), vec![n, n, n, n, 1]);
     }
 }
