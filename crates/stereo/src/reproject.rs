@@ -14,7 +14,9 @@
 //!   even if an earlier (farther, further-left) write landed there: the surface stretched in
 //!   the right view, or a surface the left eye never saw is disoccluded;
 //! - pixels no left pixel lands on (the border strip the left eye never saw) stay unmarked
-//!   and are retraced too;
+//!   and are retraced too, and so is the span after the last target: it lies beyond the
+//!   left eye's window edge (a near object cut by the right edge of the left image is seen
+//!   further in by the right eye), so any earlier write there is a farther surface;
 //! - a miss is a point at infinity and shifts by exactly e·W/w, like any other pixel.
 //!
 //! Where this differs from the printed Algorithm 1, and why:
@@ -54,6 +56,12 @@ pub fn reproject_row(z: &[f32], shift_scale: f32, distance: f32, row_base: u32, 
             src[j as usize] = row_base + i as u32;
         }
         oldx = j;
+    }
+    // The right border: what lies after the last target came from beyond the left eye's
+    // window edge, so only earlier, farther writes can be there. Close the scanline with a
+    // target at W, as the paper's `M` does for pixels that leave the image.
+    if oldx + 1 < w {
+        src[(oldx + 1).max(0) as usize..].fill(NO_SOURCE);
     }
 }
 
@@ -121,6 +129,20 @@ mod tests {
         let z = [-D / 2.0; 6];
         let n = NO_SOURCE;
         assert_eq!(run(&z, 2.0), vec![2, 3, 4, 5, n, n]);
+    }
+
+    #[test]
+    fn the_span_after_the_last_target_is_retraced() {
+        // Background (shift 3) then, at the right edge, a surface in front of the window
+        // (shift −2): it lands left of where the background wrote, and the background
+        // writes after it are hidden behind the part of it the left eye cannot see.
+        let inf = f32::INFINITY;
+        let near = -D / 2.0; // shift = 3 · (1 − 12/6) = −3
+        let z = [inf, inf, inf, inf, inf, near, near, near, near];
+        let n = NO_SOURCE;
+        // Background 0..5 lands on 3..8; near 5..9 lands on 2..6, over the background;
+        // the background left at 6 and 7 is hidden behind the near surface's unseen part.
+        assert_eq!(run(&z, 3.0), vec![n, n, 5, 6, 7, 8, n, n, n]);
     }
 
     #[test]

@@ -101,7 +101,8 @@ impl Tracer {
     fn shade_hit(&self, ray: &Ray, t: f32, object: u32, depth: u32, vis: Visibility, counts: &mut RayCounts) -> (Vec3, Surface) {
         let k = object as usize;
         let p = ray.at(t);
-        let n = (p - self.centers[k]) / self.radii[k];
+        // Normalised rather than divided by r: the hit lies on the sphere only to rounding.
+        let n = (p - self.centers[k]).normalize();
         let m = &self.materials[k];
         let (diffuse, lights) = self.view_independent(p, n, m.color, m.diffuse, vis, counts);
         let color = diffuse + self.view_dependent(p, n, ray.dir, m, lights, depth, counts);
@@ -152,7 +153,7 @@ impl Tracer {
         }
         if m.reflectivity > 0.0 && depth < self.settings.max_depth {
             counts.reflection += 1;
-            let reflected = spawn_ray(p, n, reflect(d, n));
+            let reflected = spawn_ray(p, n, reflect(d, n).normalize());
             out += m.reflectivity * self.trace(&reflected, depth + 1, counts);
         }
         out
