@@ -70,16 +70,16 @@ pub struct FrameArgs {
     #[arg(long, value_name = "H", default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)))]
     pub height: u32,
     /// Interpupillary distance e (scene units); default from the scene.
-    #[arg(long, value_name = "E")]
+    #[arg(long, value_name = "E", allow_negative_numbers = true)]
     pub ipd: Option<f32>,
     /// Distance d from the eyes to the zero-parallax window; default from the scene.
-    #[arg(long, value_name = "D")]
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
     pub distance: Option<f32>,
     /// Reflection depth (bounces); default from the scene.
     #[arg(long, value_name = "N")]
     pub depth: Option<u32>,
     /// Scene time in seconds (positions the revolving spheres).
-    #[arg(long, value_name = "T", default_value_t = 0.0)]
+    #[arg(long, value_name = "T", default_value_t = 0.0, allow_negative_numbers = true)]
     pub time: f32,
 }
 
