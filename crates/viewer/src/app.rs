@@ -1,7 +1,424 @@
-//! The viewer window (being written).
+//! The viewer window: a winit 0.30 [`ApplicationHandler`] that shows the two eyes side by side
+//! with softbuffer and an egui panel over them.
+//!
+//! Per UI frame (about 60 a second, paced with `ControlFlow::WaitUntil`, whatever the
+//! renderer's speed): take the newest finished stereo frame from the [`Worker`], run the egui
+//! panel, post the settings as the next render request, compose the eyes into the softbuffer
+//! frame, rasterise the UI over them (`egui_software_backend`), present once. Tracing happens
+//! only on the worker thread, never while the softbuffer buffer is held.
+//!
+//! Keys (ignored while egui has keyboard focus, e.g. typing a slider value): M toggles the
+//! debug mask, Space pauses the revolving spheres, S saves the current pair as PNG, Esc quits.
 
-use crate::cli::WindowArgs;
+use std::num::NonZeroU32;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+use std::time::{Duration, Instant};
 
-pub fn run(_args: &WindowArgs) -> anyhow::Result<()> {
-    anyhow::bail!("the window is not built yet")
+use anyhow::Context as _;
+use egui_software_backend::{BufferMutRef, ColorFieldOrder, EguiSoftwareRender};
+use tracer::{Camera, Scene};
+use winit::application::ApplicationHandler;
+use winit::dpi::LogicalSize;
+use winit::event::{ElementState, KeyEvent, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{Key, NamedKey};
+use winit::window::{Window, WindowId};
+
+use crate::cli::{WindowArgs, DEFAULT_SCENE};
+use crate::present::{self, Compositor};
+use crate::syslibs::{self, Backend};
+use crate::timing::{RateMeter, SceneClock};
+use crate::ui::{self, FrameTimes, Readout, Settings};
+use crate::worker::{Request, Worker};
+
+/// Time between UI frames (60 Hz).
+const FRAME_INTERVAL: Duration = Duration::from_micros(16_667);
+
+/// Opens the window and runs until it is closed, Esc is pressed or `--frames` is reached.
+pub fn run(args: &WindowArgs) -> anyhow::Result<()> {
+    let scene_path = resolve_scene(args.scene.as_deref().unwrap_or(Path::new(DEFAULT_SCENE)));
+    let scene = Scene::load(&scene_path)?;
+    let backend = syslibs::backend_from_env()?;
+    syslibs::check_runtime_libraries(backend)?;
+    let event_loop = build_event_loop(backend)?;
+    let name = scene_path.file_name().map_or_else(|| scene_path.display().to_string(), |n| n.to_string_lossy().into());
+    let mut app = App::new(args, scene, format!("stereotrace — {name}"))?;
+    event_loop.run_app(&mut app).context("the window's event loop failed")?;
+    app.finish()
+}
+
+/// A relative scene path is looked up in the current directory first, then in the workspace
+/// root, so `cargo run` works from any directory.
+fn resolve_scene(path: &Path) -> PathBuf {
+    if path.is_absolute() || path.exists() {
+        return path.to_path_buf();
+    }
+    let in_workspace = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join(path);
+    if in_workspace.exists() {
+        in_workspace
+    } else {
+        path.to_path_buf()
+    }
+}
+
+/// The event loop on the chosen backend, with a clear error if the display cannot be opened.
+fn build_event_loop(backend: Backend) -> anyhow::Result<EventLoop<()>> {
+    let mut builder = EventLoop::builder();
+    #[cfg(any(
+        target_os = "linux",
+        target_os = "freebsd",
+        target_os = "dragonfly",
+        target_os = "netbsd",
+        target_os = "openbsd"
+    ))]
+    match backend {
+        Backend::X11 => {
+            winit::platform::x11::EventLoopBuilderExtX11::with_x11(&mut builder);
+        }
+        Backend::Wayland => {
+            winit::platform::wayland::EventLoopBuilderExtWayland::with_wayland(&mut builder);
+        }
+    }
+    builder.build().with_context(|| match backend {
+        Backend::X11 => format!(
+            "cannot open the X11 display {:?} (is the X server running? headless: xvfb-run -a stereotrace)",
+            std::env::var("DISPLAY").unwrap_or_default()
+        ),
+        Backend::Wayland => format!(
+            "cannot connect to the Wayland display {:?}; set DISPLAY to use X11 (XWayland) instead",
+            std::env::var("WAYLAND_DISPLAY").unwrap_or_default()
+        ),
+    })
+}
+
+/// Options that do not change while the window is open.
+struct Config {
+    title: String,
+    size: LogicalSize<f64>,
+    /// `--frames`: stop after this many frames showing the eyes.
+    frames: Option<u64>,
+    /// `--dump`: write the last presented frame here on exit.
+    dump: Option<PathBuf>,
+    /// `STEREOTRACE_LOG_FPS=1`: print the frame rates to stderr.
+    log_fps: bool,
+}
+
+/// The window and everything tied to it; exists between `resumed` and exit.
+struct Gfx {
+    window: Rc<Window>,
+    surface: softbuffer::Surface<Rc<Window>, Rc<Window>>,
+    egui_winit: egui_winit::State,
+}
+
+/// The whole viewer state, owned by the event loop.
+struct App {
+    config: Config,
+    scene: Scene,
+    settings: Settings,
+    clock: SceneClock,
+    worker: Worker,
+    gfx: Option<Gfx>,
+    egui: egui::Context,
+    egui_render: EguiSoftwareRender,
+    compositor: Compositor,
+    history: FrameTimes,
+    ui_meter: RateMeter,
+    render_meter: RateMeter,
+    /// UI frames presented.
+    presented: u64,
+    /// Frames presented with both eyes of a rendered frame on screen (what `--frames` counts).
+    presented_with_eyes: u64,
+    /// Sequence number of the newest rendered frame seen.
+    last_seq: u64,
+    next_redraw: Instant,
+    /// Time spent in `redraw` and frames drawn since the last fps log line.
+    ui_busy: (Duration, u32),
+    /// Copy of the last presented frame, kept only with `--dump`.
+    dump: (Vec<u32>, u32, u32),
+    /// First error met inside the event loop; `run` returns it.
+    error: Option<anyhow::Error>,
+}
+
+impl App {
+    fn new(args: &WindowArgs, scene: Scene, title: String) -> anyhow::Result<Self> {
+        let now = Instant::now();
+        let mut settings = Settings::from_scene(&scene);
+        let clock = match args.time {
+            Some(t) => SceneClock::paused_at(t),
+            None => SceneClock::running(now),
+        };
+        settings.paused = clock.is_paused();
+        let egui = egui::Context::default();
+        ui::setup_style(&egui);
+        Ok(Self {
+            config: Config {
+                title,
+                size: LogicalSize::new(f64::from(args.width), f64::from(args.height)),
+                frames: args.frames,
+                dump: args.dump.clone(),
+                log_fps: std::env::var("STEREOTRACE_LOG_FPS").is_ok_and(|v| v == "1"),
+            },
+            worker: Worker::spawn(scene.clone())?,
+            scene,
+            settings,
+            clock,
+            gfx: None,
+            egui,
+            egui_render: EguiSoftwareRender::new(ColorFieldOrder::Bgra),
+            compositor: Compositor::new(),
+            history: FrameTimes::default(),
+            ui_meter: RateMeter::new(now, 0),
+            render_meter: RateMeter::new(now, 0),
+            presented: 0,
+            presented_with_eyes: 0,
+            last_seq: 0,
+            next_redraw: now,
+            ui_busy: (Duration::ZERO, 0),
+            dump: (Vec::new(), 0, 0),
+            error: None,
+        })
+    }
+
+    /// After the event loop: report its error, or write the `--dump` PNG.
+    fn finish(mut self) -> anyhow::Result<()> {
+        if let Some(e) = self.error.take() {
+            return Err(e);
+        }
+        if let Some(path) = &self.config.dump {
+            let (pixels, w, h) = &self.dump;
+            if pixels.is_empty() {
+                anyhow::bail!("no frame was presented, so there is nothing to write to {}", path.display());
+            }
+            crate::png_out::write_png(path, *w, *h, pixels)?;
+        }
+        Ok(())
+    }
+
+    /// Stops the event loop with an error that `run` will return.
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: anyhow::Error) {
+        if self.error.is_none() {
+            self.error = Some(error);
+        }
+        event_loop.exit();
+    }
+
+    fn create_window(&self, event_loop: &ActiveEventLoop) -> anyhow::Result<Gfx> {
+        let attrs = Window::default_attributes().with_title(&self.config.title).with_inner_size(self.config.size);
+        let window = Rc::new(event_loop.create_window(attrs).context("cannot create the window")?);
+        let context = softbuffer::Context::new(Rc::clone(&window))
+            .map_err(|e| anyhow::anyhow!("cannot start softbuffer: {e}"))?;
+        let surface = softbuffer::Surface::new(&context, Rc::clone(&window))
+            .map_err(|e| anyhow::anyhow!("cannot create the softbuffer surface: {e}"))?;
+        let egui_winit = egui_winit::State::new(
+            self.egui.clone(),
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            window.theme(),
+            None,
+        );
+        Ok(Gfx { window, surface, egui_winit })
+    }
+
+    fn set_paused(&mut self, paused: bool) {
+        self.settings.paused = paused;
+        self.clock.set_paused(paused, Instant::now());
+    }
+
+    fn on_key(&mut self, key: &Key, event_loop: &ActiveEventLoop) {
+        match key {
+            Key::Named(NamedKey::Escape) => event_loop.exit(),
+            Key::Named(NamedKey::Space) => self.set_paused(!self.settings.paused),
+            Key::Character(c) if c.eq_ignore_ascii_case("m") => self.settings.show_mask ^= true,
+            Key::Character(c) if c.eq_ignore_ascii_case("s") => self.save_pair(),
+            _ => {}
+        }
+    }
+
+    /// Writes the frame on screen as `stereotrace-<n>-{left,right,mask}.png` in the current
+    /// directory. A failure is reported on stderr; the viewer carries on.
+    fn save_pair(&self) {
+        let frame = self.worker.current();
+        let Some(info) = frame.info else {
+            eprintln!("stereotrace: nothing to save yet");
+            return;
+        };
+        let (w, h) = frame.size();
+        let mut mask = Vec::new();
+        present::mask_image(&frame.mask, &mut mask);
+        for (eye, pixels) in [("left", &frame.left), ("right", &frame.right), ("mask", &mask)] {
+            let path = PathBuf::from(format!("stereotrace-{}-{eye}.png", info.seq));
+            match crate::png_out::write_png(&path, w, h, pixels) {
+                Ok(()) => eprintln!("stereotrace: saved {}", path.display()),
+                Err(e) => eprintln!("stereotrace: {e:#}"),
+            }
+        }
+    }
+
+    /// The render request for the current settings and an eye of `width` × `height`.
+    fn request(&self, width: u32, height: u32, now: Instant) -> Request {
+        let s = &self.settings;
+        Request {
+            camera: Camera { ipd: s.ipd, distance: s.distance, ..self.scene.camera },
+            depth: s.depth,
+            opts: s.options(),
+            time: if self.scene.is_animated() { self.clock.time(now) } else { 0.0 },
+            width,
+            height,
+            psnr: s.live_psnr,
+        }
+    }
+
+    /// One UI frame. A minimised (zero-sized) window is skipped entirely.
+    fn redraw(&mut self, event_loop: &ActiveEventLoop) -> anyhow::Result<()> {
+        let now = Instant::now();
+        let Some(gfx) = self.gfx.as_mut() else { return Ok(()) };
+        let size = gfx.window.inner_size();
+        let (Some(nz_w), Some(nz_h)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) else {
+            return Ok(());
+        };
+        let (width, height) = (size.width as usize, size.height as usize);
+
+        // The newest rendered frame, and the rates.
+        let info = self.worker.latest().info;
+        if let Some(info) = info.filter(|i| i.seq != self.last_seq) {
+            self.last_seq = info.seq;
+            self.history.push(info.wall_ms as f32);
+        }
+        self.render_meter.update(now, self.last_seq);
+        if self.ui_meter.update(now, self.presented) && self.config.log_fps {
+            let (busy, frames) = std::mem::take(&mut self.ui_busy);
+            eprintln!(
+                "fps={:.1} render_fps={:.1} ui_ms={:.2} window={}x{} left_ms={:.1} right_ms={:.1}",
+                self.ui_meter.rate(),
+                self.render_meter.rate(),
+                busy.as_secs_f64() * 1e3 / f64::from(frames.max(1)),
+                size.width,
+                size.height,
+                info.map_or(0.0, |i| i.stats.left.ms),
+                info.map_or(0.0, |i| i.stats.right.ms),
+            );
+        }
+
+        // The panel.
+        let raw_input = gfx.egui_winit.take_egui_input(&gfx.window);
+        let readout = Readout {
+            ui_fps: self.ui_meter.rate(),
+            render_fps: self.render_meter.rate(),
+            frame: info.as_ref(),
+            time: self.clock.time(now),
+            animated: self.scene.is_animated(),
+            history: &self.history,
+        };
+        let mut settings = self.settings;
+        let mut actions = ui::Actions::default();
+        let output = self.egui.run_ui(raw_input, |ui| actions = ui::panel(ui.ctx(), &mut settings, &readout));
+        gfx.egui_winit.handle_platform_output(&gfx.window, output.platform_output);
+        if actions.reset {
+            settings.reset_camera(&self.scene);
+        }
+        let paused = settings.paused;
+        self.settings = settings;
+        self.set_paused(paused);
+        if actions.save {
+            self.save_pair();
+        }
+
+        // The next render request.
+        let (eye_w, eye_h) = present::eye_size(size.width, size.height);
+        if eye_w > 0 {
+            let request = self.request(eye_w, eye_h, now);
+            self.worker.post(request);
+        }
+
+        // Compose, draw the UI over the eyes, present once.
+        let Some(gfx) = self.gfx.as_mut() else { return Ok(()) };
+        gfx.surface.resize(nz_w, nz_h).map_err(|e| anyhow::anyhow!("cannot resize the frame buffer: {e}"))?;
+        let mut buffer = gfx.surface.buffer_mut().map_err(|e| anyhow::anyhow!("cannot map the frame buffer: {e}"))?;
+        if buffer.len() != width * height {
+            // The surface does not match the window yet (a resize in flight): skip this frame.
+            return Ok(());
+        }
+        let frame = self.worker.current();
+        let eyes =
+            self.compositor.compose(&mut buffer, width, height, frame, self.settings.layout, self.settings.show_mask);
+        let primitives = self.egui.tessellate(output.shapes, output.pixels_per_point);
+        self.egui_render.render(
+            &mut BufferMutRef::new(bytemuck::cast_slice_mut(&mut buffer[..]), width, height),
+            &primitives,
+            &output.textures_delta,
+            output.pixels_per_point,
+        );
+        present::clear_alpha(&mut buffer);
+        if self.config.dump.is_some() {
+            let (pixels, w, h) = &mut self.dump;
+            pixels.clear();
+            pixels.extend_from_slice(&buffer);
+            (*w, *h) = (size.width, size.height);
+        }
+        buffer.present().map_err(|e| anyhow::anyhow!("cannot present the frame: {e}"))?;
+        self.presented += 1;
+        if eyes || eye_w == 0 {
+            self.presented_with_eyes += 1;
+        }
+        if self.config.frames.is_some_and(|n| self.presented_with_eyes >= n) {
+            event_loop.exit();
+        }
+        Ok(())
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.gfx.is_some() {
+            return;
+        }
+        match self.create_window(event_loop) {
+            Ok(gfx) => {
+                gfx.window.request_redraw();
+                self.gfx = Some(gfx);
+            }
+            Err(e) => self.fail(event_loop, e),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        let Some(gfx) = self.gfx.as_mut() else { return };
+        // egui sees every event; its `repaint` hint is not needed, the UI redraws at a fixed rate.
+        let _ = gfx.egui_winit.on_window_event(&gfx.window, &event);
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::KeyboardInput {
+                event: KeyEvent { logical_key, state: ElementState::Pressed, repeat: false, .. },
+                is_synthetic: false,
+                ..
+            } if !self.egui.egui_wants_keyboard_input() => self.on_key(&logical_key, event_loop),
+            WindowEvent::RedrawRequested => {
+                let started = Instant::now();
+                if let Err(e) = self.redraw(event_loop) {
+                    self.fail(event_loop, e);
+                }
+                self.ui_busy.0 += started.elapsed();
+                self.ui_busy.1 += 1;
+            }
+            _ => {}
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        if let Err(e) = self.worker.check_alive() {
+            self.fail(event_loop, e);
+            return;
+        }
+        let now = Instant::now();
+        if now >= self.next_redraw {
+            if let Some(gfx) = &self.gfx {
+                gfx.window.request_redraw();
+            }
+            // Keep the cadence, but never try to catch up on missed frames.
+            self.next_redraw = (self.next_redraw + FRAME_INTERVAL).max(now + FRAME_INTERVAL / 2);
+        }
+        event_loop.set_control_flow(ControlFlow::WaitUntil(self.next_redraw));
+    }
 }

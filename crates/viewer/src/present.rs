@@ -1,0 +1,236 @@
+//! Composition of a finished stereo frame into the window's pixel buffer (`0x00RRGGBB`, the
+//! format softbuffer presents).
+//!
+//! Each eye fills one half of the window: `width / 2` physical pixels wide (an odd last column
+//! stays background) and the full height. If the finished frame was rendered for another
+//! size — the window was just resized — it is scaled nearest-neighbour, so a resize never
+//! shows stale or uninitialised memory. This runs on the UI thread without rayon: the global
+//! pool belongs to the tracer, and waiting on it would make the UI wait for the render.
+
+use stereo::{mask_color, PixelClass, MASK_LEGEND};
+
+use crate::worker::Finished;
+
+/// Colour of window areas no eye covers.
+pub const BACKGROUND: u32 = 0x0018_1818;
+
+/// How the two eyes are arranged in the window.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Layout {
+    /// Left eye on the left half, right eye on the right (parallel free viewing, HMD-style).
+    #[default]
+    Parallel,
+    /// Eyes swapped, for cross-eyed free viewing.
+    CrossEyed,
+    /// Red–cyan anaglyph: red from the left eye, green and blue from the right, one image
+    /// centred in the window at the eye size.
+    Anaglyph,
+}
+
+impl Layout {
+    /// Every layout, in the order the panel lists them.
+    pub const ALL: [Layout; 3] = [Layout::Parallel, Layout::CrossEyed, Layout::Anaglyph];
+
+    /// Name shown in the panel.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Layout::Parallel => "parallel",
+            Layout::CrossEyed => "cross-eyed",
+            Layout::Anaglyph => "anaglyph",
+        }
+    }
+}
+
+/// The eye size for a window of `width` × `height` physical pixels: half the width, the full
+/// height (zero in either when the window is too small to show an eye).
+#[must_use]
+pub fn eye_size(width: u32, height: u32) -> (u32, u32) {
+    let (w, h) = (width / 2, height);
+    if w == 0 || h == 0 {
+        (0, 0)
+    } else {
+        (w, h)
+    }
+}
+
+/// Mixes two pixels half and half (per channel, rounding down).
+#[inline]
+#[must_use]
+pub fn blend_half(a: u32, b: u32) -> u32 {
+    ((a >> 1) & 0x007F_7F7F) + ((b >> 1) & 0x007F_7F7F)
+}
+
+/// Clears the top byte of every pixel: softbuffer requires it to be zero, and the egui
+/// rasteriser writes alpha there.
+pub fn clear_alpha(pixels: &mut [u32]) {
+    for p in pixels {
+        *p &= 0x00FF_FFFF;
+    }
+}
+
+/// Draws stereo frames into window buffers, keeping its scratch between frames.
+#[derive(Debug, Default)]
+pub struct Compositor {
+    /// For each destination column of an eye, the source column.
+    columns: Vec<u32>,
+    /// Mask colour per class (indexed by `PixelClass as usize`).
+    mask_colors: [u32; 5],
+}
+
+impl Compositor {
+    /// A compositor with an empty scratch.
+    #[must_use]
+    pub fn new() -> Self {
+        let mut mask_colors = [0; 5];
+        for (class, _) in MASK_LEGEND {
+            mask_colors[class as usize] = mask_color(class);
+        }
+        Self { columns: Vec::new(), mask_colors }
+    }
+
+    /// Fills `dst` (`width` × `height`, row-major) with `frame` in `layout`, the right eye
+    /// blended half and half with its debug mask when `show_mask` is set. Returns whether the
+    /// eyes were drawn (false before the first frame or when the window is too small).
+    pub fn compose(
+        &mut self,
+        dst: &mut [u32],
+        width: usize,
+        height: usize,
+        frame: &Finished,
+        layout: Layout,
+        show_mask: bool,
+    ) -> bool {
+        debug_assert_eq!(dst.len(), width * height);
+        let (ew, eh) = eye_size(width as u32, height as u32);
+        let (ew, eh) = (ew as usize, eh as usize);
+        let (fw, fh) = frame.size();
+        let (fw, fh) = (fw as usize, fh as usize);
+        let complete = frame.left.len() == fw * fh && frame.right.len() == fw * fh && frame.mask.len() == fw * fh;
+        if ew == 0 || fw == 0 || fh == 0 || !complete {
+            dst.fill(BACKGROUND);
+            return false;
+        }
+        self.columns.clear();
+        self.columns.extend((0..ew).map(|x| (x * fw / ew) as u32));
+        let (columns, colors) = (&self.columns, &self.mask_colors);
+        let (left, right, mask) = (&frame.left, &frame.right, &frame.mask);
+        let right_pixel = |s: usize| {
+            if show_mask {
+                blend_half(right[s], colors[mask[s] as usize])
+            } else {
+                right[s]
+            }
+        };
+        for (y, row) in dst.chunks_exact_mut(width).enumerate() {
+            let src_row = (y * fh / eh) * fw;
+            let (first, rest) = row.split_at_mut(ew);
+            let (second, pad) = rest.split_at_mut(ew);
+            match layout {
+                Layout::Parallel => {
+                    fill_eye(first, columns, |c| left[src_row + c]);
+                    fill_eye(second, columns, |c| right_pixel(src_row + c));
+                    pad.fill(BACKGROUND);
+                }
+                Layout::CrossEyed => {
+                    fill_eye(first, columns, |c| right_pixel(src_row + c));
+                    fill_eye(second, columns, |c| left[src_row + c]);
+                    pad.fill(BACKGROUND);
+                }
+                Layout::Anaglyph => {
+                    // The eye-sized image centred: a quarter of the window on each side.
+                    let margin = ew / 2;
+                    row[..margin].fill(BACKGROUND);
+                    fill_eye(&mut row[margin..margin + ew], columns, |c| {
+                        let s = src_row + c;
+                        (left[s] & 0x00FF_0000) | (right_pixel(s) & 0x0000_FFFF)
+                    });
+                    row[margin + ew..].fill(BACKGROUND);
+                }
+            }
+        }
+        true
+    }
+}
+
+/// One eye's row: destination column x takes source column `columns[x]`.
+#[inline]
+fn fill_eye(dst: &mut [u32], columns: &[u32], pixel: impl Fn(usize) -> u32) {
+    for (d, &c) in dst.iter_mut().zip(columns) {
+        *d = pixel(c as usize);
+    }
+}
+
+/// The class mask drawn as colours, for saving: `0x00RRGGBB` per right-eye pixel.
+pub fn mask_image(mask: &[PixelClass], out: &mut Vec<u32>) {
+    out.clear();
+    out.extend(mask.iter().map(|&c| mask_color(c)));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::worker::{FrameInfo, Request};
+
+    fn frame(w: u32, h: u32) -> Finished {
+        let n = (w * h) as usize;
+        let request = Request {
+            camera: tracer::Camera::default(),
+            depth: 0,
+            opts: stereo::Options::default(),
+            time: 0.0,
+            width: w,
+            height: h,
+            psnr: false,
+        };
+        Finished {
+            info: Some(FrameInfo {
+                seq: 1,
+                request,
+                stats: stereo::FrameStats::default(),
+                quality: None,
+                wall_ms: 0.0,
+            }),
+            left: (0..n as u32).collect(),
+            right: (0..n as u32).map(|p| p | 0x0010_0000).collect(),
+            mask: vec![PixelClass::Reprojected; n],
+        }
+    }
+
+    #[test]
+    fn eyes_fill_the_halves_exactly_at_the_matching_size() {
+        let f = frame(4, 2);
+        let mut dst = vec![0xFFFF_FFFF; 9 * 2];
+        assert!(Compositor::new().compose(&mut dst, 9, 2, &f, Layout::Parallel, false));
+        assert_eq!(&dst[0..4], &f.left[0..4]);
+        assert_eq!(&dst[4..8], &f.right[0..4]);
+        assert_eq!(dst[8], BACKGROUND, "odd last column");
+        assert_eq!(&dst[9..13], &f.left[4..8]);
+        assert_eq!(&dst[13..17], &f.right[4..8]);
+    }
+
+    #[test]
+    fn a_stale_frame_is_scaled_and_small_windows_show_background() {
+        let f = frame(2, 1);
+        let mut dst = vec![0; 8 * 2];
+        let mut c = Compositor::new();
+        assert!(c.compose(&mut dst, 8, 2, &f, Layout::CrossEyed, false));
+        // Nearest neighbour: each source pixel twice across, every row the same.
+        assert_eq!(&dst[0..8], &[f.right[0], f.right[0], f.right[1], f.right[1], 0, 0, 1, 1]);
+        assert_eq!(&dst[0..8], &dst[8..16]);
+        let mut one = [0u32; 1];
+        assert!(!c.compose(&mut one, 1, 1, &f, Layout::Parallel, false));
+        assert_eq!(one[0], BACKGROUND);
+        assert!(!c.compose(&mut dst, 8, 2, &Finished::default(), Layout::Parallel, true));
+    }
+
+    #[test]
+    fn mask_blends_half_and_half() {
+        let f = frame(1, 1);
+        let mut dst = [0u32; 2];
+        Compositor::new().compose(&mut dst, 2, 1, &f, Layout::Parallel, true);
+        assert_eq!(dst[1], blend_half(f.right[0], mask_color(PixelClass::Reprojected)));
+        assert_eq!(blend_half(0x00FF_FFFF, 0x00FF_FFFF), 0x00FE_FEFE);
+        assert_eq!(blend_half(0x00FF_0000, 0), 0x007F_0000);
+    }
+}

@@ -1,0 +1,262 @@
+//! The render worker: stereo frames are traced on their own thread so the window never waits.
+//!
+//! The UI thread posts the newest [`Request`] into a one-slot mailbox (a `Mutex` + `Condvar`);
+//! an older request that the worker has not started yet is simply replaced. The worker renders
+//! with [`StereoFrame::render`] (which spreads the work over rayon's global pool), copies the
+//! pictures into a [`Finished`] frame and swaps it into a second one-slot mailbox. The UI thread
+//! swaps the newest finished frame out whenever it draws. The three `Finished` buffers (the
+//! worker's, the mailbox's, the UI's) rotate by swapping, so once warm nothing is allocated.
+
+use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
+use std::thread::JoinHandle;
+use std::time::Instant;
+
+use stereo::{FrameStats, Options, PixelClass, Quality, StereoFrame};
+use tracer::{render_eye, Camera, Eye, Film, Scene, Tracer};
+
+/// Everything that determines one stereo frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Request {
+    /// Head pose and stereo parameters (IPD and distance from the sliders).
+    pub camera: Camera,
+    /// Reflection depth.
+    pub depth: u32,
+    /// Mode and edge retracing.
+    pub opts: Options,
+    /// Scene time, seconds.
+    pub time: f32,
+    /// Eye width in pixels.
+    pub width: u32,
+    /// Eye height in pixels.
+    pub height: u32,
+    /// Also trace the right eye fully and measure the right image against it.
+    pub psnr: bool,
+}
+
+/// What is known about a finished frame besides its pixels.
+#[derive(Clone, Copy, Debug)]
+pub struct FrameInfo {
+    /// 1 for the first frame the worker rendered, then counting up; 0 = no frame yet.
+    pub seq: u64,
+    /// The request it answers.
+    pub request: Request,
+    /// Time, rays and pixel classes.
+    pub stats: FrameStats,
+    /// The right eye against a full trace, when the request asked for it.
+    pub quality: Option<Quality>,
+    /// Wall time of the whole job (including the reference trace for PSNR), milliseconds.
+    pub wall_ms: f64,
+}
+
+/// A finished stereo frame: both eyes and the right eye's mask, `width × height` each.
+#[derive(Debug, Default)]
+pub struct Finished {
+    /// Metadata; `None` until the first frame arrives.
+    pub info: Option<FrameInfo>,
+    /// Left eye, `0x00RRGGBB`, row-major.
+    pub left: Vec<u32>,
+    /// Right eye, `0x00RRGGBB`, row-major.
+    pub right: Vec<u32>,
+    /// How each right pixel was made.
+    pub mask: Vec<PixelClass>,
+}
+
+impl Finished {
+    /// Eye size in pixels, (0, 0) before the first frame.
+    #[must_use]
+    pub fn size(&self) -> (u32, u32) {
+        self.info.map_or((0, 0), |i| (i.request.width, i.request.height))
+    }
+
+    /// Copies a rendered frame in, reusing this frame's allocations.
+    fn fill_from(&mut self, frame: &StereoFrame, info: &FrameInfo) {
+        self.left.clear();
+        self.left.extend_from_slice(&frame.left().rgb);
+        self.right.clear();
+        self.right.extend_from_slice(&frame.right().rgb);
+        self.mask.clear();
+        self.mask.extend_from_slice(frame.mask());
+        self.info = Some(*info);
+    }
+}
+
+#[derive(Default)]
+struct Inbox {
+    request: Option<Request>,
+    quit: bool,
+}
+
+#[derive(Default)]
+struct Outbox {
+    frame: Finished,
+    fresh: bool,
+}
+
+#[derive(Default)]
+struct Shared {
+    inbox: Mutex<Inbox>,
+    wake: Condvar,
+    outbox: Mutex<Outbox>,
+}
+
+/// Locks a mutex, ignoring poisoning: a panic on the other side is reported through
+/// [`Worker::check_alive`], and the data under these locks stays consistent (plain swaps).
+fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// Handle to the render thread. Dropping it stops the thread (after its current frame).
+pub struct Worker {
+    shared: Arc<Shared>,
+    thread: Option<JoinHandle<()>>,
+    front: Finished,
+    last_posted: Option<Request>,
+}
+
+impl Worker {
+    /// Starts the render thread for `scene`.
+    pub fn spawn(scene: Scene) -> anyhow::Result<Self> {
+        let shared = Arc::new(Shared::default());
+        let theirs = Arc::clone(&shared);
+        let thread = std::thread::Builder::new().name("render".into()).spawn(move || render_loop(&scene, &theirs))?;
+        Ok(Self { shared, thread: Some(thread), front: Finished::default(), last_posted: None })
+    }
+
+    /// Asks for a frame, replacing any request not yet started. A request equal to the last
+    /// one posted is ignored, so a paused, unchanged view costs nothing.
+    pub fn post(&mut self, request: Request) {
+        if self.last_posted == Some(request) {
+            return;
+        }
+        self.last_posted = Some(request);
+        lock(&self.shared.inbox).request = Some(request);
+        self.shared.wake.notify_one();
+    }
+
+    /// The newest finished frame (swapped in if the worker has finished one since the last
+    /// call).
+    pub fn latest(&mut self) -> &Finished {
+        let mut out = lock(&self.shared.outbox);
+        if out.fresh {
+            std::mem::swap(&mut self.front, &mut out.frame);
+            out.fresh = false;
+        }
+        drop(out);
+        &self.front
+    }
+
+    /// The frame returned by the last [`Worker::latest`].
+    pub fn current(&self) -> &Finished {
+        &self.front
+    }
+
+    /// Fails if the render thread has died (it only can by panicking).
+    pub fn check_alive(&self) -> anyhow::Result<()> {
+        match &self.thread {
+            Some(t) if !t.is_finished() => Ok(()),
+            _ => anyhow::bail!("the render thread stopped unexpectedly (see the panic message above)"),
+        }
+    }
+}
+
+impl Drop for Worker {
+    fn drop(&mut self) {
+        lock(&self.shared.inbox).quit = true;
+        self.shared.wake.notify_one();
+        if let Some(t) = self.thread.take() {
+            // A panic was already printed by the panic hook; nothing more to report here.
+            let _ = t.join();
+        }
+    }
+}
+
+/// The worker thread's state: scene, tracer and all buffers, reused frame after frame.
+fn render_loop(scene: &Scene, shared: &Shared) {
+    let mut tracer = Tracer::new(scene, 0.0);
+    let mut frame = StereoFrame::new();
+    let mut reference = Film::default();
+    let mut back = Finished::default();
+    let mut seq = 0u64;
+    loop {
+        let request = {
+            let mut inbox = lock(&shared.inbox);
+            loop {
+                if inbox.quit {
+                    return;
+                }
+                if let Some(r) = inbox.request.take() {
+                    break r;
+                }
+                inbox = shared.wake.wait(inbox).unwrap_or_else(PoisonError::into_inner);
+            }
+        };
+        let started = Instant::now();
+        tracer.update(scene, request.time);
+        tracer.set_max_depth(request.depth);
+        let (w, h) = (request.width, request.height);
+        let stats = frame.render(&tracer, &request.camera, w, h, request.opts);
+        let quality = request.psnr.then(|| {
+            render_eye(&tracer, &request.camera.view(Eye::Right, w, h), &mut reference);
+            Quality::compare(&frame.right().rgb, &reference.rgb)
+        });
+        seq += 1;
+        let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+        back.fill_from(&frame, &FrameInfo { seq, request, stats, quality, wall_ms });
+        let mut out = lock(&shared.outbox);
+        std::mem::swap(&mut out.frame, &mut back);
+        out.fresh = true;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    fn scene() -> Scene {
+        Scene::from_toml(
+            "[[lights]]\nposition = [0.0, 5.0, 0.0]\n[[spheres]]\ncenter = [0.0, 0.0, 12.0]\nradius = 2.0\n",
+            "test.toml",
+        )
+        .unwrap()
+    }
+
+    fn request(width: u32, psnr: bool) -> Request {
+        Request { camera: Camera::default(), depth: 2, opts: Options::default(), time: 0.0, width, height: 24, psnr }
+    }
+
+    fn wait_for(worker: &mut Worker, seq: u64) -> &Finished {
+        let deadline = Instant::now() + Duration::from_secs(30);
+        while worker.latest().info.is_none_or(|i| i.seq < seq) {
+            assert!(Instant::now() < deadline, "no frame {seq}");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+        worker.current()
+    }
+
+    #[test]
+    fn renders_the_requested_size_and_measures_quality_on_request() {
+        let mut worker = Worker::spawn(scene()).unwrap();
+        worker.post(request(32, true));
+        let f = wait_for(&mut worker, 1);
+        let info = f.info.unwrap();
+        assert_eq!(f.size(), (32, 24));
+        assert_eq!((f.left.len(), f.right.len(), f.mask.len()), (32 * 24, 32 * 24, 32 * 24));
+        assert!(info.quality.is_some());
+        worker.post(request(40, false));
+        let f = wait_for(&mut worker, 2);
+        assert_eq!(f.size(), (40, 24));
+        assert!(f.info.unwrap().quality.is_none());
+        worker.check_alive().unwrap();
+    }
+
+    #[test]
+    fn an_unchanged_request_is_not_rendered_again() {
+        let mut worker = Worker::spawn(scene()).unwrap();
+        worker.post(request(16, false));
+        wait_for(&mut worker, 1);
+        worker.post(request(16, false));
+        std::thread::sleep(Duration::from_millis(50));
+        assert_eq!(worker.latest().info.unwrap().seq, 1);
+    }
+}
