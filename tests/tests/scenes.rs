@@ -18,7 +18,12 @@ fn exact_mode_equals_the_full_trace_on_every_scene() {
             render_rgb(&tracer, &scene.camera.view(Eye::Right, w, h), &mut reference);
             let stats = frame.render(&tracer, &scene.camera, w, h, Options { mode: Mode::Exact, retrace_edges: false });
             let q = Quality::compare(&frame.right().rgb, &reference);
-            assert!(q.share_identical() >= 0.999, "{}: t = {t}: exact mode differs from full on {:.3}% of pixels: {q:?}", path.display(), 100.0 * q.share_not_identical);
+            assert!(
+                q.share_identical() >= 0.999,
+                "{}: t = {t}: exact mode differs from full on {:.3}% of pixels: {q:?}",
+                path.display(),
+                100.0 * q.share_not_identical
+            );
             assert!(stats.right_ray_ratio() < 1.0, "{}: exact mode saved no rays", path.display());
         }
     }

@@ -14,7 +14,15 @@ use crate::stats::PixelClass;
 
 /// Classifies right row `j` from the source map `src` (whole image, row-major, `w` wide)
 /// into `out` (this row only).
-pub(crate) fn classify_row(src: &[u32], left: &[Surface], w: usize, j: usize, edges: bool, shadows: bool, out: &mut [PixelClass]) {
+pub(crate) fn classify_row(
+    src: &[u32],
+    left: &[Surface],
+    w: usize,
+    j: usize,
+    edges: bool,
+    shadows: bool,
+    out: &mut [PixelClass],
+) {
     let h = src.len() / w;
     let row = &src[j * w..(j + 1) * w];
     let above = (j > 0).then(|| &src[(j - 1) * w..j * w]);
@@ -26,12 +34,8 @@ pub(crate) fn classify_row(src: &[u32], left: &[Surface], w: usize, j: usize, ed
             PixelClass::Reprojected
         } else {
             let me = &left[s as usize];
-            let neighbours = [
-                (i > 0).then(|| row[i - 1]),
-                row.get(i + 1).copied(),
-                above.map(|r| r[i]),
-                below.map(|r| r[i]),
-            ];
+            let neighbours =
+                [(i > 0).then(|| row[i - 1]), row.get(i + 1).copied(), above.map(|r| r[i]), below.map(|r| r[i])];
             let mut class = PixelClass::Reprojected;
             for n in neighbours.into_iter().flatten().filter(|&n| n != NO_SOURCE) {
                 let other = &left[n as usize];

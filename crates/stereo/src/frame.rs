@@ -191,7 +191,9 @@ impl StereoFrame {
                                 tests += 1;
                                 let ray = rv.primary_ray(i as u32, j as u32);
                                 if let Some(t) = tracer.intersect_object(&ray, seen.object) {
-                                    tracer.shade_known_visibility(rv, &ray, t, seen.object, seen.lights, &mut counts).rgb
+                                    tracer
+                                        .shade_known_visibility(rv, &ray, t, seen.object, seen.lights, &mut counts)
+                                        .rgb
                                 } else {
                                     mask[i] = PixelClass::RetracedEdge;
                                     tracer.trace_pixel(rv, i as u32, j as u32, &mut counts).rgb

@@ -3,7 +3,9 @@
 use glam::Vec3;
 use proptest::prelude::*;
 use stereo::{reproject_row, Mode, Options, PixelClass, Quality, StereoFrame, NO_SOURCE};
-use tracer::{render_eye, render_rgb, Camera, Eye, Film, Light, Material, Motion, RenderSettings, Scene, SceneSphere, Tracer};
+use tracer::{
+    render_eye, render_rgb, Camera, Eye, Film, Light, Material, Motion, RenderSettings, Scene, SceneSphere, Tracer,
+};
 
 fn seed() -> Scene {
     Scene::from_toml(include_str!("../../../assets/scenes/seed.toml"), "seed.toml").unwrap()
@@ -56,13 +58,20 @@ fn a_point_at_known_depth_lands_where_the_right_camera_sees_it() {
                 assert!(!(0.0..w as f32).contains(&expected), "z = {z}, i = {i}: dropped but visible at {expected}");
                 continue;
             };
-            assert!((j as f32 + 0.5 - expected).abs() <= 0.5 + 1e-3, "z = {z}, i = {i}: landed in {j}, right camera sees {expected}");
+            assert!(
+                (j as f32 + 0.5 - expected).abs() <= 0.5 + 1e-3,
+                "z = {z}, i = {i}: landed in {j}, right camera sees {expected}"
+            );
         }
     }
 }
 
 fn sphere(center: Vec3, radius: f32, color: Vec3) -> SceneSphere {
-    SceneSphere { radius, motion: Motion::Static(center), material: Material { color, specular: 0.4, shininess: 30.0, reflectivity: 0.3, ..Material::default() } }
+    SceneSphere {
+        radius,
+        motion: Motion::Static(center),
+        material: Material { color, specular: 0.4, shininess: 30.0, reflectivity: 0.3, ..Material::default() },
+    }
 }
 
 #[test]
@@ -72,7 +81,10 @@ fn a_hidden_far_surface_never_overwrites_the_near_one() {
         camera: Camera { ipd: 2.0, distance: 10.0, fov_deg: 40.0, ..Camera::default() },
         render: RenderSettings::default(),
         lights: vec![Light { position: Vec3::new(-5.0, 8.0, -5.0), color: Vec3::ONE }],
-        spheres: vec![sphere(Vec3::new(0.0, 0.0, 30.0), 8.0, Vec3::new(0.2, 0.3, 0.9)), sphere(Vec3::new(0.5, 0.0, 8.0), 1.5, Vec3::new(0.9, 0.3, 0.2))],
+        spheres: vec![
+            sphere(Vec3::new(0.0, 0.0, 30.0), 8.0, Vec3::new(0.2, 0.3, 0.9)),
+            sphere(Vec3::new(0.5, 0.0, 8.0), 1.5, Vec3::new(0.9, 0.3, 0.2)),
+        ],
     };
     let tracer = Tracer::new(&scene, 0.0);
     let (w, h) = (200u32, 120u32);
@@ -85,26 +97,31 @@ fn a_hidden_far_surface_never_overwrites_the_near_one() {
         let (mask, src) = (frame.mask(), frame.sources());
         let mut gaps = 0;
         for k in 0..(w * h) as usize {
-            match mask[k] {
-                PixelClass::Reprojected => {
-                    let seen = frame.left().surface[src[k] as usize].object;
-                    let truth_object = truth.surface[k].object;
-                    // Away from silhouettes the reprojected object is the one the right eye sees.
-                    let (i, j) = ((k % w as usize) as i64, (k / w as usize) as i64);
-                    let interior = (-1..=1).all(|dj| {
-                        (-1..=1).all(|di| {
-                            let (x, y) = (i + di, j + dj);
-                            x < 0 || y < 0 || x >= i64::from(w) || y >= i64::from(h) || truth.surface[(y * i64::from(w) + x) as usize].object == truth_object
-                        })
-                    });
-                    if interior && truth_object == 1 {
-                        assert_eq!(seen, 1, "{mode}: far surface overwrote the near sphere at {k}");
-                    }
-                }
-                _ => {
-                    gaps += 1;
-                    assert_eq!(frame.right().rgb[k], reference[k], "{mode}: retraced pixel {k} differs from the full trace");
-                }
+            if mask[k] != PixelClass::Reprojected {
+                gaps += 1;
+                assert_eq!(
+                    frame.right().rgb[k],
+                    reference[k],
+                    "{mode}: retraced pixel {k} differs from the full trace"
+                );
+                continue;
+            }
+            let seen = frame.left().surface[src[k] as usize].object;
+            let truth_object = truth.surface[k].object;
+            // Away from silhouettes the reprojected object is the one the right eye sees.
+            let (i, j) = ((k % w as usize) as i64, (k / w as usize) as i64);
+            let interior = (-1..=1).all(|dj| {
+                (-1..=1).all(|di| {
+                    let (x, y) = (i + di, j + dj);
+                    x < 0
+                        || y < 0
+                        || x >= i64::from(w)
+                        || y >= i64::from(h)
+                        || truth.surface[(y * i64::from(w) + x) as usize].object == truth_object
+                })
+            });
+            if interior && truth_object == 1 {
+                assert_eq!(seen, 1, "{mode}: far surface overwrote the near sphere at {k}");
             }
         }
         assert!(gaps > 2 * 120, "{mode}: expected a disoccluded strip, got {gaps} retraced pixels");
@@ -149,12 +166,20 @@ fn copy_shows_the_seed_papers_seams_and_exact_removes_them() {
 
 /// A random scene: spheres in front of the camera, some lights, random materials.
 fn arb_scene() -> impl Strategy<Value = Scene> {
-    let sphere = (-6.0f32..6.0, -3.0f32..3.0, 4.0f32..40.0, 0.2f32..3.0, 0.0f32..1.0, 0.0f32..1.0, 0.0f32..1.0).prop_map(|(x, y, z, r, c, spec, refl)| SceneSphere {
-        radius: r,
-        motion: Motion::Static(Vec3::new(x, y, z)),
-        material: Material { color: Vec3::new(c, 1.0 - c, 0.5), diffuse: 0.7, specular: spec, shininess: 20.0, reflectivity: refl * 0.8 },
-    });
-    let light = (-10.0f32..10.0, 0.0f32..10.0, -10.0f32..10.0).prop_map(|(x, y, z)| Light { position: Vec3::new(x, y, z), color: Vec3::ONE });
+    let sphere = (-6.0f32..6.0, -3.0f32..3.0, 4.0f32..40.0, 0.2f32..3.0, 0.0f32..1.0, 0.0f32..1.0, 0.0f32..1.0)
+        .prop_map(|(x, y, z, r, c, spec, refl)| SceneSphere {
+            radius: r,
+            motion: Motion::Static(Vec3::new(x, y, z)),
+            material: Material {
+                color: Vec3::new(c, 1.0 - c, 0.5),
+                diffuse: 0.7,
+                specular: spec,
+                shininess: 20.0,
+                reflectivity: refl * 0.8,
+            },
+        });
+    let light = (-10.0f32..10.0, 0.0f32..10.0, -10.0f32..10.0)
+        .prop_map(|(x, y, z)| Light { position: Vec3::new(x, y, z), color: Vec3::ONE });
     (
         proptest::collection::vec(sphere, 1..10),
         proptest::collection::vec(light, 0..3),
@@ -168,7 +193,10 @@ fn arb_scene() -> impl Strategy<Value = Scene> {
             render: RenderSettings { max_depth, ..RenderSettings::default() },
             lights,
             // Keep the eyes outside every sphere.
-            spheres: spheres.into_iter().filter(|s| matches!(s.motion, Motion::Static(c) if c.length() > s.radius + 1.0)).collect(),
+            spheres: spheres
+                .into_iter()
+                .filter(|s| matches!(s.motion, Motion::Static(c) if c.length() > s.radius + 1.0))
+                .collect(),
         })
 }
 

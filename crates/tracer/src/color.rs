@@ -73,8 +73,7 @@ static TABLE: LazyLock<EncodeTable> = LazyLock::new(|| {
 #[inline]
 #[must_use]
 pub fn linear_to_srgb8(c: f32) -> u8 {
-    // `!(c >= MIN)` also catches NaN.
-    if !(c >= MIN_LINEAR) {
+    if c.is_nan() || c < MIN_LINEAR {
         return 0;
     }
     if c >= 1.0 {

@@ -24,7 +24,8 @@ pub struct Surface {
 
 impl Surface {
     /// The record of a pixel that saw only background.
-    pub const MISS: Self = Self { point: Vec3::ZERO, normal: Vec3::ZERO, diffuse: Vec3::ZERO, object: NO_OBJECT, lights: 0 };
+    pub const MISS: Self =
+        Self { point: Vec3::ZERO, normal: Vec3::ZERO, diffuse: Vec3::ZERO, object: NO_OBJECT, lights: 0 };
 
     /// Whether the primary ray hit a sphere.
     #[must_use]

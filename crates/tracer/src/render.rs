@@ -94,8 +94,18 @@ mod tests {
     fn lit_sphere_centre_pixel_matches_the_closed_form() {
         // Light at the eye: n·l = 1 and n·h = 1 at the centre, so
         // L = c·(ambient + kd) + ks.
-        let m = Material { color: Vec3::new(0.5, 0.25, 0.2), diffuse: 0.8, specular: 0.3, shininess: 10.0, reflectivity: 0.0 };
-        let scene = one_sphere(m, vec![Light { position: Vec3::ZERO, color: Vec3::ONE }], RenderSettings { ambient: 0.1, ..RenderSettings::default() });
+        let m = Material {
+            color: Vec3::new(0.5, 0.25, 0.2),
+            diffuse: 0.8,
+            specular: 0.3,
+            shininess: 10.0,
+            reflectivity: 0.0,
+        };
+        let scene = one_sphere(
+            m,
+            vec![Light { position: Vec3::ZERO, color: Vec3::ONE }],
+            RenderSettings { ambient: 0.1, ..RenderSettings::default() },
+        );
         let (px, counts, surface) = centre_pixel(&scene);
         assert_eq!(px, srgb(m.color * 0.9 + Vec3::splat(0.3)));
         assert!((surface.point - Vec3::new(0.0, 0.0, 9.0)).length() < 1e-5);
@@ -150,9 +160,20 @@ mod tests {
         // A black mirror at z = 10 and a red sphere on the axis behind the eye: the centre
         // pixel's reflection travels back along −z, past the eye, onto the red sphere.
         let mirror = Material { color: Vec3::ZERO, diffuse: 0.0, specular: 0.0, shininess: 1.0, reflectivity: 1.0 };
-        let red = Material { color: Vec3::new(1.0, 0.0, 0.0), diffuse: 0.0, specular: 0.0, shininess: 1.0, reflectivity: 0.0 };
-        let mut scene = one_sphere(mirror, vec![], RenderSettings { max_depth: 1, background: Vec3::ZERO, ambient: 1.0 });
-        scene.spheres.push(SceneSphere { radius: 0.5, motion: Motion::Static(Vec3::new(0.0, 0.0, -3.0)), material: red });
+        let red = Material {
+            color: Vec3::new(1.0, 0.0, 0.0),
+            diffuse: 0.0,
+            specular: 0.0,
+            shininess: 1.0,
+            reflectivity: 0.0,
+        };
+        let mut scene =
+            one_sphere(mirror, vec![], RenderSettings { max_depth: 1, background: Vec3::ZERO, ambient: 1.0 });
+        scene.spheres.push(SceneSphere {
+            radius: 0.5,
+            motion: Motion::Static(Vec3::new(0.0, 0.0, -3.0)),
+            material: red,
+        });
         let (px, ..) = centre_pixel(&scene);
         assert_eq!(px, [255, 0, 0]);
     }
@@ -186,7 +207,10 @@ mod tests {
         };
         let (a, b) = (run(1), run(2));
         assert_eq!(a.0, b.0);
-        assert_eq!(a.1.iter().map(|z| z.to_bits()).collect::<Vec<_>>(), b.1.iter().map(|z| z.to_bits()).collect::<Vec<_>>());
+        assert_eq!(
+            a.1.iter().map(|z| z.to_bits()).collect::<Vec<_>>(),
+            b.1.iter().map(|z| z.to_bits()).collect::<Vec<_>>()
+        );
         assert_eq!(a.2, b.2);
     }
 

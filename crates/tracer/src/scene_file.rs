@@ -152,7 +152,11 @@ impl Checker<'_> {
         let c = self.vec3(at, field, v)?;
         for (k, x) in v.iter().enumerate() {
             if *x < 0.0 || *x > hi {
-                let allowed = if hi.is_finite() { format!("colour channels are linear, 0 to {hi}") } else { "must be ≥ 0".to_owned() };
+                let allowed = if hi.is_finite() {
+                    format!("colour channels are linear, 0 to {hi}")
+                } else {
+                    "must be ≥ 0".to_owned()
+                };
                 return Err(self.invalid(at, &format!("{field}[{k}]"), x, &allowed));
             }
         }
@@ -168,7 +172,8 @@ impl Scene {
     /// Reads and validates a scene file.
     pub fn load(path: impl AsRef<Path>) -> Result<Self, SceneError> {
         let path = path.as_ref();
-        let src = std::fs::read_to_string(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
+        let src =
+            std::fs::read_to_string(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
         Self::from_toml(&src, path)
     }
 
@@ -185,14 +190,33 @@ impl Scene {
                 let c = c.get_ref();
                 let camera = Camera {
                     ipd: ck.range(at, "camera.ipd", c.ipd, 0.0, f32::MAX, "must be ≥ 0 (0 gives identical eyes)")?,
-                    distance: ck.range(at, "camera.distance", c.distance, f32::MIN_POSITIVE, f32::MAX, "must be > 0")?,
+                    distance: ck.range(
+                        at,
+                        "camera.distance",
+                        c.distance,
+                        f32::MIN_POSITIVE,
+                        f32::MAX,
+                        "must be > 0",
+                    )?,
                     fov_deg: ck.finite(at, "camera.fov_deg", c.fov_deg)?,
                     position: ck.vec3(at, "camera.position", c.position)?,
                     yaw_deg: ck.finite(at, "camera.yaw_deg", c.yaw_deg)?,
-                    pitch_deg: ck.range(at, "camera.pitch_deg", c.pitch_deg, -89.0, 89.0, "must be within −89 to 89 degrees")?,
+                    pitch_deg: ck.range(
+                        at,
+                        "camera.pitch_deg",
+                        c.pitch_deg,
+                        -89.0,
+                        89.0,
+                        "must be within −89 to 89 degrees",
+                    )?,
                 };
                 if !(camera.fov_deg > 0.0 && camera.fov_deg < 180.0) {
-                    return Err(ck.invalid(at, "camera.fov_deg", c.fov_deg, "must be strictly between 0 and 180 degrees"));
+                    return Err(ck.invalid(
+                        at,
+                        "camera.fov_deg",
+                        c.fov_deg,
+                        "must be strictly between 0 and 180 degrees",
+                    ));
                 }
                 camera
             }
@@ -204,7 +228,12 @@ impl Scene {
                 let at = r.span().start;
                 let r = r.get_ref();
                 if !(0..=i64::from(MAX_DEPTH_LIMIT)).contains(&r.max_depth) {
-                    return Err(ck.invalid(at, "render.max_depth", r.max_depth, &format!("must be 0 to {MAX_DEPTH_LIMIT} reflection bounces")));
+                    return Err(ck.invalid(
+                        at,
+                        "render.max_depth",
+                        r.max_depth,
+                        &format!("must be 0 to {MAX_DEPTH_LIMIT} reflection bounces"),
+                    ));
                 }
                 RenderSettings {
                     max_depth: r.max_depth as u32,
@@ -262,11 +291,19 @@ fn sphere(ck: &Checker, k: usize, at: usize, s: &SphereDef) -> Result<SceneSpher
                 phase_deg: ck.finite(at, &f("orbit.phase_deg"), o.phase_deg)?,
             }
         }
-        (Some(c), Some(_)) => return Err(ck.invalid(at, &f("center"), format_vec(*c), "a sphere has either `center` or `orbit`, not both")),
+        (Some(c), Some(_)) => {
+            return Err(ck.invalid(
+                at,
+                &f("center"),
+                format_vec(*c),
+                "a sphere has either `center` or `orbit`, not both",
+            ))
+        }
         (None, None) => return Err(ck.invalid(at, &f("center"), "(missing)", "a sphere needs `center` or `orbit`")),
     };
     let d = Material::default();
-    let unit = |name: &str, v: Option<f32>, dv: f32| ck.range(at, &f(name), v.unwrap_or(dv), 0.0, 1.0, "must be 0 to 1");
+    let unit =
+        |name: &str, v: Option<f32>, dv: f32| ck.range(at, &f(name), v.unwrap_or(dv), 0.0, 1.0, "must be 0 to 1");
     let material = Material {
         color: match s.color {
             Some(c) => ck.color(at, &f("color"), c, 1.0)?,
@@ -274,7 +311,14 @@ fn sphere(ck: &Checker, k: usize, at: usize, s: &SphereDef) -> Result<SceneSpher
         },
         diffuse: unit("diffuse", s.diffuse, d.diffuse)?,
         specular: unit("specular", s.specular, d.specular)?,
-        shininess: ck.range(at, &f("shininess"), s.shininess.unwrap_or(d.shininess), 1.0, 10_000.0, "must be 1 to 10000")?,
+        shininess: ck.range(
+            at,
+            &f("shininess"),
+            s.shininess.unwrap_or(d.shininess),
+            1.0,
+            10_000.0,
+            "must be 1 to 10000",
+        )?,
         reflectivity: unit("reflectivity", s.reflectivity, d.reflectivity)?,
     };
     Ok(SceneSphere { radius, motion, material })
@@ -300,7 +344,9 @@ fn check_camera_outside_spheres(ck: &Checker, file: &SceneFile, scene: &Scene) -
                         at,
                         &format!("spheres[{k}].radius"),
                         s.radius,
-                        &format!("the camera's eye at {eye} is inside this sphere{where_}; move the camera or the sphere"),
+                        &format!(
+                            "the camera's eye at {eye} is inside this sphere{where_}; move the camera or the sphere"
+                        ),
                     ));
                 }
             }

@@ -71,7 +71,15 @@ impl Tracer {
     /// visibility this is bit-for-bit what [`Tracer::trace_pixel`] would produce.
     #[inline]
     #[must_use]
-    pub fn shade_known_visibility(&self, view: &EyeView, ray: &Ray, t: f32, object: u32, lights: u32, counts: &mut RayCounts) -> Shaded {
+    pub fn shade_known_visibility(
+        &self,
+        view: &EyeView,
+        ray: &Ray,
+        t: f32,
+        object: u32,
+        lights: u32,
+        counts: &mut RayCounts,
+    ) -> Shaded {
         self.shaded_sample(view, ray, t, object, Visibility::Known(lights), counts)
     }
 
@@ -93,12 +101,28 @@ impl Tracer {
         Shaded { rgb: pack_rgb(self.settings.background), z: f32::INFINITY, surface: Surface::MISS }
     }
 
-    fn shaded_sample(&self, view: &EyeView, ray: &Ray, t: f32, object: u32, vis: Visibility, counts: &mut RayCounts) -> Shaded {
+    fn shaded_sample(
+        &self,
+        view: &EyeView,
+        ray: &Ray,
+        t: f32,
+        object: u32,
+        vis: Visibility,
+        counts: &mut RayCounts,
+    ) -> Shaded {
         let (color, surface) = self.shade_hit(ray, t, object, 0, vis, counts);
         Shaded { rgb: pack_rgb(color), z: view.head_z(surface.point), surface }
     }
 
-    fn shade_hit(&self, ray: &Ray, t: f32, object: u32, depth: u32, vis: Visibility, counts: &mut RayCounts) -> (Vec3, Surface) {
+    fn shade_hit(
+        &self,
+        ray: &Ray,
+        t: f32,
+        object: u32,
+        depth: u32,
+        vis: Visibility,
+        counts: &mut RayCounts,
+    ) -> (Vec3, Surface) {
         let k = object as usize;
         let p = ray.at(t);
         // Normalised rather than divided by r: the hit lies on the sphere only to rounding.
@@ -110,7 +134,15 @@ impl Tracer {
     }
 
     /// Ambient + Lambert diffuse with hard shadows, and the visibility bits it found.
-    fn view_independent(&self, p: Vec3, n: Vec3, color: Vec3, kd: f32, vis: Visibility, counts: &mut RayCounts) -> (Vec3, u32) {
+    fn view_independent(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        color: Vec3,
+        kd: f32,
+        vis: Visibility,
+        counts: &mut RayCounts,
+    ) -> (Vec3, u32) {
         let mut sum = Vec3::ZERO;
         let mut bits = 0u32;
         for (k, light) in self.lights.iter().enumerate() {
@@ -137,7 +169,16 @@ impl Tracer {
     }
 
     /// Blinn–Phong highlights from the visible lights plus the mirror reflection.
-    fn view_dependent(&self, p: Vec3, n: Vec3, d: Vec3, m: &crate::Material, lights: u32, depth: u32, counts: &mut RayCounts) -> Vec3 {
+    fn view_dependent(
+        &self,
+        p: Vec3,
+        n: Vec3,
+        d: Vec3,
+        m: &crate::Material,
+        lights: u32,
+        depth: u32,
+        counts: &mut RayCounts,
+    ) -> Vec3 {
         let mut out = Vec3::ZERO;
         if m.specular > 0.0 {
             for (k, light) in self.lights.iter().enumerate() {

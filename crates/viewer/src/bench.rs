@@ -109,7 +109,9 @@ impl Summary {
         let mut rates: Vec<f64> = m
             .frames
             .iter()
-            .map(|s| (s.left.rays.total() + s.right.rays.total()) as f64 / ((s.left.ms + s.right.ms) * 1e3) / threads as f64)
+            .map(|s| {
+                (s.left.rays.total() + s.right.rays.total()) as f64 / ((s.left.ms + s.right.ms) * 1e3) / threads as f64
+            })
             .collect();
         Self { name: m.name, stats, quality: worst(&m.quality), stereo_ms, mrays_per_core: median(&mut rates) }
     }
@@ -186,7 +188,19 @@ fn table(scene: &str, w: u32, h: u32, frames: u32, threads: usize, mono_ms: f64,
     let _ = writeln!(
         out,
         "{:<14} {:>8} {:>8} {:>7} {:>7} {:>9} {:>9} {:>11} {:>7} {:>8} {:>9} {:>8} {:>7}",
-        "mode", "left ms", "right ms", "R/L ms", "st/mono", "left Mr", "right Mr", "ray % L/R", "reproj", "PSNR dB", "identical", ">2/255", "Mr/s/c"
+        "mode",
+        "left ms",
+        "right ms",
+        "R/L ms",
+        "st/mono",
+        "left Mr",
+        "right Mr",
+        "ray % L/R",
+        "reproj",
+        "PSNR dB",
+        "identical",
+        ">2/255",
+        "Mr/s/c"
     );
     for r in rows {
         let s = &r.stats;

@@ -19,8 +19,9 @@ pub fn write_png(path: &Path, width: u32, height: u32, pixels: &[u32]) -> Result
     }
     let name = path.file_name().with_context(|| format!("cannot write {}: not a file name", path.display()))?;
     let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
-    let result = write_file(&tmp, width, height, pixels)
-        .and_then(|()| std::fs::rename(&tmp, path).with_context(|| format!("cannot move {} into place", path.display())));
+    let result = write_file(&tmp, width, height, pixels).and_then(|()| {
+        std::fs::rename(&tmp, path).with_context(|| format!("cannot move {} into place", path.display()))
+    });
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }

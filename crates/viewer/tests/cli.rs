@@ -33,7 +33,10 @@ fn json(out: &Output) -> Value {
 fn rays_add_up(v: &Value) -> u64 {
     let r = &v["rays"];
     let total = r["total"].as_u64().unwrap();
-    assert_eq!(total, r["primary"].as_u64().unwrap() + r["shadow"].as_u64().unwrap() + r["reflection"].as_u64().unwrap());
+    assert_eq!(
+        total,
+        r["primary"].as_u64().unwrap() + r["shadow"].as_u64().unwrap() + r["reflection"].as_u64().unwrap()
+    );
     total
 }
 
@@ -41,8 +44,20 @@ fn rays_add_up(v: &Value) -> u64 {
 fn render_full_writes_both_eyes_and_a_consistent_report() {
     let (l, r) = (tmp("full_l.png"), tmp("full_r.png"));
     let out = stereotrace(&[
-        "render", "--scene", "assets/scenes/seed.toml", "--width", "160", "--height", "90", "--mode", "full", "--left",
-        l.to_str().unwrap(), "--right", r.to_str().unwrap(), "--json",
+        "render",
+        "--scene",
+        "assets/scenes/seed.toml",
+        "--width",
+        "160",
+        "--height",
+        "90",
+        "--mode",
+        "full",
+        "--left",
+        l.to_str().unwrap(),
+        "--right",
+        r.to_str().unwrap(),
+        "--json",
     ]);
     let v = json(&out);
     assert_eq!(png_size(&l), (160, 90));
@@ -60,13 +75,26 @@ fn render_full_writes_both_eyes_and_a_consistent_report() {
 fn render_exact_with_mask_reprojects_most_pixels() {
     let (r, m) = (tmp("exact_r.png"), tmp("exact_m.png"));
     let out = stereotrace(&[
-        "render", "--width", "320", "--height", "180", "--mode", "exact", "--right", r.to_str().unwrap(), "--mask",
-        m.to_str().unwrap(), "--json",
+        "render",
+        "--width",
+        "320",
+        "--height",
+        "180",
+        "--mode",
+        "exact",
+        "--right",
+        r.to_str().unwrap(),
+        "--mask",
+        m.to_str().unwrap(),
+        "--json",
     ]);
     let v = json(&out);
     assert_eq!(png_size(&m), (320, 180));
     let px = &v["right"]["pixels"];
-    let sum: u64 = ["reprojected", "retraced_gap", "retraced_edge", "retraced_shadow", "traced"].iter().map(|k| px[k].as_u64().unwrap()).sum();
+    let sum: u64 = ["reprojected", "retraced_gap", "retraced_edge", "retraced_shadow", "traced"]
+        .iter()
+        .map(|k| px[k].as_u64().unwrap())
+        .sum();
     assert_eq!(sum, 320 * 180);
     assert!(px["reprojected"].as_u64().unwrap() > 320 * 180 / 2);
     let (left, right) = (rays_add_up(&v["left"]), rays_add_up(&v["right"]));
@@ -120,7 +148,21 @@ fn bad_arguments_exit_2_without_writing() {
 fn help_documents_every_flag() {
     let out = stereotrace(&["render", "--help"]);
     let text = String::from_utf8_lossy(&out.stdout);
-    for flag in ["--scene", "--width", "--height", "--ipd", "--distance", "--depth", "--mode", "--retrace-edges", "--time", "--left", "--right", "--mask", "--json"] {
+    for flag in [
+        "--scene",
+        "--width",
+        "--height",
+        "--ipd",
+        "--distance",
+        "--depth",
+        "--mode",
+        "--retrace-edges",
+        "--time",
+        "--left",
+        "--right",
+        "--mask",
+        "--json",
+    ] {
         assert!(text.contains(flag), "render --help lacks {flag}");
     }
     let out = stereotrace(&["--help"]);

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# What CI runs (.ci/run installs the system packages, then runs this). Run it locally
+# before pushing: formatting, lints as errors, docs, then the whole test suite.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+echo "== cargo fmt --check"
+cargo fmt --all --check
+
+echo "== cargo clippy (warnings are errors)"
+cargo clippy --workspace --all-targets --locked -- -D warnings
+
+echo "== cargo doc (warnings are errors)"
+RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked --quiet
+
+echo "== cargo test --workspace"
+cargo test --workspace --locked
