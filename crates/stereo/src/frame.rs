@@ -3,9 +3,9 @@
 use std::time::Instant;
 
 use rayon::prelude::*;
-use tracer::{render_eye, render_rgb, Camera, Eye, EyeView, Film, RayCounts, Tracer};
+use tracer::{render_eye, render_rgb, Camera, Eye, EyeView, Film, RayCounts, Tracer, NO_OBJECT};
 
-use crate::classify::classify_row;
+use crate::classify::{classify_row, key, GAP_KEY};
 use crate::mode::{Mode, Options};
 use crate::reproject::{reproject_row, NO_SOURCE};
 use crate::stats::{FrameStats, PixelClass, PixelCounts};
@@ -29,6 +29,8 @@ pub struct StereoFrame {
     right: Image,
     /// For each right pixel, the left pixel that fills it, or [`NO_SOURCE`].
     src: Vec<u32>,
+    /// For each right pixel, its source's object and light bits (see `classify::key`).
+    keys: Vec<u64>,
     mask: Vec<PixelClass>,
     stats: FrameStats,
 }
@@ -89,6 +91,7 @@ impl StereoFrame {
 
         self.mask.resize(n, PixelClass::Traced);
         self.src.resize(n, NO_SOURCE);
+        self.keys.resize(n, GAP_KEY);
         (self.right.width, self.right.height) = (width, height);
         self.right.rgb.resize(n, 0);
         if n == 0 {
@@ -123,15 +126,22 @@ impl StereoFrame {
         let w = rv.width as usize;
         let shift_scale = camera.ipd * rv.pixels_per_unit();
         let d = camera.distance;
-        self.src.par_chunks_mut(w).zip(self.left.z.par_chunks(w)).enumerate().for_each(|(j, (src, z))| {
-            reproject_row(z, shift_scale, d, (j * w) as u32, src);
-        });
-        let (src, left) = (&self.src, &self.left.surface);
+        let left = &self.left;
+        self.src.par_chunks_mut(w).zip(self.keys.par_chunks_mut(w)).enumerate().for_each_init(
+            Vec::new,
+            |targets, (j, (src, keys))| {
+                reproject_row(&left.z[j * w..(j + 1) * w], shift_scale, d, (j * w) as u32, src, targets);
+                for (k, &s) in keys.iter_mut().zip(src.iter()) {
+                    *k = if s == NO_SOURCE { GAP_KEY } else { key(left.object[s as usize], left.lights[s as usize]) };
+                }
+            },
+        );
         // With IPD 0 every left pixel lands exactly on its own centre: the reprojection is
         // exact and no edge or shadow boundary needs a second look.
         let exact_landing = shift_scale == 0.0;
         let (edges, shadows) = (opts.edges() && !exact_landing, opts.shadow_boundaries() && !exact_landing);
-        self.mask.par_chunks_mut(w).enumerate().for_each(|(j, out)| classify_row(src, left, w, j, edges, shadows, out));
+        let keys = &self.keys;
+        self.mask.par_chunks_mut(w).enumerate().for_each(|(j, out)| classify_row(keys, w, j, edges, shadows, out));
     }
 
     /// Stage 4: full primary rays for every pixel not reprojected.
@@ -174,26 +184,25 @@ impl StereoFrame {
                         continue;
                     }
                     let s = src[i] as usize;
-                    let seen = &left.surface[s];
+                    let object = left.object[s];
+                    let hit = object != NO_OBJECT;
                     match mode {
                         Mode::Full => unreachable!("full mode does not reproject"),
                         Mode::Copy => rgb[i] = left.rgb[s],
                         Mode::Reshade => {
-                            rgb[i] = if seen.is_hit() {
+                            rgb[i] = if hit {
                                 let dir = rv.primary_ray(i as u32, j as u32).dir;
-                                tracer.reshade(dir, seen, &mut counts)
+                                tracer.reshade(dir, &left.surface(s), &mut counts)
                             } else {
                                 left.rgb[s]
                             };
                         }
                         Mode::Exact => {
-                            rgb[i] = if seen.is_hit() {
+                            rgb[i] = if hit {
                                 tests += 1;
                                 let ray = rv.primary_ray(i as u32, j as u32);
-                                if let Some(t) = tracer.intersect_object(&ray, seen.object) {
-                                    tracer
-                                        .shade_known_visibility(rv, &ray, t, seen.object, seen.lights, &mut counts)
-                                        .rgb
+                                if let Some(t) = tracer.intersect_object(&ray, object) {
+                                    tracer.shade_known_visibility(rv, &ray, t, object, left.lights[s], &mut counts).rgb
                                 } else {
                                     mask[i] = PixelClass::RetracedEdge;
                                     tracer.trace_pixel(rv, i as u32, j as u32, &mut counts).rgb

@@ -36,21 +36,36 @@ pub const NO_SOURCE: u32 = u32::MAX;
 /// `z` holds the left row's head-space depths (+∞ for a miss); `shift_scale` is e·W/w, the
 /// shift in pixels of a point at infinity; `distance` is d. On return `src[j]` is
 /// `row_base + i` for the left pixel i that fills right pixel j, or [`NO_SOURCE`].
-pub fn reproject_row(z: &[f32], shift_scale: f32, distance: f32, row_base: u32, src: &mut [u32]) {
+/// `targets` is scratch space, reused across calls to avoid allocating per row.
+pub fn reproject_row(
+    z: &[f32],
+    shift_scale: f32,
+    distance: f32,
+    row_base: u32,
+    src: &mut [u32],
+    targets: &mut Vec<i32>,
+) {
     debug_assert_eq!(z.len(), src.len());
-    let w = src.len() as i64;
+    let w = src.len() as i32;
+    // First every target, in a loop the compiler vectorises:
+    // x = i + ½ + e·(1 − d/(d+z)) (in pixels) = (i + ½ + e) − e·d/(d+z), written so that
+    // z = +∞ shifts by exactly e rather than ∞/∞; j = ⌊x⌋ clamped to [−1, W] (the paper's M
+    // for targets past the right edge; −1 for targets left of the image, which are dropped).
+    let (offset, scaled_distance) = (0.5 + shift_scale, shift_scale * distance);
+    targets.clear();
+    targets.extend(z.iter().enumerate().map(|(i, &zi)| {
+        let x = ((i as f32 + offset) - scaled_distance / (distance + zi)).clamp(-1.0, w as f32);
+        // ⌊x⌋ by truncation and a correction, without libm's floorf.
+        let t = x as i32;
+        t - i32::from((t as f32) > x)
+    }));
+    // Then the scan in scanline order.
     src.fill(NO_SOURCE);
-    let mut oldx: i64 = -1;
-    for (i, &zi) in z.iter().enumerate() {
-        // e·z/(d+z) written as e·(1 − d/(d+z)) so that z = +∞ shifts by exactly e.
-        let x = i as f32 + 0.5 + shift_scale * (1.0 - distance / (distance + zi));
-        let j = if x >= w as f32 { w } else { x.floor() as i64 };
+    let mut oldx: i32 = -1;
+    for (i, &j) in targets.iter().enumerate() {
         if j - oldx > 1 {
             let lo = (oldx + 1).max(0) as usize;
-            let hi = j.clamp(0, w) as usize;
-            if lo < hi {
-                src[lo..hi].fill(NO_SOURCE);
-            }
+            src[lo..j as usize].fill(NO_SOURCE);
         }
         if (0..w).contains(&j) {
             src[j as usize] = row_base + i as u32;
@@ -73,7 +88,7 @@ mod tests {
 
     fn run(z: &[f32], scale: f32) -> Vec<u32> {
         let mut src = vec![0; z.len()];
-        reproject_row(z, scale, D, 0, &mut src);
+        reproject_row(z, scale, D, 0, &mut src, &mut Vec::new());
         src
     }
 
@@ -118,7 +133,7 @@ mod tests {
         // shift = scale·(1 − d/(d+z)); choose z so the shifts are 0, 0, 0, 2, 2...
         let z2 = D * 2.0 / (8.0 - 2.0); // shift 2 with scale 8
         let z = [0.0, 0.0, 0.0, z2, z2, z2, z2, z2];
-        reproject_row(&z, 8.0, D, 100, &mut src);
+        reproject_row(&z, 8.0, D, 100, &mut src, &mut Vec::new());
         let n = NO_SOURCE;
         assert_eq!(src, vec![100, 101, 102, n, n, 103, 104, 105]);
     }

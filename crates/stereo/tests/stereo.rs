@@ -52,7 +52,7 @@ fn a_point_at_known_depth_lands_where_the_right_camera_sees_it() {
             let mut zs = vec![f32::INFINITY; w as usize];
             zs[i as usize] = lv.head_z(p);
             let mut src = vec![0; w as usize];
-            reproject_row(&zs, scale, camera.distance, 0, &mut src);
+            reproject_row(&zs, scale, camera.distance, 0, &mut src, &mut Vec::new());
             let landed = src.iter().position(|&s| s == i);
             let Some(j) = landed else {
                 assert!(!(0.0..w as f32).contains(&expected), "z = {z}, i = {i}: dropped but visible at {expected}");
@@ -106,8 +106,8 @@ fn a_hidden_far_surface_never_overwrites_the_near_one() {
                 );
                 continue;
             }
-            let seen = frame.left().surface[src[k] as usize].object;
-            let truth_object = truth.surface[k].object;
+            let seen = frame.left().object[src[k] as usize];
+            let truth_object = truth.object[k];
             // Away from silhouettes the reprojected object is the one the right eye sees.
             let (i, j) = ((k % w as usize) as i64, (k / w as usize) as i64);
             let interior = (-1..=1).all(|dj| {
@@ -117,7 +117,7 @@ fn a_hidden_far_surface_never_overwrites_the_near_one() {
                         || y < 0
                         || x >= i64::from(w)
                         || y >= i64::from(h)
-                        || truth.surface[(y * i64::from(w) + x) as usize].object == truth_object
+                        || truth.object[(y * i64::from(w) + x) as usize] == truth_object
                 })
             });
             if interior && truth_object == 1 {

@@ -34,10 +34,23 @@ impl Surface {
     }
 }
 
-/// A `width` × `height` image plus its per-pixel records, row-major, row 0 at the top.
+/// The part of a [`Surface`] that only re-shading reads.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shading {
+    /// World-space hit point.
+    pub point: Vec3,
+    /// Unit outward normal at the hit.
+    pub normal: Vec3,
+    /// View-independent light at the hit (see [`Surface::diffuse`]).
+    pub diffuse: Vec3,
+}
+
+/// A `width` × `height` image plus its per-pixel visible-surface records, row-major, row 0
+/// at the top.
 ///
-/// The planes are separate (structure of arrays) so that passes touch only what they
-/// need: reprojection reads `z` alone.
+/// The record is split into planes (structure of arrays) so that each pass touches only
+/// what it needs: reprojection reads `z`, edge and shadow-boundary tests read `object` and
+/// `lights`, and only re-shading reads the 36-byte `shading` entries.
 #[derive(Clone, Debug, Default)]
 pub struct Film {
     width: u32,
@@ -46,8 +59,12 @@ pub struct Film {
     pub rgb: Vec<u32>,
     /// Head-space depth beyond the window (the paper's z) of each pixel's hit; +∞ for a miss.
     pub z: Vec<f32>,
-    /// Visible-surface record of each pixel.
-    pub surface: Vec<Surface>,
+    /// Sphere seen by each pixel, or [`NO_OBJECT`].
+    pub object: Vec<u32>,
+    /// Per-light visibility bits at each pixel's hit (see [`Surface::lights`]).
+    pub lights: Vec<u32>,
+    /// Hit point, normal and view-independent light of each pixel.
+    pub shading: Vec<Shading>,
 }
 
 impl Film {
@@ -66,7 +83,16 @@ impl Film {
         self.height = height;
         self.rgb.resize(n, 0);
         self.z.resize(n, f32::INFINITY);
-        self.surface.resize(n, Surface::MISS);
+        self.object.resize(n, NO_OBJECT);
+        self.lights.resize(n, 0);
+        self.shading.resize(n, Shading { point: Vec3::ZERO, normal: Vec3::ZERO, diffuse: Vec3::ZERO });
+    }
+
+    /// The whole visible-surface record of pixel `k` (row-major index).
+    #[must_use]
+    pub fn surface(&self, k: usize) -> Surface {
+        let s = &self.shading[k];
+        Surface { point: s.point, normal: s.normal, diffuse: s.diffuse, object: self.object[k], lights: self.lights[k] }
     }
 
     /// Width in pixels.

@@ -32,7 +32,7 @@ mod world;
 pub use camera::{Camera, Eye, EyeView};
 pub use color::{linear_to_srgb8, pack_rgb, srgb8_to_linear, unpack_rgb};
 pub use error::SceneError;
-pub use film::{Film, Surface, NO_OBJECT};
+pub use film::{Film, Shading, Surface, NO_OBJECT};
 pub use ray::{reflect, spawn_ray, Ray};
 pub use render::{render_eye, render_rgb};
 pub use scene::{Light, Material, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};

@@ -3,7 +3,7 @@
 use rayon::prelude::*;
 
 use crate::camera::EyeView;
-use crate::film::Film;
+use crate::film::{Film, Shading};
 use crate::stats::RayCounts;
 use crate::world::Tracer;
 
@@ -19,18 +19,24 @@ pub fn render_eye(tracer: &Tracer, view: &EyeView, film: &mut Film) -> RayCounts
     if w == 0 || view.height == 0 {
         return RayCounts::default();
     }
-    film.rgb
-        .par_chunks_mut(w)
-        .zip(film.z.par_chunks_mut(w))
-        .zip(film.surface.par_chunks_mut(w))
+    (
+        film.rgb.par_chunks_mut(w),
+        film.z.par_chunks_mut(w),
+        film.object.par_chunks_mut(w),
+        film.lights.par_chunks_mut(w),
+        film.shading.par_chunks_mut(w),
+    )
+        .into_par_iter()
         .enumerate()
-        .map(|(j, ((rgb, z), surface))| {
+        .map(|(j, (rgb, z, object, lights, shading))| {
             let mut counts = RayCounts::default();
             for i in 0..w {
                 let s = tracer.trace_pixel(view, i as u32, j as u32, &mut counts);
                 rgb[i] = s.rgb;
                 z[i] = s.z;
-                surface[i] = s.surface;
+                object[i] = s.surface.object;
+                lights[i] = s.surface.lights;
+                shading[i] = Shading { point: s.surface.point, normal: s.surface.normal, diffuse: s.surface.diffuse };
             }
             counts
         })
@@ -83,7 +89,7 @@ mod tests {
         let view = scene.camera.view(Eye::Left, 3, 3);
         let mut film = Film::new(3, 3);
         let counts = render_eye(&tracer, &view, &mut film);
-        (unpack_rgb(film.rgb[4]), counts, film.surface[4])
+        (unpack_rgb(film.rgb[4]), counts, film.surface(4))
     }
 
     fn srgb(c: Vec3) -> [u8; 3] {
@@ -186,7 +192,7 @@ mod tests {
         let mut film = Film::new(64, 36);
         let counts = render_eye(&tracer, &view, &mut film);
         assert_eq!(counts.primary, 64 * 36);
-        let hits = film.surface.iter().filter(|s| s.is_hit()).count() as u64;
+        let hits = film.object.iter().filter(|&&o| o != crate::NO_OBJECT).count() as u64;
         // Every sphere is reflective and max_depth > 0: each primary hit casts one reflection.
         assert!(counts.reflection >= hits);
         assert_eq!(counts.total(), counts.primary + counts.shadow + counts.reflection);

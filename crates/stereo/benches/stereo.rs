@@ -1,0 +1,48 @@
+//! Criterion benchmarks of the stereo passes on the seed scene at 1280×720 per eye.
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use stereo::{reproject_row, Mode, Options, StereoFrame};
+use tracer::{render_eye, Eye, Film, Scene, Tracer};
+
+const W: u32 = 1280;
+const H: u32 = 720;
+
+fn seed() -> (Scene, Tracer) {
+    let scene = Scene::from_toml(include_str!("../../../assets/scenes/seed.toml"), "seed.toml").expect("seed scene");
+    let tracer = Tracer::new(&scene, 0.0);
+    (scene, tracer)
+}
+
+fn reprojection(c: &mut Criterion) {
+    let (scene, tracer) = seed();
+    let mut left = Film::new(W, H);
+    render_eye(&tracer, &scene.camera.view(Eye::Left, W, H), &mut left);
+    let scale = scene.camera.ipd * scene.camera.view(Eye::Right, W, H).pixels_per_unit();
+    let mut src = vec![0u32; (W * H) as usize];
+    let mut targets = Vec::new();
+    c.bench_function("reproject_rows_1280x720_one_thread", |b| {
+        b.iter(|| {
+            for (j, (z, s)) in left.z.chunks(W as usize).zip(src.chunks_mut(W as usize)).enumerate() {
+                reproject_row(black_box(z), scale, scene.camera.distance, j as u32 * W, s, &mut targets);
+            }
+        });
+    });
+}
+
+fn right_eye(c: &mut Criterion) {
+    let (scene, tracer) = seed();
+    let mut frame = StereoFrame::new();
+    let mut group = c.benchmark_group("stereo_frame_1280x720");
+    group.sample_size(10);
+    for mode in Mode::ALL {
+        let opts = Options { mode, retrace_edges: false };
+        frame.render(&tracer, &scene.camera, W, H, opts);
+        group.bench_function(mode.name(), |b| b.iter(|| frame.render(&tracer, &scene.camera, W, H, black_box(opts))));
+    }
+    group.finish();
+}
+
+criterion_group!(benches, reprojection, right_eye);
+criterion_main!(benches);
