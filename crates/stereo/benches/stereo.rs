@@ -1,4 +1,5 @@
 //! Criterion benchmarks of the stereo passes on the seed scene at 1280×720 per eye.
+#![allow(missing_docs)] // criterion_group! and criterion_main! generate undocumented items.
 
 use std::hint::black_box;
 
