@@ -350,7 +350,8 @@ impl App {
             &output.textures_delta,
             output.pixels_per_point,
         );
-        present::clear_alpha(&mut buffer);
+        let rows = present::ui_rows(&primitives, output.pixels_per_point, height);
+        present::clear_alpha(&mut buffer[rows.start * width..rows.end * width]);
         if self.config.dump.is_some() {
             let (pixels, w, h) = &mut self.dump;
             pixels.clear();

@@ -7,6 +7,8 @@
 //! shows stale or uninitialised memory. This runs on the UI thread without rayon: the global
 //! pool belongs to the tracer, and waiting on it would make the UI wait for the render.
 
+use std::ops::Range;
+
 use stereo::{mask_color, PixelClass, MASK_LEGEND};
 
 use crate::worker::Finished;
@@ -62,10 +64,32 @@ pub fn blend_half(a: u32, b: u32) -> u32 {
 }
 
 /// Clears the top byte of every pixel: softbuffer requires it to be zero, and the egui
-/// rasteriser writes alpha there.
+/// rasteriser writes alpha there (only where it drew: see [`ui_rows`]).
 pub fn clear_alpha(pixels: &mut [u32]) {
     for p in pixels {
         *p &= 0x00FF_FFFF;
+    }
+}
+
+/// The rows, in physical pixels, that the UI's meshes can touch (clipped to `0..height`);
+/// the eyes' pixels outside them keep a zero top byte.
+#[must_use]
+pub fn ui_rows(primitives: &[egui::ClippedPrimitive], pixels_per_point: f32, height: usize) -> Range<usize> {
+    let mut rows = height..0;
+    for p in primitives {
+        if let egui::epaint::Primitive::Mesh(mesh) = &p.primitive {
+            let r = mesh.calc_bounds().intersect(p.clip_rect);
+            if r.is_positive() {
+                let y0 = (r.min.y * pixels_per_point).floor().max(0.0) as usize;
+                let y1 = (r.max.y * pixels_per_point).ceil() as usize + 1;
+                rows = rows.start.min(y0)..rows.end.max(y1.min(height));
+            }
+        }
+    }
+    if rows.start < rows.end {
+        rows
+    } else {
+        0..0
     }
 }
 
@@ -114,6 +138,8 @@ impl Compositor {
         self.columns.clear();
         self.columns.extend((0..ew).map(|x| (x * fw / ew) as u32));
         let (columns, colors) = (&self.columns, &self.mask_colors);
+        // Same width: whole rows are copied, not gathered column by column.
+        let direct = fw == ew;
         let (left, right, mask) = (&frame.left, &frame.right, &frame.mask);
         let right_pixel = |s: usize| {
             if show_mask {
@@ -127,14 +153,19 @@ impl Compositor {
             let (first, rest) = row.split_at_mut(ew);
             let (second, pad) = rest.split_at_mut(ew);
             match layout {
-                Layout::Parallel => {
-                    fill_eye(first, columns, |c| left[src_row + c]);
-                    fill_eye(second, columns, |c| right_pixel(src_row + c));
-                    pad.fill(BACKGROUND);
-                }
-                Layout::CrossEyed => {
-                    fill_eye(first, columns, |c| right_pixel(src_row + c));
-                    fill_eye(second, columns, |c| left[src_row + c]);
+                Layout::Parallel | Layout::CrossEyed => {
+                    let (l, r) = if layout == Layout::Parallel { (first, second) } else { (second, first) };
+                    let span = src_row..src_row + fw;
+                    if direct {
+                        l.copy_from_slice(&left[span.clone()]);
+                    } else {
+                        fill_eye(l, columns, |c| left[src_row + c]);
+                    }
+                    if direct && !show_mask {
+                        r.copy_from_slice(&right[span]);
+                    } else {
+                        fill_eye(r, columns, |c| right_pixel(src_row + c));
+                    }
                     pad.fill(BACKGROUND);
                 }
                 Layout::Anaglyph => {
@@ -222,6 +253,18 @@ mod tests {
         assert!(!c.compose(&mut one, 1, 1, &f, Layout::Parallel, false));
         assert_eq!(one[0], BACKGROUND);
         assert!(!c.compose(&mut dst, 8, 2, &Finished::default(), Layout::Parallel, true));
+    }
+
+    #[test]
+    fn ui_rows_cover_the_meshes_and_nothing_else() {
+        let mut mesh = egui::Mesh::default();
+        let rect = egui::Rect::from_min_max(egui::pos2(5.0, 10.0), egui::pos2(50.0, 20.0));
+        mesh.add_colored_rect(rect, egui::Color32::WHITE);
+        let clip = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(100.0, 100.0));
+        let prims = [egui::ClippedPrimitive { clip_rect: clip, primitive: egui::epaint::Primitive::Mesh(mesh) }];
+        assert_eq!(ui_rows(&prims, 2.0, 300), 20..41);
+        assert_eq!(ui_rows(&prims, 2.0, 30), 20..30);
+        assert_eq!(ui_rows(&[], 1.0, 30), 0..0);
     }
 
     #[test]

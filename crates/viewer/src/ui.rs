@@ -152,8 +152,11 @@ pub fn panel(ctx: &egui::Context, settings: &mut Settings, readout: &Readout<'_>
         .resizable(false)
         .default_width(250.0)
         .frame(frame)
+        // The scroll area may use the whole window height (egui clamps this minimum to the
+        // screen); the panel itself still wraps its contents, and scrolls only when the window
+        // is too short for them.
+        .min_height(ctx.content_rect().height())
         .show(ctx, |ui| {
-            // Scrolls when the window is too short for the whole panel.
             egui::ScrollArea::vertical().show(ui, |ui| {
                 controls(ui, settings, readout, &mut actions);
                 ui.separator();
@@ -295,26 +298,36 @@ mod tests {
     }
 
     #[test]
-    fn panel_runs_headless_and_stays_narrow() {
+    fn panel_wraps_its_contents_and_scrolls_only_when_short() {
         let ctx = egui::Context::default();
         setup_style(&ctx);
         let mut s = Settings::from_scene(&scene());
-        s.show_mask = true;
         s.live_psnr = true;
         let history = FrameTimes::default();
         let readout =
             Readout { ui_fps: 60.0, render_fps: 10.0, frame: None, time: 0.0, animated: true, history: &history };
-        let input = || egui::RawInput {
-            screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1600.0, 600.0))),
-            ..Default::default()
+        let panel_rect = |s: &mut Settings, height: f32| {
+            for _ in 0..3 {
+                let input = egui::RawInput {
+                    screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1600.0, height))),
+                    ..Default::default()
+                };
+                let _ = ctx.run_ui(input, |ui| {
+                    let _ = panel(ui.ctx(), s, &readout);
+                });
+            }
+            ctx.globally_used_rect()
         };
-        for _ in 0..3 {
-            let _ = ctx.run_ui(input(), |ui| {
-                let _ = panel(ui.ctx(), &mut s, &readout);
-            });
-        }
-        let used = ctx.globally_used_rect();
-        assert!(used.width() < 420.0, "the panel covers too much of the left eye: {used:?}");
+        let without = panel_rect(&mut s, 600.0);
+        s.show_mask = true;
+        let with = panel_rect(&mut s, 600.0);
+        assert!(with.width() < 420.0, "the panel covers too much of the left eye: {with:?}");
+        assert!(with.height() > without.height() + 60.0, "the legend should extend the panel: {with:?} vs {without:?}");
+        assert!(with.height() < 560.0, "the panel should wrap its contents: {with:?}");
+        let short = panel_rect(&mut s, 250.0);
+        assert!(short.height() < 280.0, "a short window should scroll the panel: {short:?}");
+        let again = panel_rect(&mut s, 600.0);
+        assert_eq!(again.height(), with.height(), "the panel should grow back");
         assert_eq!(mega(1_234_567), "1.23 M");
     }
 }
