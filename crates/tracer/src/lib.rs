@@ -16,6 +16,7 @@
 //! encoded to 8-bit sRGB only when a pixel is written; pixel (i, j) has its centre at
 //! (i + 0.5, j + 0.5), with j growing downwards.
 
+mod bvh;
 mod camera;
 mod color;
 mod error;

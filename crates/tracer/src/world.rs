@@ -2,6 +2,7 @@
 
 use glam::Vec3;
 
+use crate::bvh::Bvh;
 use crate::ray::Ray;
 use crate::scene::{Light, Material, RenderSettings, Scene};
 use crate::sphere::intersect_sphere;
@@ -15,6 +16,7 @@ pub struct Tracer {
     pub(crate) materials: Vec<Material>,
     pub(crate) lights: Vec<Light>,
     pub(crate) settings: RenderSettings,
+    bvh: Bvh,
 }
 
 impl Tracer {
@@ -40,6 +42,7 @@ impl Tracer {
         self.lights.clear();
         self.lights.extend_from_slice(&scene.lights);
         self.settings = scene.render;
+        self.bvh.build(&self.centers, &self.radii);
     }
 
     /// The render settings in force (reflection depth, background, ambient).
@@ -63,22 +66,14 @@ impl Tracer {
     #[inline]
     #[must_use]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(f32, u32)> {
-        let mut best = None;
-        let mut t_best = t_max;
-        for (k, (&c, &r)) in self.centers.iter().zip(&self.radii).enumerate() {
-            if let Some(t) = intersect_sphere(ray, c, r, t_best) {
-                t_best = t;
-                best = Some((t, k as u32));
-            }
-        }
-        best
+        self.bvh.intersect(ray, t_max, &self.centers, &self.radii)
     }
 
     /// Whether anything blocks `ray` before `t_max` (any hit, early exit): the shadow query.
     #[inline]
     #[must_use]
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.centers.iter().zip(&self.radii).any(|(&c, &r)| intersect_sphere(ray, c, r, t_max).is_some())
+        self.bvh.occluded(ray, t_max)
     }
 
     /// Hit parameter of `ray` against the one sphere `object`, ignoring all others. Used by
