@@ -17,6 +17,7 @@
 
 mod classify;
 mod frame;
+mod layout;
 mod mask;
 mod metrics;
 mod mode;
@@ -24,6 +25,7 @@ mod reproject;
 mod stats;
 
 pub use frame::{Image, StereoFrame};
+pub use layout::{anaglyph_pixel, compose, Layout};
 pub use mask::{mask_color, MASK_LEGEND};
 pub use metrics::Quality;
 pub use mode::{Mode, Options};

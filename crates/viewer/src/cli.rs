@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand};
-use stereo::Mode;
+use stereo::{Layout, Mode};
 
 /// Default scene, relative to the workspace root (also found next to the executable's
 /// workspace when run from elsewhere; see `scene_path`).
@@ -103,6 +103,24 @@ pub struct RenderArgs {
     /// Debug-mask PNG to write (how each right pixel was made).
     #[arg(long, value_name = "M.png")]
     pub mask: Option<PathBuf>,
+    /// Combined stereo image to write, in --layout.
+    #[arg(long, value_name = "PAIR.png")]
+    pub out: Option<PathBuf>,
+    /// Layout of the combined image(s): side-by-side (left eye left), cross-eyed, anaglyph (red-cyan).
+    #[arg(long, value_name = "LAYOUT", default_value = "side-by-side", value_parser = parse_layout)]
+    pub layout: Layout,
+    /// Exchange the eyes in the combined image(s).
+    #[arg(long)]
+    pub swap_eyes: bool,
+    /// Render an animation of N frames of the orbit, as numbered combined PNGs in --out-dir.
+    #[arg(long, value_name = "N", requires = "out_dir", conflicts_with = "json", value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub frames: Option<u32>,
+    /// Frames per second of the animation: scene time advances 1/F s per frame.
+    #[arg(long, value_name = "F", default_value_t = 30.0)]
+    pub fps: f32,
+    /// Folder for the animation's frames (created if missing).
+    #[arg(long, value_name = "DIR", requires = "frames")]
+    pub out_dir: Option<PathBuf>,
     /// Print the frame report as JSON on stdout (includes quality against a full trace).
     #[arg(long)]
     pub json: bool,
@@ -122,5 +140,9 @@ pub struct BenchArgs {
 }
 
 fn parse_mode(s: &str) -> Result<Mode, String> {
+    s.parse()
+}
+
+fn parse_layout(s: &str) -> Result<Layout, String> {
     s.parse()
 }

@@ -1,9 +1,15 @@
-//! `stereotrace render`: one stereo frame to PNG files and an optional JSON report.
+//! `stereotrace render`: one stereo frame to PNG files and an optional JSON report, or an
+//! animation of the orbit as numbered combined frames.
 
-use anyhow::Result;
+use std::path::Path;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{Context, Result};
 use serde_json::json;
-use stereo::{mask_color, Options, Quality, StereoFrame};
-use tracer::{render_eye, Eye, Film, Tracer};
+use stereo::{compose, mask_color, Options, Quality, StereoFrame};
+use tracer::{render_rgb, Eye, RayCounts, Tracer};
 
 use crate::cli::RenderArgs;
 use crate::png_out::write_png;
@@ -12,10 +18,16 @@ use crate::setup::{BadInput, FrameSetup};
 
 /// Runs the command.
 pub fn run(args: &RenderArgs) -> Result<()> {
-    if args.left.is_none() && args.right.is_none() && args.mask.is_none() && !args.json {
-        return Err(BadInput("nothing to do: give --left, --right, --mask and/or --json".into()).into());
+    if let (Some(frames), Some(dir)) = (args.frames, &args.out_dir) {
+        return animate(args, frames, dir);
     }
-    for path in [&args.left, &args.right, &args.mask].into_iter().flatten() {
+    if [&args.left, &args.right, &args.mask, &args.out].iter().all(|p| p.is_none()) && !args.json {
+        return Err(BadInput(
+            "nothing to do: give --left, --right, --mask, --out, --json or --frames with --out-dir".into(),
+        )
+        .into());
+    }
+    for path in [&args.left, &args.right, &args.mask, &args.out].into_iter().flatten() {
         check_output_dir(path)?;
     }
     let setup = FrameSetup::load(&args.frame, 1)?;
@@ -35,20 +47,26 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let mask: Vec<u32> = frame.mask().iter().map(|&c| mask_color(c)).collect();
         write_png(p, w, h, &mask)?;
     }
+    if let Some(p) = &args.out {
+        let mut pair = Vec::new();
+        compose(args.layout, args.swap_eyes, &frame.left().rgb, &frame.right().rgb, w, h, &mut pair);
+        let (ow, oh) = args.layout.size(w, h);
+        write_png(p, ow, oh, &pair)?;
+    }
     if args.json {
-        let mut reference = Film::new(w, h);
-        render_eye(&tracer, &setup.camera.view(Eye::Right, w, h), &mut reference);
-        let q = Quality::compare(&frame.right().rgb, &reference.rgb);
+        let mut reference = Vec::new();
+        render_rgb(&tracer, &setup.camera.view(Eye::Right, w, h), &mut reference);
+        let q = Quality::compare(&frame.right().rgb, &reference);
         let mut out = json!({
             "scene": setup.path.display().to_string(),
             "width": w,
             "height": h,
             "mode": args.mode.name(),
             "retrace_edges": args.retrace_edges,
-            "ipd": setup.camera.ipd,
-            "distance": setup.camera.distance,
+            "ipd": shortest(setup.camera.ipd),
+            "distance": shortest(setup.camera.distance),
             "depth": setup.scene.render.max_depth,
-            "time": args.frame.time,
+            "time": shortest(args.frame.time),
             "threads": rayon::current_num_threads(),
             "quality": report::quality(&q),
         });
@@ -60,11 +78,75 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     Ok(())
 }
 
+/// An f32 as the f64 with the same shortest decimal form (0.65, not 0.6499999761581421).
+fn shortest(v: f32) -> f64 {
+    v.to_string().parse().unwrap_or(f64::from(v))
+}
+
+/// `--frames N --out-dir DIR`: the orbit as numbered combined frames, with a progress bar.
+/// Ctrl-C stops after the frame being written, so only whole files are left.
+fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
+    if !(args.fps.is_finite() && args.fps > 0.0) {
+        return Err(BadInput(format!("--fps {}: must be a number > 0", args.fps)).into());
+    }
+    let setup = FrameSetup::load(&args.frame, 1)?;
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    let stop = Arc::new(AtomicBool::new(false));
+    {
+        let stop = Arc::clone(&stop);
+        // If a handler is already installed (only in tests), Ctrl-C keeps its default.
+        let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
+    }
+    let (w, h) = (args.frame.width, args.frame.height);
+    let (ow, oh) = args.layout.size(w, h);
+    let opts = Options { mode: args.mode, retrace_edges: args.retrace_edges };
+    let mut tracer = Tracer::new(&setup.scene, args.frame.time);
+    let mut frame = StereoFrame::new();
+    let mut pair = Vec::new();
+    let (mut left_rays, mut right_rays) = (RayCounts::default(), RayCounts::default());
+    let bar = indicatif::ProgressBar::new(u64::from(frames)).with_style(
+        indicatif::ProgressStyle::with_template(
+            "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} frames, {per_sec}, eta {eta}",
+        )
+        .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    let start = Instant::now();
+    let mut written = 0;
+    for k in 0..frames {
+        if stop.load(Ordering::SeqCst) {
+            break;
+        }
+        tracer.update(&setup.scene, args.frame.time + k as f32 / args.fps);
+        let stats = frame.render(&tracer, &setup.camera, w, h, opts);
+        left_rays += stats.left.rays;
+        right_rays += stats.right.rays;
+        compose(args.layout, args.swap_eyes, &frame.left().rgb, &frame.right().rgb, w, h, &mut pair);
+        write_png(&dir.join(format!("frame_{k:05}.png")), ow, oh, &pair)?;
+        written += 1;
+        bar.inc(1);
+    }
+    bar.finish_and_clear();
+    let secs = start.elapsed().as_secs_f64();
+    let interrupted = if written < frames { " (interrupted)" } else { "" };
+    eprintln!(
+        "wrote {written} of {frames} frames{interrupted}, {ow}×{oh} {} ({} mode), to {} in {secs:.1} s: {:.1} ms/frame; right eye {:.0}% of the left eye's rays",
+        args.layout,
+        args.mode,
+        dir.display(),
+        1e3 * secs / f64::from(written.max(1)),
+        100.0 * right_rays.total() as f64 / left_rays.total().max(1) as f64,
+    );
+    if written < frames {
+        anyhow::bail!("interrupted after {written} frames");
+    }
+    Ok(())
+}
+
 /// Fails before any work if an output's directory is missing.
-fn check_output_dir(path: &std::path::Path) -> Result<()> {
+fn check_output_dir(path: &Path) -> Result<()> {
     let dir = match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,
-        _ => std::path::Path::new("."),
+        _ => Path::new("."),
     };
     if dir.is_dir() {
         Ok(())
