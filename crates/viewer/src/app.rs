@@ -256,9 +256,10 @@ impl App {
         }
     }
 
-    /// The render request for the current settings and an eye of `width` × `height`.
+    /// The render request for the current settings and an eye of `width` × `height` on screen.
     fn request(&self, width: u32, height: u32, now: Instant) -> Request {
         let s = &self.settings;
+        let (width, height) = s.render_size(width, height);
         Request {
             camera: Camera { ipd: s.ipd, distance: s.distance, ..self.scene.camera },
             depth: s.depth,

@@ -31,6 +31,8 @@ pub struct Settings {
     pub retrace_edges: bool,
     /// How the eyes are arranged.
     pub layout: Layout,
+    /// Eyes are traced at this fraction of their on-screen size (0.25..1) and scaled up.
+    pub render_scale: f32,
     /// Blend the debug mask over the right eye (key M).
     pub show_mask: bool,
     /// Measure the right eye against a full trace every frame.
@@ -50,6 +52,7 @@ impl Settings {
             mode: Mode::Exact,
             retrace_edges: false,
             layout: Layout::Parallel,
+            render_scale: 1.0,
             show_mask: false,
             live_psnr: false,
             paused: false,
@@ -64,6 +67,13 @@ impl Settings {
         self.ipd = scene.camera.ipd.clamp(0.0, 2.0);
         self.distance = scene.camera.distance.clamp(1.0, 100.0);
         self.depth = scene.render.max_depth.min(MAX_REFLECTION_DEPTH);
+    }
+
+    /// The size to trace an eye at, for an eye of `width` × `height` on screen.
+    #[must_use]
+    pub fn render_size(&self, width: u32, height: u32) -> (u32, u32) {
+        let scaled = |n: u32| ((n as f32 * self.render_scale.clamp(0.25, 1.0)).round() as u32).clamp(1, n.max(1));
+        (scaled(width), scaled(height))
     }
 
     /// The render options these settings ask for.
@@ -176,6 +186,13 @@ fn controls(ui: &mut egui::Ui, s: &mut Settings, readout: &Readout<'_>, actions:
         .on_hover_text("distance from the eyes to the zero-parallax window");
     ui.add(Slider::new(&mut s.depth, 0..=MAX_REFLECTION_DEPTH).text("reflections"))
         .on_hover_text("reflection depth (bounces)");
+    ui.add(
+        Slider::new(&mut s.render_scale, 0.25..=1.0)
+            .text("render scale")
+            .custom_formatter(|v, _| format!("{:.0} %", v * 100.0))
+            .custom_parser(|t| t.trim().trim_end_matches('%').trim().parse::<f64>().ok().map(|v| v / 100.0)),
+    )
+    .on_hover_text("trace each eye at this share of its window size, then scale it up");
     ui.horizontal(|ui| {
         ui.label("mode");
         for m in Mode::ALL {
@@ -283,6 +300,11 @@ mod tests {
         s.reset_camera(&scene);
         assert_eq!((s.ipd, s.distance), (0.5, 9.0));
         assert!(s.show_mask, "reset touches only the camera values");
+        assert_eq!(s.render_size(800, 600), (800, 600));
+        s.render_scale = 0.5;
+        assert_eq!(s.render_size(801, 600), (401, 300));
+        s.render_scale = 0.0;
+        assert_eq!(s.render_size(3, 1), (1, 1));
     }
 
     #[test]
