@@ -4,8 +4,11 @@
 //! silhouette, where the right pixel-centre ray may see another object than the reprojected
 //! sample ("drag" in the seed paper). One whose per-light visibility differs from a
 //! neighbour's sits on a shadow edge (or a terminator), where reusing visibility from the
-//! left hit may be wrong for the right pixel centre. Only reprojected neighbours are
-//! compared: a gap neighbour is retraced anyway.
+//! left hit may be wrong for the right pixel centre. A pixel next to a gap is an edge too:
+//! a gap is a depth discontinuity (a disocclusion or a stretched surface), and the surface
+//! just past it may be seen by the right pixel-centre ray while its reprojected sample is
+//! the background or another object (a near sphere's silhouette moves by a different
+//! amount than the background behind it).
 //!
 //! The pass reads one compact 8-byte key per right pixel (object id and light bits of its
 //! source, gathered during reprojection), never the left eye's full records.
@@ -41,7 +44,9 @@ pub(crate) fn classify_row(keys: &[u64], w: usize, j: usize, edges: bool, shadow
         let right = if i + 1 < w { row[i + 1] } else { me };
         let (mut edge, mut shadow) = (false, false);
         for n in [left, right, above[i], below[i]] {
-            if n != GAP_KEY {
+            if n == GAP_KEY {
+                edge |= edges;
+            } else {
                 let diff = n ^ me;
                 edge |= diff & object_bits != 0;
                 shadow |= diff & light_bits != 0;
@@ -75,7 +80,7 @@ mod tests {
         let (a, b, a_dark) = (key(0, 1), key(1, 1), key(0, 0));
         // One row: a a b b | a a_dark a | gap a
         let keys = [a, a, b, b, a, a_dark, a, GAP_KEY, a];
-        assert_eq!(classes(&keys, 9, true, true), vec![P, E, E, E, E, S, S, G, P]);
+        assert_eq!(classes(&keys, 9, true, true), vec![P, E, E, E, E, S, E, G, E]);
         assert_eq!(classes(&keys, 9, false, true), vec![P, P, P, P, S, S, S, G, P]);
         assert_eq!(classes(&keys, 9, false, false), vec![P, P, P, P, P, P, P, G, P]);
         // Vertical neighbours count too.

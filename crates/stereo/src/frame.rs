@@ -35,6 +35,32 @@ pub struct StereoFrame {
     stats: FrameStats,
 }
 
+/// Width in pixels of the strip at the right edge of the right image that must be retraced
+/// whatever lands there.
+///
+/// A point in front of the window (z < 0) shifts left by e·z/(d+z), so near things the
+/// left eye sees just past its right edge appear inside the right image, where the
+/// reprojection can only have put the farther surfaces the left eye did see. The strip is
+/// as wide as the largest such shift, from the nearest sphere point in the scene; a sphere
+/// reaching the eyes' plane makes it the whole row.
+fn right_border_strip(tracer: &Tracer, camera: &Camera, shift_scale: f32, w: usize) -> usize {
+    let forward = camera.world_from_head() * glam::Vec3::Z;
+    let Some(nearest) = tracer.nearest_depth(camera.position, forward) else { return 0 };
+    if nearest <= 0.0 {
+        return w;
+    }
+    let z = nearest - camera.distance;
+    if z >= 0.0 {
+        return 0;
+    }
+    let shift = -shift_scale * (1.0 - camera.distance / (camera.distance + z));
+    if shift <= 0.0 {
+        return 0;
+    }
+    // One pixel of margin for where the left eye's last pixel centre lands.
+    (shift.ceil() as usize + 1).min(w)
+}
+
 fn ms_since(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
@@ -102,7 +128,7 @@ impl StereoFrame {
             stats.stages.retrace = ms_since(t);
         } else {
             let t = Instant::now();
-            self.reproject(camera, &rv, opts);
+            self.reproject(tracer, camera, &rv, opts);
             stats.stages.reproject = ms_since(t);
 
             let t = Instant::now();
@@ -122,15 +148,17 @@ impl StereoFrame {
     }
 
     /// Stages 2 and 3: the source map and the class of every right pixel.
-    fn reproject(&mut self, camera: &Camera, rv: &EyeView, opts: Options) {
+    fn reproject(&mut self, tracer: &Tracer, camera: &Camera, rv: &EyeView, opts: Options) {
         let w = rv.width as usize;
         let shift_scale = camera.ipd * rv.pixels_per_unit();
         let d = camera.distance;
+        let strip = right_border_strip(tracer, camera, shift_scale, w);
         let left = &self.left;
         self.src.par_chunks_mut(w).zip(self.keys.par_chunks_mut(w)).enumerate().for_each_init(
             Vec::new,
             |targets, (j, (src, keys))| {
                 reproject_row(&left.z[j * w..(j + 1) * w], shift_scale, d, (j * w) as u32, src, targets);
+                src[w - strip..].fill(NO_SOURCE);
                 for (k, &s) in keys.iter_mut().zip(src.iter()) {
                     *k = if s == NO_SOURCE { GAP_KEY } else { key(left.object[s as usize], left.lights[s as usize]) };
                 }

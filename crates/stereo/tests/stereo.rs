@@ -232,3 +232,72 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 32, ..ProptestConfig::default() })]
+
+    #[test]
+    fn exact_matches_full_and_threads_do_not_matter(scene in arb_scene(), t in 0.0f32..8.0) {
+        let (w, h) = (128, 72);
+        let tracer = Tracer::new(&scene, t);
+        let reference = full_right(&tracer, &scene.camera, w, h);
+        let run = |threads| {
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            pool.install(|| {
+                let mut frame = StereoFrame::new();
+                let stats = frame.render(&tracer, &scene.camera, w, h, Options { mode: Mode::Exact, retrace_edges: false });
+                (frame.left().rgb.clone(), frame.right().rgb.clone(), frame.left().z.clone(), stats.left.rays, stats.right.rays, stats.pixels)
+            })
+        };
+        let (one, two) = (run(1), run(2));
+        prop_assert_eq!(&one.0, &two.0);
+        prop_assert_eq!(&one.1, &two.1);
+        prop_assert_eq!((one.3, one.4, one.5), (two.3, two.4, two.5));
+        prop_assert!(one.2.iter().all(|z| !z.is_nan()), "NaN depth in the left film");
+        let q = Quality::compare(&one.1, &reference);
+        prop_assert!(q.share_identical() >= 0.999, "exact differs from full on {} pixels: {:?}", q.share_not_identical * f64::from(w * h), q);
+    }
+
+    #[test]
+    fn zero_ipd_gives_identical_eyes_in_every_mode(scene in arb_scene(), w in 4u32..64, h in 2u32..36) {
+        let mut scene = scene;
+        scene.camera.ipd = 0.0;
+        let tracer = Tracer::new(&scene, 0.0);
+        let mut frame = StereoFrame::new();
+        for mode in Mode::ALL {
+            let stats = frame.render(&tracer, &scene.camera, w, h, Options { mode, retrace_edges: true });
+            prop_assert_eq!(&frame.right().rgb, &frame.left().rgb, "{}", mode);
+            if mode != Mode::Full {
+                prop_assert_eq!(stats.pixels.reprojected, u64::from(w * h));
+            }
+        }
+    }
+}
+
+#[test]
+fn a_near_sphere_only_the_right_eye_sees_is_retraced() {
+    // Found by the property test: a sphere close to the eyes at the right edge of the view.
+    // The right eye sees part of it where the left eye saw only background, so the
+    // reprojection alone would paint background there.
+    let scene = Scene {
+        camera: Camera { ipd: 0.444, distance: 28.84, fov_deg: 57.5, ..Camera::default() },
+        render: RenderSettings { max_depth: 0, ..RenderSettings::default() },
+        lights: vec![],
+        spheres: vec![sphere(Vec3::new(3.825, 1.617, 4.0), 2.913, Vec3::new(0.0, 1.0, 0.5))],
+    };
+    let (w, h) = (128, 72);
+    let tracer = Tracer::new(&scene, 0.0);
+    let reference = full_right(&tracer, &scene.camera, w, h);
+    let mut frame = StereoFrame::new();
+    for mode in REPROJECTING {
+        frame.render(&tracer, &scene.camera, w, h, Options { mode, retrace_edges: true });
+        let (right, mask) = (&frame.right().rgb, frame.mask());
+        for j in 0..h as usize {
+            for i in 120..w as usize {
+                let k = j * w as usize + i;
+                assert_ne!(mask[k], PixelClass::Reprojected, "{mode}: ({i}, {j}) in the right border strip");
+                assert_eq!(right[k], reference[k], "{mode}: ({i}, {j})");
+            }
+        }
+    }
+}

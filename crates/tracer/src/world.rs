@@ -62,6 +62,21 @@ impl Tracer {
         self.centers.len()
     }
 
+    /// The smallest depth along `forward` from `origin` of any sphere point in front of
+    /// that plane: min over spheres of (forward·(c − origin) − r), ignoring spheres wholly
+    /// behind it. `None` if no sphere is in front. Negative when a sphere straddles the
+    /// plane.
+    #[must_use]
+    pub fn nearest_depth(&self, origin: Vec3, forward: Vec3) -> Option<f32> {
+        self.centers
+            .iter()
+            .zip(&self.radii)
+            .map(|(&c, &r)| (forward.dot(c - origin), r))
+            .filter(|&(w, r)| w + r > 0.0)
+            .map(|(w, r)| w - r)
+            .reduce(f32::min)
+    }
+
     /// Closest hit in `(0, t_max)`: `(t, object id)`.
     #[inline]
     #[must_use]
