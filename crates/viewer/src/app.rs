@@ -268,6 +268,7 @@ impl App {
             width,
             height,
             psnr: s.live_psnr,
+            anaglyph: s.layout == stereo::Layout::Anaglyph,
         }
     }
 

@@ -4,45 +4,21 @@
 //! Each eye fills one half of the window: `width / 2` physical pixels wide (an odd last column
 //! stays background) and the full height. If the finished frame was rendered for another
 //! size — the window was just resized — it is scaled nearest-neighbour, so a resize never
-//! shows stale or uninitialised memory. This runs on the UI thread without rayon: the global
-//! pool belongs to the tracer, and waiting on it would make the UI wait for the render.
+//! shows stale or uninitialised memory. The layouts are [`stereo::Layout`]'s: side by side,
+//! cross-eyed (eyes swapped), or the red–cyan anaglyph, which the worker computes and which is
+//! shown centred at the eye size.
+//!
+//! This runs on the UI thread without rayon: the global pool belongs to the tracer, and
+//! waiting on it would make the UI wait for the render.
 
 use std::ops::Range;
 
-use stereo::{mask_color, PixelClass, MASK_LEGEND};
+use stereo::{mask_color, Layout, PixelClass, MASK_LEGEND};
 
 use crate::worker::Finished;
 
 /// Colour of window areas no eye covers.
 pub const BACKGROUND: u32 = 0x0018_1818;
-
-/// How the two eyes are arranged in the window.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Layout {
-    /// Left eye on the left half, right eye on the right (parallel free viewing, HMD-style).
-    #[default]
-    Parallel,
-    /// Eyes swapped, for cross-eyed free viewing.
-    CrossEyed,
-    /// Red–cyan anaglyph: red from the left eye, green and blue from the right, one image
-    /// centred in the window at the eye size.
-    Anaglyph,
-}
-
-impl Layout {
-    /// Every layout, in the order the panel lists them.
-    pub const ALL: [Layout; 3] = [Layout::Parallel, Layout::CrossEyed, Layout::Anaglyph];
-
-    /// Name shown in the panel.
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Layout::Parallel => "parallel",
-            Layout::CrossEyed => "cross-eyed",
-            Layout::Anaglyph => "anaglyph",
-        }
-    }
-}
 
 /// The eye size for a window of `width` × `height` physical pixels: half the width, the full
 /// height (zero in either when the window is too small to show an eye).
@@ -114,8 +90,10 @@ impl Compositor {
     }
 
     /// Fills `dst` (`width` × `height`, row-major) with `frame` in `layout`, the right eye
-    /// blended half and half with its debug mask when `show_mask` is set. Returns whether the
-    /// eyes were drawn (false before the first frame or when the window is too small).
+    /// (or the anaglyph) blended half and half with the debug mask when `show_mask` is set.
+    /// A frame without its anaglyph (the layout was just switched) is shown side by side.
+    /// Returns whether the eyes were drawn (false before the first frame or when the window
+    /// is too small).
     pub fn compose(
         &mut self,
         dst: &mut [u32],
@@ -141,44 +119,33 @@ impl Compositor {
         // Same width: whole rows are copied, not gathered column by column.
         let direct = fw == ew;
         let (left, right, mask) = (&frame.left, &frame.right, &frame.mask);
-        let right_pixel = |s: usize| {
-            if show_mask {
-                blend_half(right[s], colors[mask[s] as usize])
-            } else {
-                right[s]
-            }
-        };
+        let anaglyph = (layout == Layout::Anaglyph && frame.anaglyph.len() == fw * fh).then_some(&frame.anaglyph);
+        let overlay = |p: u32, s: usize| if show_mask { blend_half(p, colors[mask[s] as usize]) } else { p };
         for (y, row) in dst.chunks_exact_mut(width).enumerate() {
             let src_row = (y * fh / eh) * fw;
+            if let Some(image) = anaglyph {
+                // The eye-sized image centred: a quarter of the window on each side.
+                let margin = ew / 2;
+                row[..margin].fill(BACKGROUND);
+                fill_eye(&mut row[margin..margin + ew], columns, |c| overlay(image[src_row + c], src_row + c));
+                row[margin + ew..].fill(BACKGROUND);
+                continue;
+            }
             let (first, rest) = row.split_at_mut(ew);
             let (second, pad) = rest.split_at_mut(ew);
-            match layout {
-                Layout::Parallel | Layout::CrossEyed => {
-                    let (l, r) = if layout == Layout::Parallel { (first, second) } else { (second, first) };
-                    let span = src_row..src_row + fw;
-                    if direct {
-                        l.copy_from_slice(&left[span.clone()]);
-                    } else {
-                        fill_eye(l, columns, |c| left[src_row + c]);
-                    }
-                    if direct && !show_mask {
-                        r.copy_from_slice(&right[span]);
-                    } else {
-                        fill_eye(r, columns, |c| right_pixel(src_row + c));
-                    }
-                    pad.fill(BACKGROUND);
-                }
-                Layout::Anaglyph => {
-                    // The eye-sized image centred: a quarter of the window on each side.
-                    let margin = ew / 2;
-                    row[..margin].fill(BACKGROUND);
-                    fill_eye(&mut row[margin..margin + ew], columns, |c| {
-                        let s = src_row + c;
-                        (left[s] & 0x00FF_0000) | (right_pixel(s) & 0x0000_FFFF)
-                    });
-                    row[margin + ew..].fill(BACKGROUND);
-                }
+            let (l, r) = if layout == Layout::CrossEyed { (second, first) } else { (first, second) };
+            let span = src_row..src_row + fw;
+            if direct {
+                l.copy_from_slice(&left[span.clone()]);
+            } else {
+                fill_eye(l, columns, |c| left[src_row + c]);
             }
+            if direct && !show_mask {
+                r.copy_from_slice(&right[span]);
+            } else {
+                fill_eye(r, columns, |c| overlay(right[src_row + c], src_row + c));
+            }
+            pad.fill(BACKGROUND);
         }
         true
     }
@@ -213,6 +180,7 @@ mod tests {
             width: w,
             height: h,
             psnr: false,
+            anaglyph: false,
         };
         Finished {
             info: Some(FrameInfo {
@@ -225,6 +193,7 @@ mod tests {
             left: (0..n as u32).collect(),
             right: (0..n as u32).map(|p| p | 0x0010_0000).collect(),
             mask: vec![PixelClass::Reprojected; n],
+            anaglyph: Vec::new(),
         }
     }
 
@@ -232,7 +201,7 @@ mod tests {
     fn eyes_fill_the_halves_exactly_at_the_matching_size() {
         let f = frame(4, 2);
         let mut dst = vec![0xFFFF_FFFF; 9 * 2];
-        assert!(Compositor::new().compose(&mut dst, 9, 2, &f, Layout::Parallel, false));
+        assert!(Compositor::new().compose(&mut dst, 9, 2, &f, Layout::SideBySide, false));
         assert_eq!(&dst[0..4], &f.left[0..4]);
         assert_eq!(&dst[4..8], &f.right[0..4]);
         assert_eq!(dst[8], BACKGROUND, "odd last column");
@@ -250,9 +219,9 @@ mod tests {
         assert_eq!(&dst[0..8], &[f.right[0], f.right[0], f.right[1], f.right[1], 0, 0, 1, 1]);
         assert_eq!(&dst[0..8], &dst[8..16]);
         let mut one = [0u32; 1];
-        assert!(!c.compose(&mut one, 1, 1, &f, Layout::Parallel, false));
+        assert!(!c.compose(&mut one, 1, 1, &f, Layout::SideBySide, false));
         assert_eq!(one[0], BACKGROUND);
-        assert!(!c.compose(&mut dst, 8, 2, &Finished::default(), Layout::Parallel, true));
+        assert!(!c.compose(&mut dst, 8, 2, &Finished::default(), Layout::SideBySide, true));
     }
 
     #[test]
@@ -268,10 +237,22 @@ mod tests {
     }
 
     #[test]
+    fn the_anaglyph_is_centred_and_missing_ones_fall_back_to_side_by_side() {
+        let mut f = frame(2, 1);
+        let mut dst = vec![0; 8];
+        let mut c = Compositor::new();
+        c.compose(&mut dst, 8, 1, &f, Layout::Anaglyph, false);
+        assert_eq!(&dst[..4], &[f.left[0], f.left[0], f.left[1], f.left[1]], "side by side, scaled");
+        f.anaglyph = vec![7, 9];
+        c.compose(&mut dst, 8, 1, &f, Layout::Anaglyph, false);
+        assert_eq!(dst, [BACKGROUND, BACKGROUND, 7, 7, 9, 9, BACKGROUND, BACKGROUND]);
+    }
+
+    #[test]
     fn mask_blends_half_and_half() {
         let f = frame(1, 1);
         let mut dst = [0u32; 2];
-        Compositor::new().compose(&mut dst, 2, 1, &f, Layout::Parallel, true);
+        Compositor::new().compose(&mut dst, 2, 1, &f, Layout::SideBySide, true);
         assert_eq!(dst[1], blend_half(f.right[0], mask_color(PixelClass::Reprojected)));
         assert_eq!(blend_half(0x00FF_FFFF, 0x00FF_FFFF), 0x00FE_FEFE);
         assert_eq!(blend_half(0x00FF_0000, 0), 0x007F_0000);

@@ -5,10 +5,9 @@
 //! presses; the app turns the settings into render requests.
 
 use egui::{Align2, Color32, RichText, Slider};
-use stereo::{mask_color, Mode, MASK_LEGEND};
+use stereo::{mask_color, Layout, Mode, MASK_LEGEND};
 use tracer::Scene;
 
-use crate::present::Layout;
 use crate::worker::FrameInfo;
 
 /// Largest reflection depth the slider offers.
@@ -51,7 +50,7 @@ impl Settings {
             depth: 0,
             mode: Mode::Exact,
             retrace_edges: false,
-            layout: Layout::Parallel,
+            layout: Layout::SideBySide,
             render_scale: 1.0,
             show_mask: false,
             live_psnr: false,

@@ -11,6 +11,8 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
 use std::time::Instant;
 
+use rayon::prelude::*;
+
 use stereo::{FrameStats, Options, PixelClass, Quality, StereoFrame};
 use tracer::{render_eye, Camera, Eye, Film, Scene, Tracer};
 
@@ -31,6 +33,8 @@ pub struct Request {
     pub height: u32,
     /// Also trace the right eye fully and measure the right image against it.
     pub psnr: bool,
+    /// Also make the red–cyan anaglyph of the pair.
+    pub anaglyph: bool,
 }
 
 /// What is known about a finished frame besides its pixels.
@@ -44,7 +48,8 @@ pub struct FrameInfo {
     pub stats: FrameStats,
     /// The right eye against a full trace, when the request asked for it.
     pub quality: Option<Quality>,
-    /// Wall time of the whole job (including the reference trace for PSNR), milliseconds.
+    /// Wall time of the whole job (including the PSNR reference trace, the anaglyph and the
+    /// copies for the UI), milliseconds.
     pub wall_ms: f64,
 }
 
@@ -59,6 +64,8 @@ pub struct Finished {
     pub right: Vec<u32>,
     /// How each right pixel was made.
     pub mask: Vec<PixelClass>,
+    /// The red–cyan anaglyph (`0x00RRGGBB`) when the request asked for it, else empty.
+    pub anaglyph: Vec<u32>,
 }
 
 impl Finished {
@@ -76,6 +83,20 @@ impl Finished {
         self.right.extend_from_slice(&frame.right().rgb);
         self.mask.clear();
         self.mask.extend_from_slice(frame.mask());
+        self.anaglyph.clear();
+        if info.request.anaglyph {
+            // Dubois's matrices decode every channel to linear light: too slow for the UI
+            // thread at 60 Hz, so it is done here, once per frame, on the rayon pool.
+            let w = (info.request.width as usize).max(1);
+            self.anaglyph.resize(self.left.len(), 0);
+            self.anaglyph.par_chunks_mut(w).zip(self.left.par_chunks(w).zip(self.right.par_chunks(w))).for_each(
+                |(out, (l, r))| {
+                    for (o, (&a, &b)) in out.iter_mut().zip(l.iter().zip(r)) {
+                        *o = stereo::anaglyph_pixel(a, b);
+                    }
+                },
+            );
+        }
         self.info = Some(*info);
     }
 }
@@ -200,8 +221,10 @@ fn render_loop(scene: &Scene, shared: &Shared) {
             Quality::compare(&frame.right().rgb, &reference.rgb)
         });
         seq += 1;
-        let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-        back.fill_from(&frame, &FrameInfo { seq, request, stats, quality, wall_ms });
+        back.fill_from(&frame, &FrameInfo { seq, request, stats, quality, wall_ms: 0.0 });
+        if let Some(info) = back.info.as_mut() {
+            info.wall_ms = started.elapsed().as_secs_f64() * 1e3;
+        }
         let mut out = lock(&shared.outbox);
         std::mem::swap(&mut out.frame, &mut back);
         out.fresh = true;
@@ -222,7 +245,16 @@ mod tests {
     }
 
     fn request(width: u32, psnr: bool) -> Request {
-        Request { camera: Camera::default(), depth: 2, opts: Options::default(), time: 0.0, width, height: 24, psnr }
+        Request {
+            camera: Camera::default(),
+            depth: 2,
+            opts: Options::default(),
+            time: 0.0,
+            width,
+            height: 24,
+            psnr,
+            anaglyph: psnr,
+        }
     }
 
     fn wait_for(worker: &mut Worker, seq: u64) -> &Finished {
@@ -243,10 +275,12 @@ mod tests {
         assert_eq!(f.size(), (32, 24));
         assert_eq!((f.left.len(), f.right.len(), f.mask.len()), (32 * 24, 32 * 24, 32 * 24));
         assert!(info.quality.is_some());
+        assert_eq!(f.anaglyph.len(), 32 * 24, "asked for with the quality in these tests");
         worker.post(request(40, false));
         let f = wait_for(&mut worker, 2);
         assert_eq!(f.size(), (40, 24));
         assert!(f.info.unwrap().quality.is_none());
+        assert!(f.anaglyph.is_empty());
         worker.check_alive().unwrap();
     }
 
