@@ -417,6 +417,35 @@ mod tests {
         assert!(e.contains("spheres = []"), "{e}");
         let e = err("[[spheres]]\nradius = 1\n");
         assert!(e.contains("needs `center` or `orbit`"), "{e}");
+        let e = err("[[spheres]]\ncenter = [0, 0, 15]\nradius = 1\norbit = { center = [0, 0, 15], radius = 2, period_s = 8 }\n");
+        assert!(e.contains("either `center` or `orbit`, not both"), "{e}");
+        let e = err("[camera\nipd = 0.5\n");
+        assert!(e.starts_with("bad.toml:1:"), "malformed TOML: {e}");
+        let e = err("[[spheres]]\ncenter = [0, 0, 15]\nradius = inf\n");
+        assert!(e.contains("spheres[0].radius = inf: must be a finite number"), "{e}");
+        let e = err("[[spheres]]\ncenter = [0, 0, 15]\nradius = 1\nshininess = 0.5\n");
+        assert!(e.contains("spheres[0].shininess = 0.5"), "{e}");
+        let e = err("[[lights]]\nposition = [0, 0, 0]\ncolor = [-1, 0, 0]\n[[spheres]]\ncenter = [0, 0, 15]\nradius = 1\n");
+        assert!(e.contains("lights[0].color[0] = -1"), "{e}");
+        let e = err("[camera]\npitch_deg = 95\n[[spheres]]\ncenter = [0, 0, 15]\nradius = 1\n");
+        assert!(e.contains("camera.pitch_deg = 95"), "{e}");
+        let e = err("[render]\nambient = 1.5\n[[spheres]]\ncenter = [0, 0, 15]\nradius = 1\n");
+        assert!(e.contains("render.ambient = 1.5"), "{e}");
+        let mut many = String::new();
+        for _ in 0..33 {
+            many.push_str("[[lights]]\nposition = [0, 5, 0]\n");
+        }
+        many.push_str("[[spheres]]\ncenter = [0, 0, 15]\nradius = 1\n");
+        assert!(err(&many).contains("at most 32 lights"));
+        // An orbit that sweeps through the eyes is caught too.
+        let e = err("[[spheres]]\nradius = 0.5\norbit = { center = [0, 0, 3], radius = 3, period_s = 8 }\n");
+        assert!(e.contains("on its orbit"), "{e}");
+    }
+
+    #[test]
+    fn no_lights_is_allowed_and_means_ambient_only() {
+        let s = Scene::from_toml(MINIMAL, "m.toml").unwrap();
+        assert!(s.lights.is_empty());
     }
 
     #[test]

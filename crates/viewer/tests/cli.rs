@@ -171,3 +171,85 @@ fn help_documents_every_flag() {
         assert!(text.contains(flag), "--help lacks {flag}");
     }
 }
+
+#[test]
+fn limits_are_refused_before_any_work() {
+    // 16384² per eye cannot fit in this machine's memory: refused before allocating.
+    let out = stereotrace(&["render", "--width", "16384", "--height", "16384", "--json"]);
+    assert_eq!(out.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("GiB") && err.contains("--width 16384"), "{err}");
+    let out = stereotrace(&["render", "--width", "20000", "--json"]);
+    assert_eq!(out.status.code(), Some(2), "over the documented maximum side");
+    let out = stereotrace(&["render", "--mode", "fast", "--json"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("expected one of full, copy, reshade, exact"));
+    let out = stereotrace(&["render", "--layout", "over-under", "--out", "x.png"]);
+    assert_eq!(out.status.code(), Some(2));
+    let dir = tmp("anim-bad-fps");
+    let out = stereotrace(&["render", "--frames", "2", "--fps", "0", "--out-dir", dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--fps 0"));
+    let out = stereotrace(&["render", "--scene", "no/such/scene.toml", "--json"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/scene.toml: cannot read scene file"));
+}
+
+#[test]
+fn an_unwritable_output_fails_cleanly_and_leaves_no_partial_file() {
+    // /proc accepts no new files, even for root.
+    let out = stereotrace(&["render", "--width", "8", "--height", "8", "--left", "/proc/stereotrace-left.png"]);
+    assert_eq!(out.status.code(), Some(1));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("cannot write /proc/stereotrace-left.png"), "{err}");
+    let leftovers: Vec<_> = std::fs::read_dir("/proc")
+        .unwrap()
+        .filter_map(Result::ok)
+        .filter(|e| e.file_name().to_string_lossy().contains("stereotrace-left"))
+        .collect();
+    assert!(leftovers.is_empty());
+}
+
+#[test]
+fn layouts_and_an_animation_export() {
+    let dir = tmp("anim");
+    let _ = std::fs::remove_dir_all(&dir);
+    for (layout, size) in [("side-by-side", (64, 18)), ("cross-eyed", (64, 18)), ("anaglyph", (32, 18))] {
+        let pair = tmp(&format!("pair-{layout}.png"));
+        let out = stereotrace(&[
+            "render",
+            "--width",
+            "32",
+            "--height",
+            "18",
+            "--layout",
+            layout,
+            "--out",
+            pair.to_str().unwrap(),
+        ]);
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert_eq!(png_size(&pair), size, "{layout}");
+    }
+    let out = stereotrace(&[
+        "render",
+        "--width",
+        "32",
+        "--height",
+        "18",
+        "--frames",
+        "6",
+        "--fps",
+        "12",
+        "--out-dir",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("wrote 6 of 6 frames"));
+    let mut names: Vec<String> =
+        std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
+    names.sort();
+    assert_eq!(names, (0..6).map(|k| format!("frame_{k:05}.png")).collect::<Vec<_>>());
+    for n in &names {
+        assert_eq!(png_size(&dir.join(n)), (64, 18));
+    }
+}
