@@ -3,27 +3,29 @@
 //! Built from scratch each frame (a revolving sphere moves; for a thousand spheres the
 //! build takes well under a millisecond) into buffers reused from frame to frame. Interior
 //! nodes split at the median centroid along the longest axis of their centroids' bounds;
-//! leaves hold up to four spheres as one structure-of-arrays packet tested in SIMD lanes
-//! (`wide::f32x4`, portable: SSE2 on x86-64, NEON on aarch64, scalar elsewhere).
+//! leaves hold up to eight spheres as two structure-of-arrays packets of four, each tested
+//! in SIMD lanes (`wide::f32x4`, portable: SSE2 on x86-64, NEON on aarch64, scalar
+//! elsewhere). A scene of eight spheres or fewer is one leaf: a flat SIMD loop.
 //!
 //! Traversal visits the nearer child first and culls boxes beyond the closest hit so far.
-//! The winning sphere's hit is then recomputed with the scalar [`intersect_sphere`], so the
-//! `t` reported is bit-for-bit the one every other path (and `stereo`'s exact mode)
-//! computes for that sphere.
+//! [`Bvh::intersect_one`] tests a single sphere through the same lane arithmetic, so the
+//! `t` it reports for a sphere is bit-for-bit the one the closest-hit query reports (what
+//! `stereo`'s exact mode relies on); both equal the scalar [`crate::intersect_sphere`].
 
 use glam::Vec3;
 use wide::f32x4;
 
 use crate::ray::Ray;
-use crate::sphere::intersect_sphere;
 
 /// Spheres per leaf packet.
 const LANES: usize = 4;
+/// Most packets in one leaf.
+const LEAF_PACKETS: usize = 2;
 /// Traversal stack depth: a median split over `u32` items is at most ~32 levels deep.
 const STACK: usize = 64;
 
-/// A node: a box, and either two children (`count == 0`: `first` and `first + 1`) or one
-/// leaf packet (`count == 1`: `packets[first]`).
+/// A node: a box, and either two children (`count == 0`: `first` and `first + 1`) or a
+/// leaf of `count` packets starting at `packets[first]`.
 #[derive(Clone, Copy, Debug, Default)]
 struct Node {
     min: Vec3,
@@ -48,6 +50,8 @@ pub(crate) struct Bvh {
     nodes: Vec<Node>,
     packets: Vec<Packet>,
     items: Vec<u32>,
+    /// For each sphere id, its packet and lane.
+    slots: Vec<(u32, u32)>,
 }
 
 /// A ray prepared for box tests.
@@ -72,6 +76,10 @@ impl BoxRay {
     }
 }
 
+fn splat3(v: Vec3) -> [f32x4; 3] {
+    [f32x4::splat(v.x), f32x4::splat(v.y), f32x4::splat(v.z)]
+}
+
 impl Bvh {
     /// Rebuilds over the spheres `(centers[k], radii[k])`, reusing the buffers.
     pub(crate) fn build(&mut self, centers: &[Vec3], radii: &[f32]) {
@@ -79,6 +87,8 @@ impl Bvh {
         self.packets.clear();
         self.items.clear();
         self.items.extend(0..centers.len() as u32);
+        self.slots.clear();
+        self.slots.resize(centers.len(), (0, 0));
         if centers.is_empty() {
             return;
         }
@@ -98,16 +108,20 @@ impl Bvh {
             cmin = cmin.min(c);
             cmax = cmax.max(c);
         }
-        if items.len() <= LANES {
-            let nan = f32::NAN;
-            let (mut cx, mut cy, mut cz, mut r, mut ids) =
-                ([nan; LANES], [nan; LANES], [nan; LANES], [0.0; LANES], [0; LANES]);
-            for (lane, &k) in items.iter().enumerate() {
-                let c = centers[k as usize];
-                (cx[lane], cy[lane], cz[lane], r[lane], ids[lane]) = (c.x, c.y, c.z, radii[k as usize], k);
+        if items.len() <= LANES * LEAF_PACKETS {
+            let first = self.packets.len() as u32;
+            for chunk in items.chunks(LANES) {
+                let nan = f32::NAN;
+                let (mut cx, mut cy, mut cz, mut r, mut ids) =
+                    ([nan; LANES], [nan; LANES], [nan; LANES], [0.0; LANES], [0; LANES]);
+                for (lane, &k) in chunk.iter().enumerate() {
+                    let c = centers[k as usize];
+                    (cx[lane], cy[lane], cz[lane], r[lane], ids[lane]) = (c.x, c.y, c.z, radii[k as usize], k);
+                    self.slots[k as usize] = (self.packets.len() as u32, lane as u32);
+                }
+                self.packets.push(Packet { cx: cx.into(), cy: cy.into(), cz: cz.into(), r: r.into(), ids });
             }
-            self.nodes[index] = Node { min, max, first: self.packets.len() as u32, count: 1 };
-            self.packets.push(Packet { cx: cx.into(), cy: cy.into(), cz: cz.into(), r: r.into(), ids });
+            self.nodes[index] = Node { min, max, first, count: self.packets.len() as u32 - first };
             return;
         }
         let extent = cmax - cmin;
@@ -139,26 +153,38 @@ impl Bvh {
         let c = (ox * ox + oy * oy + oz * oz) - r2;
         let (px, py, pz) = (ox - b * d[0], oy - b * d[1], oz - b * d[2]);
         let disc = r2 - (px * px + py * py + pz * pz);
-        let sq = disc.sqrt();
         let zero = f32x4::splat(0.0);
+        let touched = disc.simd_ge(zero);
+        let inf = f32x4::splat(f32::INFINITY);
+        if touched.to_bitmask() == 0 {
+            return inf.to_array();
+        }
+        let sq = disc.sqrt();
         let q = b.simd_gt(zero).bitselect(-b - sq, -b + sq);
         let t0 = c / q;
         let (near, far) = (t0.min(q), t0.max(q));
         let t_max = f32x4::splat(t_max);
         let near_ok = near.simd_gt(zero) & near.simd_lt(t_max);
         let far_ok = far.simd_gt(zero) & far.simd_lt(t_max);
-        let inf = f32x4::splat(f32::INFINITY);
         let t = near_ok.bitselect(near, far_ok.bitselect(far, inf));
-        disc.simd_ge(zero).bitselect(t, inf).to_array()
+        touched.bitselect(t, inf).to_array()
     }
 
-    /// Closest hit in `(0, t_max)`: `(t, sphere id)`, with `t` from the scalar test.
-    pub(crate) fn intersect(&self, ray: &Ray, t_max: f32, centers: &[Vec3], radii: &[f32]) -> Option<(f32, u32)> {
+    /// Hit parameter in `(0, ∞)` of the ray against sphere `k` alone.
+    #[inline]
+    pub(crate) fn intersect_one(&self, ray: &Ray, k: u32) -> Option<f32> {
+        let (packet, lane) = self.slots[k as usize];
+        let t = Self::packet_hits(&self.packets[packet as usize], splat3(ray.origin), splat3(ray.dir), f32::INFINITY)
+            [lane as usize];
+        t.is_finite().then_some(t)
+    }
+
+    /// Closest hit in `(0, t_max)`: `(t, sphere id)`.
+    pub(crate) fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(f32, u32)> {
         let root = self.nodes.first()?;
         let br = BoxRay::new(ray);
         br.enter(root, t_max)?;
-        let o = [f32x4::splat(ray.origin.x), f32x4::splat(ray.origin.y), f32x4::splat(ray.origin.z)];
-        let d = [f32x4::splat(ray.dir.x), f32x4::splat(ray.dir.y), f32x4::splat(ray.dir.z)];
+        let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         let mut stack = [0u32; STACK];
         let mut sp = 1;
         let (mut t_best, mut best) = (t_max, None);
@@ -166,10 +192,11 @@ impl Bvh {
             sp -= 1;
             let node = &self.nodes[stack[sp] as usize];
             if node.count > 0 {
-                let p = &self.packets[node.first as usize];
-                for (lane, t) in Self::packet_hits(p, o, d, t_best).into_iter().enumerate() {
-                    if t < t_best {
-                        (t_best, best) = (t, Some(p.ids[lane]));
+                for p in &self.packets[node.first as usize..(node.first + node.count) as usize] {
+                    for (lane, t) in Self::packet_hits(p, o, d, t_best).into_iter().enumerate() {
+                        if t < t_best {
+                            (t_best, best) = (t, Some(p.ids[lane]));
+                        }
                     }
                 }
                 continue;
@@ -190,9 +217,7 @@ impl Bvh {
                 sp += 1;
             }
         }
-        let k = best?;
-        let t = intersect_sphere(ray, centers[k as usize], radii[k as usize], f32::INFINITY).unwrap_or(t_best);
-        Some((t, k))
+        best.map(|k| (t_best, k))
     }
 
     /// Whether any sphere blocks the ray before `t_max` (early exit).
@@ -202,17 +227,17 @@ impl Bvh {
         if br.enter(root, t_max).is_none() {
             return false;
         }
-        let o = [f32x4::splat(ray.origin.x), f32x4::splat(ray.origin.y), f32x4::splat(ray.origin.z)];
-        let d = [f32x4::splat(ray.dir.x), f32x4::splat(ray.dir.y), f32x4::splat(ray.dir.z)];
+        let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         let mut stack = [0u32; STACK];
         let mut sp = 1;
         while sp > 0 {
             sp -= 1;
             let node = &self.nodes[stack[sp] as usize];
             if node.count > 0 {
-                let hits = Self::packet_hits(&self.packets[node.first as usize], o, d, t_max);
-                if hits.iter().any(|t| t.is_finite()) {
-                    return true;
+                for p in &self.packets[node.first as usize..(node.first + node.count) as usize] {
+                    if Self::packet_hits(p, o, d, t_max).iter().any(|t| t.is_finite()) {
+                        return true;
+                    }
                 }
                 continue;
             }
@@ -230,6 +255,7 @@ impl Bvh {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sphere::intersect_sphere;
 
     /// A deterministic cloud of spheres.
     fn cloud(n: usize) -> (Vec<Vec3>, Vec<f32>) {
@@ -259,7 +285,7 @@ mod tests {
 
     #[test]
     fn matches_brute_force_bit_for_bit() {
-        for n in [1, 3, 4, 5, 17, 300] {
+        for n in [1, 3, 4, 5, 8, 9, 17, 300] {
             let (centers, radii) = cloud(n);
             let mut bvh = Bvh::default();
             bvh.build(&centers, &radii);
@@ -267,9 +293,14 @@ mod tests {
                 let a = k as f32 * 0.618_034;
                 let dir = Vec3::new((a * 7.3).sin() * 0.6, (a * 3.1).cos() * 0.35, 1.0).normalize();
                 let ray = Ray::new(Vec3::new(0.0, 0.0, -2.0), dir);
-                let got = bvh.intersect(&ray, f32::INFINITY, &centers, &radii);
+                let got = bvh.intersect(&ray, f32::INFINITY);
                 let want = brute(&ray, f32::INFINITY, &centers, &radii);
                 assert_eq!(got.map(|(t, k)| (t.to_bits(), k)), want.map(|(t, k)| (t.to_bits(), k)), "n = {n}, ray {k}");
+                for s in 0..n as u32 {
+                    let one = bvh.intersect_one(&ray, s).map(f32::to_bits);
+                    let scalar = intersect_sphere(&ray, centers[s as usize], radii[s as usize], f32::INFINITY);
+                    assert_eq!(one, scalar.map(f32::to_bits), "n = {n}, ray {k}, sphere {s}");
+                }
                 assert_eq!(bvh.occluded(&ray, 30.0), brute(&ray, 30.0, &centers, &radii).is_some(), "n = {n}, ray {k}");
             }
         }
@@ -280,7 +311,7 @@ mod tests {
         let mut bvh = Bvh::default();
         bvh.build(&[], &[]);
         let ray = Ray::new(Vec3::ZERO, Vec3::Z);
-        assert_eq!(bvh.intersect(&ray, f32::INFINITY, &[], &[]), None);
+        assert_eq!(bvh.intersect(&ray, f32::INFINITY), None);
         assert!(!bvh.occluded(&ray, f32::INFINITY));
         let (c, r) = cloud(50);
         bvh.build(&c, &r);

@@ -417,7 +417,9 @@ mod tests {
         assert!(e.contains("spheres = []"), "{e}");
         let e = err("[[spheres]]\nradius = 1\n");
         assert!(e.contains("needs `center` or `orbit`"), "{e}");
-        let e = err("[[spheres]]\ncenter = [0, 0, 15]\nradius = 1\norbit = { center = [0, 0, 15], radius = 2, period_s = 8 }\n");
+        let e = err(
+            "[[spheres]]\ncenter = [0, 0, 15]\nradius = 1\norbit = { center = [0, 0, 15], radius = 2, period_s = 8 }\n",
+        );
         assert!(e.contains("either `center` or `orbit`, not both"), "{e}");
         let e = err("[camera\nipd = 0.5\n");
         assert!(e.starts_with("bad.toml:1:"), "malformed TOML: {e}");
@@ -425,7 +427,8 @@ mod tests {
         assert!(e.contains("spheres[0].radius = inf: must be a finite number"), "{e}");
         let e = err("[[spheres]]\ncenter = [0, 0, 15]\nradius = 1\nshininess = 0.5\n");
         assert!(e.contains("spheres[0].shininess = 0.5"), "{e}");
-        let e = err("[[lights]]\nposition = [0, 0, 0]\ncolor = [-1, 0, 0]\n[[spheres]]\ncenter = [0, 0, 15]\nradius = 1\n");
+        let e =
+            err("[[lights]]\nposition = [0, 0, 0]\ncolor = [-1, 0, 0]\n[[spheres]]\ncenter = [0, 0, 15]\nradius = 1\n");
         assert!(e.contains("lights[0].color[0] = -1"), "{e}");
         let e = err("[camera]\npitch_deg = 95\n[[spheres]]\ncenter = [0, 0, 15]\nradius = 1\n");
         assert!(e.contains("camera.pitch_deg = 95"), "{e}");

@@ -98,7 +98,7 @@ impl Tracer {
     /// The sample of a pixel whose primary ray missed.
     #[must_use]
     pub fn miss_sample(&self) -> Shaded {
-        Shaded { rgb: pack_rgb(self.settings.background), z: f32::INFINITY, surface: Surface::MISS }
+        Shaded { rgb: self.background_rgb, z: f32::INFINITY, surface: Surface::MISS }
     }
 
     fn shaded_sample(

@@ -5,7 +5,6 @@ use glam::Vec3;
 use crate::bvh::Bvh;
 use crate::ray::Ray;
 use crate::scene::{Light, Material, RenderSettings, Scene};
-use crate::sphere::intersect_sphere;
 
 /// A scene at one instant, laid out for tracing. Build it once and [`Tracer::update`] it each
 /// frame: the buffers are reused, so a warm viewer does not allocate per frame.
@@ -16,6 +15,8 @@ pub struct Tracer {
     pub(crate) materials: Vec<Material>,
     pub(crate) lights: Vec<Light>,
     pub(crate) settings: RenderSettings,
+    /// The background, encoded once per update.
+    pub(crate) background_rgb: u32,
     bvh: Bvh,
 }
 
@@ -42,6 +43,7 @@ impl Tracer {
         self.lights.clear();
         self.lights.extend_from_slice(&scene.lights);
         self.settings = scene.render;
+        self.background_rgb = crate::color::pack_rgb(self.settings.background);
         self.bvh.build(&self.centers, &self.radii);
     }
 
@@ -81,7 +83,7 @@ impl Tracer {
     #[inline]
     #[must_use]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(f32, u32)> {
-        self.bvh.intersect(ray, t_max, &self.centers, &self.radii)
+        self.bvh.intersect(ray, t_max)
     }
 
     /// Whether anything blocks `ray` before `t_max` (any hit, early exit): the shadow query.
@@ -96,7 +98,6 @@ impl Tracer {
     #[inline]
     #[must_use]
     pub fn intersect_object(&self, ray: &Ray, object: u32) -> Option<f32> {
-        let k = object as usize;
-        intersect_sphere(ray, self.centers[k], self.radii[k], f32::INFINITY)
+        self.bvh.intersect_one(ray, object)
     }
 }
