@@ -29,8 +29,6 @@ pub struct StereoFrame {
     right: Image,
     /// For each right pixel, the left pixel that fills it, or [`NO_SOURCE`].
     src: Vec<u32>,
-    /// For each right pixel, its source's object and light bits (see `classify::key`).
-    keys: Vec<u64>,
     mask: Vec<PixelClass>,
     stats: FrameStats,
 }
@@ -60,6 +58,9 @@ fn right_border_strip(tracer: &Tracer, camera: &Camera, shift_scale: f32, w: usi
     // One pixel of margin for where the left eye's last pixel centre lands.
     (shift.ceil() as usize + 1).min(w)
 }
+
+/// Rows per band of the reprojection pass.
+const BAND: usize = 16;
 
 fn ms_since(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
@@ -117,7 +118,6 @@ impl StereoFrame {
 
         self.mask.resize(n, PixelClass::Traced);
         self.src.resize(n, NO_SOURCE);
-        self.keys.resize(n, GAP_KEY);
         (self.right.width, self.right.height) = (width, height);
         self.right.rgb.resize(n, 0);
         if n == 0 {
@@ -153,23 +153,40 @@ impl StereoFrame {
         let shift_scale = camera.ipd * rv.pixels_per_unit();
         let d = camera.distance;
         let strip = right_border_strip(tracer, camera, shift_scale, w);
-        let left = &self.left;
-        self.src.par_chunks_mut(w).zip(self.keys.par_chunks_mut(w)).enumerate().for_each_init(
-            Vec::new,
-            |targets, (j, (src, keys))| {
-                reproject_row(&left.z[j * w..(j + 1) * w], shift_scale, d, (j * w) as u32, src, targets);
-                src[w - strip..].fill(NO_SOURCE);
-                for (k, &s) in keys.iter_mut().zip(src.iter()) {
-                    *k = if s == NO_SOURCE { GAP_KEY } else { key(left.object[s as usize], left.lights[s as usize]) };
-                }
-            },
-        );
         // With IPD 0 every left pixel lands exactly on its own centre: the reprojection is
         // exact and no edge or shadow boundary needs a second look.
         let exact_landing = shift_scale == 0.0;
         let (edges, shadows) = (opts.edges() && !exact_landing, opts.shadow_boundaries() && !exact_landing);
-        let keys = &self.keys;
-        self.mask.par_chunks_mut(w).enumerate().for_each(|(j, out)| classify_row(keys, w, j, edges, shadows, out));
+        let (left, h) = (&self.left, rv.height as usize);
+        // Bands of rows, each reprojected with one halo row above and below into per-worker
+        // scratch and classified at once while it is in cache: one pass over the left
+        // planes instead of a reprojection pass and a classification pass.
+        self.src.par_chunks_mut(w * BAND).zip(self.mask.par_chunks_mut(w * BAND)).enumerate().for_each_init(
+            || (Vec::new(), Vec::new(), Vec::new()),
+            |(targets, srcs, keys), (b, (src_band, mask_band))| {
+                let (j0, rows) = (b * BAND, src_band.len() / w);
+                let (lo, hi) = (j0.saturating_sub(1), (j0 + rows + 1).min(h));
+                srcs.resize((hi - lo) * w, NO_SOURCE);
+                keys.resize((hi - lo) * w, GAP_KEY);
+                for j in lo..hi {
+                    let row = (j - lo) * w..(j - lo + 1) * w;
+                    let src = &mut srcs[row.clone()];
+                    reproject_row(&left.z[j * w..(j + 1) * w], shift_scale, d, (j * w) as u32, src, targets);
+                    src[w - strip..].fill(NO_SOURCE);
+                    for (k, &s) in keys[row].iter_mut().zip(src.iter()) {
+                        *k = if s == NO_SOURCE {
+                            GAP_KEY
+                        } else {
+                            key(left.object[s as usize], left.lights[s as usize])
+                        };
+                    }
+                }
+                src_band.copy_from_slice(&srcs[(j0 - lo) * w..(j0 - lo + rows) * w]);
+                for (r, out) in mask_band.chunks_mut(w).enumerate() {
+                    classify_row(keys, w, j0 - lo + r, edges, shadows, out);
+                }
+            },
+        );
     }
 
     /// Stage 4: full primary rays for every pixel not reprojected.
