@@ -87,8 +87,11 @@ pub fn linear_to_srgb8(c: f32) -> u8 {
 /// Decodes one 8-bit sRGB value to linear light.
 #[must_use]
 pub fn srgb8_to_linear(v: u8) -> f32 {
-    decode(f64::from(v) / 255.0) as f32
+    DECODE[usize::from(v)]
 }
+
+/// `DECODE[v]` is sRGB level v in linear light.
+static DECODE: LazyLock<[f32; 256]> = LazyLock::new(|| std::array::from_fn(|v| decode(v as f64 / 255.0) as f32));
 
 /// Packs linear radiance into a `0x00RRGGBB` sRGB pixel.
 #[must_use]
