@@ -1,0 +1,72 @@
+//! Criterion benchmarks of the tracer's inner loops, on fixed inputs.
+#![allow(missing_docs)] // criterion_group! and criterion_main! generate undocumented items.
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use glam::Vec3;
+use tracer::{intersect_sphere, render_eye, Eye, Film, Ray, RayCounts, Scene, Tracer};
+
+fn scene(name: &str) -> Scene {
+    let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+    Scene::load(path).expect("scene loads")
+}
+
+fn ray_sphere(c: &mut Criterion) {
+    let rays: Vec<Ray> = (0..1024)
+        .map(|k| {
+            let a = k as f32 * 0.618_034;
+            Ray::new(Vec3::ZERO, Vec3::new(a.sin() * 0.3, a.cos() * 0.2, 1.0).normalize())
+        })
+        .collect();
+    c.bench_function("ray_sphere_1024", |b| {
+        b.iter(|| {
+            let mut hits = 0u32;
+            for r in &rays {
+                hits +=
+                    u32::from(intersect_sphere(black_box(r), Vec3::new(0.5, 0.2, 15.0), 2.5, f32::INFINITY).is_some());
+            }
+            hits
+        });
+    });
+}
+
+/// Primary rays of a 160×90 view: BVH traversal alone (closest hit), and shading.
+fn traversal_and_shading(c: &mut Criterion) {
+    for name in ["seed.toml", "thousand.toml"] {
+        let s = scene(name);
+        let tracer = Tracer::new(&s, 0.0);
+        let view = s.camera.view(Eye::Left, 160, 90);
+        let rays: Vec<Ray> =
+            (0..90).flat_map(|j| (0..160).map(move |i| (i, j))).map(|(i, j)| view.primary_ray(i, j)).collect();
+        c.bench_function(&format!("bvh_closest_hit_160x90_{name}"), |b| {
+            b.iter(|| rays.iter().filter(|r| tracer.intersect(black_box(r), f32::INFINITY).is_some()).count());
+        });
+        c.bench_function(&format!("shade_160x90_{name}"), |b| {
+            b.iter(|| {
+                let mut counts = RayCounts::default();
+                let mut sum = 0u32;
+                for j in 0..90 {
+                    for i in 0..160 {
+                        sum = sum.wrapping_add(tracer.trace_pixel(&view, i, j, &mut counts).rgb);
+                    }
+                }
+                (sum, counts)
+            });
+        });
+    }
+}
+
+fn eye(c: &mut Criterion) {
+    let s = scene("seed.toml");
+    let tracer = Tracer::new(&s, 0.0);
+    let view = s.camera.view(Eye::Left, 1280, 720);
+    let mut film = Film::new(1280, 720);
+    let mut group = c.benchmark_group("render_eye");
+    group.sample_size(10);
+    group.bench_function("seed_1280x720", |b| b.iter(|| render_eye(&tracer, black_box(&view), &mut film)));
+    group.finish();
+}
+
+criterion_group!(benches, ray_sphere, traversal_and_shading, eye);
+criterion_main!(benches);
