@@ -7,26 +7,33 @@
 //! frame, rasterise the UI over them (`egui_software_backend`), present once. Tracing happens
 //! only on the worker thread, never while the softbuffer buffer is held.
 //!
-//! Keys (ignored while egui has keyboard focus, e.g. typing a slider value): M toggles the
-//! debug mask, Space pauses the revolving spheres, S saves the current pair as PNG, Esc quits.
+//! Keys (ignored while egui has keyboard focus, e.g. typing a slider value): W/Up and Down
+//! move the head forward and back, A/Left and D/Right sideways (held: [`ui::HEAD_SPEED`]
+//! units a second along the head's own axes); R resets the head; 1, 2, 3 choose side-by-side,
+//! cross-eyed, anaglyph; X swaps the eyes; M toggles the debug mask; Space pauses the
+//! revolving spheres; S saves screenshots; Esc quits. Dragging with the right mouse button,
+//! or the left one outside the panel, turns the head. Both eyes share the head pose, so
+//! moving never breaks the reprojection.
 
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
 use std::rc::Rc;
-use std::time::{Duration, Instant};
+use std::time::{Duration, Instant, SystemTime};
 
 use anyhow::Context as _;
 use egui_software_backend::{BufferMutRef, ColorFieldOrder, EguiSoftwareRender};
-use tracer::{Camera, Scene};
+use tracer::Scene;
 use winit::application::ApplicationHandler;
 use winit::dpi::LogicalSize;
-use winit::event::{ElementState, KeyEvent, WindowEvent};
+use winit::dpi::PhysicalPosition;
+use winit::event::{ElementState, KeyEvent, MouseButton, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
-use winit::keyboard::{Key, NamedKey};
+use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
 use winit::window::{Window, WindowId};
 
 use crate::cli::{WindowArgs, DEFAULT_SCENE};
 use crate::present::{self, Compositor};
+use crate::screenshot;
 use crate::syslibs::{self, Backend};
 use crate::timing::{RateMeter, SceneClock};
 use crate::ui::{self, FrameTimes, Readout, Settings};
@@ -34,6 +41,45 @@ use crate::worker::{Request, Worker};
 
 /// Time between UI frames (60 Hz).
 const FRAME_INTERVAL: Duration = Duration::from_micros(16_667);
+
+/// Longest time step a held movement key advances the head by, so a stall does not jump.
+const MAX_MOVE_STEP: f32 = 0.1;
+
+/// How long the panel shows where the last screenshot went.
+const SAVED_NOTE: Duration = Duration::from_secs(6);
+
+/// Movement keys held down: forward, back, left, right.
+#[derive(Clone, Copy, Debug, Default)]
+struct HeldKeys([bool; 4]);
+
+impl HeldKeys {
+    /// The movement slot of a physical key (layout-independent, so W/A/D are where they are
+    /// on a QWERTY keyboard), if it is one.
+    fn slot(key: PhysicalKey) -> Option<usize> {
+        match key {
+            PhysicalKey::Code(KeyCode::KeyW | KeyCode::ArrowUp) => Some(0),
+            PhysicalKey::Code(KeyCode::ArrowDown) => Some(1),
+            PhysicalKey::Code(KeyCode::KeyA | KeyCode::ArrowLeft) => Some(2),
+            PhysicalKey::Code(KeyCode::KeyD | KeyCode::ArrowRight) => Some(3),
+            _ => None,
+        }
+    }
+
+    /// (forward, right) in −1..=1.
+    fn direction(self) -> (f32, f32) {
+        let axis = |plus: bool, minus: bool| f32::from(u8::from(plus)) - f32::from(u8::from(minus));
+        (axis(self.0[0], self.0[1]), axis(self.0[3], self.0[2]))
+    }
+}
+
+/// Mouse state for turning the head by dragging.
+#[derive(Clone, Copy, Debug, Default)]
+struct Drag {
+    /// Last cursor position in the window, physical pixels.
+    cursor: Option<PhysicalPosition<f64>>,
+    /// A turning drag is under way.
+    active: bool,
+}
 
 /// Opens the window and runs until it is closed, Esc is pressed or `--frames` is reached.
 pub fn run(args: &WindowArgs) -> anyhow::Result<()> {
@@ -138,6 +184,14 @@ struct App {
     dump: (Vec<u32>, u32, u32),
     /// First error met inside the event loop; `run` returns it.
     error: Option<anyhow::Error>,
+    held: HeldKeys,
+    drag: Drag,
+    /// When the head was last moved by held keys.
+    last_move: Instant,
+    /// Screenshot folder, as typed in the panel.
+    folder: String,
+    /// What the last screenshot wrote (or why it failed), and when.
+    saved: Option<(String, Instant)>,
 }
 
 impl App {
@@ -149,6 +203,7 @@ impl App {
             None => SceneClock::running(now),
         };
         settings.paused = clock.is_paused();
+        settings.live_psnr = args.live_psnr;
         let egui = egui::Context::default();
         ui::setup_style(&egui);
         Ok(Self {
@@ -177,6 +232,11 @@ impl App {
             ui_busy: (Duration::ZERO, 0),
             dump: (Vec::new(), 0, 0),
             error: None,
+            held: HeldKeys::default(),
+            drag: Drag::default(),
+            last_move: now,
+            folder: screenshot::DEFAULT_FOLDER.to_owned(),
+            saved: None,
         })
     }
 
@@ -232,49 +292,113 @@ impl App {
             Key::Named(NamedKey::Space) => self.set_paused(!self.settings.paused),
             Key::Character(c) if c.eq_ignore_ascii_case("m") => self.settings.show_mask ^= true,
             Key::Character(c) if c.eq_ignore_ascii_case("s") => self.save_pair(),
+            Key::Character(c) if c.eq_ignore_ascii_case("x") => self.settings.swap_eyes ^= true,
+            Key::Character(c) if c.eq_ignore_ascii_case("r") => self.settings.reset_camera(&self.scene),
+            Key::Character(c) => {
+                if let Some(&layout) = c.parse::<usize>().ok().and_then(|k| stereo::Layout::ALL.get(k.wrapping_sub(1)))
+                {
+                    self.settings.layout = layout;
+                }
+            }
             _ => {}
         }
     }
 
-    /// Writes the frame on screen as `stereotrace-<n>-{left,right,mask}.png` in the current
-    /// directory. A failure is reported on stderr; the viewer carries on.
-    fn save_pair(&self) {
-        let frame = self.worker.current();
-        let Some(info) = frame.info else {
-            eprintln!("stereotrace: nothing to save yet");
-            return;
-        };
-        let (w, h) = frame.size();
-        let mut mask = Vec::new();
-        present::mask_image(&frame.mask, &mut mask);
-        for (eye, pixels) in [("left", &frame.left), ("right", &frame.right), ("mask", &mask)] {
-            let path = PathBuf::from(format!("stereotrace-{}-{eye}.png", info.seq));
-            match crate::png_out::write_png(&path, w, h, pixels) {
-                Ok(()) => eprintln!("stereotrace: saved {}", path.display()),
-                Err(e) => eprintln!("stereotrace: {e:#}"),
+    /// Movement keys: a press counts only when egui does not want the keyboard, a release
+    /// always (so a key never sticks).
+    fn on_movement_key(&mut self, key: PhysicalKey, pressed: bool) {
+        if let Some(slot) = HeldKeys::slot(key) {
+            if !pressed || !self.egui.egui_wants_keyboard_input() {
+                self.held.0[slot] = pressed;
             }
         }
+    }
+
+    /// Mouse buttons: the right one always starts a turning drag, the left one only outside
+    /// the panel.
+    fn on_mouse_button(&mut self, button: MouseButton, state: ElementState) {
+        let starts = match button {
+            MouseButton::Right => true,
+            MouseButton::Left => !self.egui.is_pointer_over_egui() && !self.egui.egui_wants_pointer_input(),
+            _ => return,
+        };
+        match state {
+            ElementState::Pressed if starts => self.drag.active = true,
+            ElementState::Pressed => {}
+            ElementState::Released => self.drag.active = false,
+        }
+    }
+
+    fn on_cursor_moved(&mut self, position: PhysicalPosition<f64>) {
+        if let (true, Some(last)) = (self.drag.active, self.drag.cursor) {
+            self.settings.turn_head((position.x - last.x) as f32, (position.y - last.y) as f32);
+        }
+        self.drag.cursor = Some(position);
+    }
+
+    /// Moves the head for the keys held since the last call.
+    fn move_head(&mut self, now: Instant) {
+        let dt = now.saturating_duration_since(self.last_move).as_secs_f32().min(MAX_MOVE_STEP);
+        self.last_move = now;
+        let (forward, right) = self.held.direction();
+        if forward != 0.0 || right != 0.0 {
+            let step = ui::HEAD_SPEED * dt;
+            self.settings.move_head(forward * step, right * step);
+        }
+    }
+
+    /// Writes the frame on screen as PNGs into the screenshot folder; the panel says where
+    /// (or why not), and so does stderr. The viewer carries on either way.
+    fn save_pair(&mut self) {
+        let s = &self.settings;
+        let folder = PathBuf::from(if self.folder.trim().is_empty() { "." } else { self.folder.trim() });
+        let note = match screenshot::save(
+            &folder,
+            self.worker.current(),
+            s.layout,
+            s.swap_eyes,
+            s.show_mask,
+            SystemTime::now(),
+        ) {
+            Ok(paths) => {
+                for p in &paths {
+                    eprintln!("stereotrace: saved {}", p.display());
+                }
+                let names: Vec<String> =
+                    paths.iter().filter_map(|p| p.file_name()).map(|n| n.to_string_lossy().into_owned()).collect();
+                format!("saved in {}:\n{}", folder.display(), names.join("\n"))
+            }
+            Err(e) => {
+                eprintln!("stereotrace: {e:#}");
+                format!("not saved: {e:#}")
+            }
+        };
+        self.saved = Some((note, Instant::now()));
     }
 
     /// The render request for the current settings and an eye of `width` × `height` on screen.
     fn request(&self, width: u32, height: u32, now: Instant) -> Request {
         let s = &self.settings;
         let (width, height) = s.render_size(width, height);
+        let anaglyph = s.layout == stereo::Layout::Anaglyph;
         Request {
-            camera: Camera { ipd: s.ipd, distance: s.distance, ..self.scene.camera },
+            camera: s.camera(&self.scene.camera),
             depth: s.depth,
             opts: s.options(),
             time: if self.scene.is_animated() { self.clock.time(now) } else { 0.0 },
             width,
             height,
             psnr: s.live_psnr,
-            anaglyph: s.layout == stereo::Layout::Anaglyph,
+            anaglyph,
+            swap: anaglyph && s.swap_eyes,
+            light: s.light,
         }
     }
 
     /// One UI frame. A minimised (zero-sized) window is skipped entirely.
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> anyhow::Result<()> {
         let now = Instant::now();
+        self.move_head(now);
         let Some(gfx) = self.gfx.as_mut() else { return Ok(()) };
         let size = gfx.window.inner_size();
         let (Some(nz_w), Some(nz_h)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) else {
@@ -286,7 +410,7 @@ impl App {
         let info = self.worker.latest().info;
         if let Some(info) = info.filter(|i| i.seq != self.last_seq) {
             self.last_seq = info.seq;
-            self.history.push(info.wall_ms as f32);
+            self.history.push(ui::sample(info.wall_ms, &info.stats));
         }
         self.render_meter.update(now, self.last_seq);
         if self.ui_meter.update(now, self.presented) && self.config.log_fps {
@@ -312,17 +436,23 @@ impl App {
             time: self.clock.time(now),
             animated: self.scene.is_animated(),
             history: &self.history,
+            saved: self.saved.as_ref().filter(|(_, at)| now.saturating_duration_since(*at) < SAVED_NOTE).map(|s| &*s.0),
         };
         let mut settings = self.settings;
         let mut actions = ui::Actions::default();
-        let output = self.egui.run_ui(raw_input, |ui| actions = ui::panel(ui.ctx(), &mut settings, &readout));
+        let folder = &mut self.folder;
+        let output = self.egui.run_ui(raw_input, |ui| actions = ui::panel(ui.ctx(), &mut settings, &readout, folder));
         gfx.egui_winit.handle_platform_output(&gfx.window, output.platform_output);
         if actions.reset {
             settings.reset_camera(&self.scene);
         }
+        if actions.reset_light {
+            settings.light = Settings::from_scene(&self.scene).light;
+        }
         let paused = settings.paused;
         self.settings = settings;
         self.set_paused(paused);
+        self.clock.set_speed(settings.orbit_speed, now);
         if actions.save {
             self.save_pair();
         }
@@ -343,8 +473,8 @@ impl App {
             return Ok(());
         }
         let frame = self.worker.current();
-        let eyes =
-            self.compositor.compose(&mut buffer, width, height, frame, self.settings.layout, self.settings.show_mask);
+        let s = &self.settings;
+        let eyes = self.compositor.compose(&mut buffer, width, height, frame, s.layout, s.swap_eyes, s.show_mask);
         let primitives = self.egui.tessellate(output.shapes, output.pixels_per_point);
         self.egui_render.render(
             &mut BufferMutRef::new(bytemuck::cast_slice_mut(&mut buffer[..]), width, height),
@@ -393,10 +523,23 @@ impl ApplicationHandler for App {
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::KeyboardInput {
-                event: KeyEvent { logical_key, state: ElementState::Pressed, repeat: false, .. },
+                event: KeyEvent { logical_key, physical_key, state, repeat, .. },
                 is_synthetic: false,
                 ..
-            } if !self.egui.egui_wants_keyboard_input() => self.on_key(&logical_key, event_loop),
+            } => {
+                let pressed = state == ElementState::Pressed;
+                self.on_movement_key(physical_key, pressed);
+                if pressed && !repeat && !self.egui.egui_wants_keyboard_input() {
+                    self.on_key(&logical_key, event_loop);
+                }
+            }
+            WindowEvent::Focused(false) => {
+                self.held = HeldKeys::default();
+                self.drag.active = false;
+            }
+            WindowEvent::MouseInput { state, button, .. } => self.on_mouse_button(button, state),
+            WindowEvent::CursorMoved { position, .. } => self.on_cursor_moved(position),
+            WindowEvent::CursorLeft { .. } => self.drag.cursor = None,
             WindowEvent::RedrawRequested => {
                 let started = Instant::now();
                 if let Err(e) = self.redraw(event_loop) {

@@ -55,6 +55,9 @@ pub struct WindowArgs {
     /// Start with the orbit paused at this time, in seconds.
     #[arg(long, value_name = "T")]
     pub time: Option<f32>,
+    /// Start with live PSNR on (the right eye measured against a full trace every frame).
+    #[arg(long)]
+    pub live_psnr: bool,
 }
 
 /// Camera and render overrides shared by `render` and `bench`.

@@ -9,6 +9,7 @@ mod png_out;
 mod present;
 mod render_cmd;
 mod report;
+mod screenshot;
 mod setup;
 mod syslibs;
 mod timing;

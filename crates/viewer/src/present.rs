@@ -89,8 +89,10 @@ impl Compositor {
         Self { columns: Vec::new(), mask_colors }
     }
 
-    /// Fills `dst` (`width` × `height`, row-major) with `frame` in `layout`, the right eye
-    /// (or the anaglyph) blended half and half with the debug mask when `show_mask` is set.
+    /// Fills `dst` (`width` × `height`, row-major) with `frame` in `layout`, the eyes
+    /// exchanged first when `swap` is set (the worker made the anaglyph with the same swap),
+    /// the right eye (or the anaglyph) blended half and half with the debug mask when
+    /// `show_mask` is set.
     /// A frame without its anaglyph (the layout was just switched) is shown side by side.
     /// Returns whether the eyes were drawn (false before the first frame or when the window
     /// is too small).
@@ -101,6 +103,7 @@ impl Compositor {
         height: usize,
         frame: &Finished,
         layout: Layout,
+        swap: bool,
         show_mask: bool,
     ) -> bool {
         debug_assert_eq!(dst.len(), width * height);
@@ -133,7 +136,7 @@ impl Compositor {
             }
             let (first, rest) = row.split_at_mut(ew);
             let (second, pad) = rest.split_at_mut(ew);
-            let (l, r) = if layout == Layout::CrossEyed { (second, first) } else { (first, second) };
+            let (l, r) = if (layout == Layout::CrossEyed) == swap { (first, second) } else { (second, first) };
             let span = src_row..src_row + fw;
             if direct {
                 l.copy_from_slice(&left[span.clone()]);
@@ -181,6 +184,8 @@ mod tests {
             height: h,
             psnr: false,
             anaglyph: false,
+            swap: false,
+            light: None,
         };
         Finished {
             info: Some(FrameInfo {
@@ -201,7 +206,7 @@ mod tests {
     fn eyes_fill_the_halves_exactly_at_the_matching_size() {
         let f = frame(4, 2);
         let mut dst = vec![0xFFFF_FFFF; 9 * 2];
-        assert!(Compositor::new().compose(&mut dst, 9, 2, &f, Layout::SideBySide, false));
+        assert!(Compositor::new().compose(&mut dst, 9, 2, &f, Layout::SideBySide, false, false));
         assert_eq!(&dst[0..4], &f.left[0..4]);
         assert_eq!(&dst[4..8], &f.right[0..4]);
         assert_eq!(dst[8], BACKGROUND, "odd last column");
@@ -214,14 +219,14 @@ mod tests {
         let f = frame(2, 1);
         let mut dst = vec![0; 8 * 2];
         let mut c = Compositor::new();
-        assert!(c.compose(&mut dst, 8, 2, &f, Layout::CrossEyed, false));
+        assert!(c.compose(&mut dst, 8, 2, &f, Layout::CrossEyed, false, false));
         // Nearest neighbour: each source pixel twice across, every row the same.
         assert_eq!(&dst[0..8], &[f.right[0], f.right[0], f.right[1], f.right[1], 0, 0, 1, 1]);
         assert_eq!(&dst[0..8], &dst[8..16]);
         let mut one = [0u32; 1];
-        assert!(!c.compose(&mut one, 1, 1, &f, Layout::SideBySide, false));
+        assert!(!c.compose(&mut one, 1, 1, &f, Layout::SideBySide, false, false));
         assert_eq!(one[0], BACKGROUND);
-        assert!(!c.compose(&mut dst, 8, 2, &Finished::default(), Layout::SideBySide, true));
+        assert!(!c.compose(&mut dst, 8, 2, &Finished::default(), Layout::SideBySide, false, true));
     }
 
     #[test]
@@ -241,18 +246,31 @@ mod tests {
         let mut f = frame(2, 1);
         let mut dst = vec![0; 8];
         let mut c = Compositor::new();
-        c.compose(&mut dst, 8, 1, &f, Layout::Anaglyph, false);
+        c.compose(&mut dst, 8, 1, &f, Layout::Anaglyph, false, false);
         assert_eq!(&dst[..4], &[f.left[0], f.left[0], f.left[1], f.left[1]], "side by side, scaled");
         f.anaglyph = vec![7, 9];
-        c.compose(&mut dst, 8, 1, &f, Layout::Anaglyph, false);
+        c.compose(&mut dst, 8, 1, &f, Layout::Anaglyph, false, false);
         assert_eq!(dst, [BACKGROUND, BACKGROUND, 7, 7, 9, 9, BACKGROUND, BACKGROUND]);
+    }
+
+    #[test]
+    fn swap_exchanges_the_eyes_and_the_mask_follows_the_right_eye() {
+        let f = frame(1, 1);
+        let mut dst = [0u32; 2];
+        let mut c = Compositor::new();
+        c.compose(&mut dst, 2, 1, &f, Layout::SideBySide, true, false);
+        assert_eq!(dst, [f.right[0], f.left[0]]);
+        c.compose(&mut dst, 2, 1, &f, Layout::CrossEyed, true, false);
+        assert_eq!(dst, [f.left[0], f.right[0]]);
+        c.compose(&mut dst, 2, 1, &f, Layout::SideBySide, true, true);
+        assert_eq!(dst, [blend_half(f.right[0], mask_color(PixelClass::Reprojected)), f.left[0]]);
     }
 
     #[test]
     fn mask_blends_half_and_half() {
         let f = frame(1, 1);
         let mut dst = [0u32; 2];
-        Compositor::new().compose(&mut dst, 2, 1, &f, Layout::SideBySide, true);
+        Compositor::new().compose(&mut dst, 2, 1, &f, Layout::SideBySide, false, true);
         assert_eq!(dst[1], blend_half(f.right[0], mask_color(PixelClass::Reprojected)));
         assert_eq!(blend_half(0x00FF_FFFF, 0x00FF_FFFF), 0x00FE_FEFE);
         assert_eq!(blend_half(0x00FF_0000, 0), 0x007F_0000);

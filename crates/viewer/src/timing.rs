@@ -1,4 +1,5 @@
-//! Timing: frame-rate meters for the statistics panel, and the scene clock that Space pauses.
+//! Timing: frame-rate meters for the statistics panel, and the scene clock that Space pauses
+//! and the orbit-speed slider speeds up or slows down.
 
 use std::time::{Duration, Instant};
 
@@ -41,33 +42,35 @@ impl RateMeter {
     }
 }
 
-/// Scene time: wall time since start, which can be paused and resumed.
+/// Scene time: wall time since start times a speed factor, which can be paused and resumed.
 #[derive(Clone, Copy, Debug)]
 pub struct SceneClock {
-    /// Scene time when the clock last (re)started or paused.
+    /// Scene time when the clock last (re)started, paused or changed speed.
     base: f32,
-    /// When the clock last (re)started; `None` while paused.
+    /// When the clock last (re)started or changed speed; `None` while paused.
     running_since: Option<Instant>,
+    /// Scene seconds per wall second (≥ 0; 0 stands still without being paused).
+    speed: f32,
 }
 
 impl SceneClock {
     /// A running clock that reads 0 now.
     #[must_use]
     pub fn running(now: Instant) -> Self {
-        Self { base: 0.0, running_since: Some(now) }
+        Self { base: 0.0, running_since: Some(now), speed: 1.0 }
     }
 
     /// A clock paused at `t` seconds.
     #[must_use]
     pub fn paused_at(t: f32) -> Self {
-        Self { base: t, running_since: None }
+        Self { base: t, running_since: None, speed: 1.0 }
     }
 
     /// Scene time at `now`, seconds.
     #[must_use]
     pub fn time(&self, now: Instant) -> f32 {
         match self.running_since {
-            Some(since) => self.base + now.saturating_duration_since(since).as_secs_f32(),
+            Some(since) => self.base + self.speed * now.saturating_duration_since(since).as_secs_f32(),
             None => self.base,
         }
     }
@@ -89,6 +92,20 @@ impl SceneClock {
         } else {
             self.running_since = Some(now);
         }
+    }
+
+    /// Sets how many scene seconds pass per wall second from `now` on (negative counts as 0);
+    /// the scene time carries on from where it is.
+    pub fn set_speed(&mut self, speed: f32, now: Instant) {
+        let speed = speed.max(0.0);
+        if speed == self.speed {
+            return;
+        }
+        if self.running_since.is_some() {
+            self.base = self.time(now);
+            self.running_since = Some(now);
+        }
+        self.speed = speed;
     }
 }
 
@@ -117,5 +134,20 @@ mod tests {
         let p = SceneClock::paused_at(1.0);
         assert!(p.is_paused());
         assert_eq!(p.time(t0 + Duration::from_secs(5)), 1.0);
+    }
+
+    #[test]
+    fn speed_scales_the_advance_from_the_change_on() {
+        let t0 = Instant::now();
+        let mut c = SceneClock::running(t0);
+        c.set_speed(2.0, t0 + Duration::from_secs(1));
+        assert!((c.time(t0 + Duration::from_secs(3)) - 5.0).abs() < 1e-5);
+        c.set_speed(0.0, t0 + Duration::from_secs(3));
+        assert!((c.time(t0 + Duration::from_secs(9)) - 5.0).abs() < 1e-5);
+        assert!(!c.is_paused(), "speed 0 stands still without pausing");
+        c.set_paused(true, t0 + Duration::from_secs(9));
+        c.set_speed(4.0, t0 + Duration::from_secs(9));
+        c.set_paused(false, t0 + Duration::from_secs(10));
+        assert!((c.time(t0 + Duration::from_secs(11)) - 9.0).abs() < 1e-5);
     }
 }

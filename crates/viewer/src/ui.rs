@@ -5,13 +5,34 @@
 //! presses; the app turns the settings into render requests.
 
 use egui::{Align2, Color32, RichText, Slider};
-use stereo::{mask_color, Layout, Mode, MASK_LEGEND};
-use tracer::Scene;
+use glam::Vec3;
+use stereo::{mask_color, FrameStats, Layout, Mode, MASK_LEGEND};
+use tracer::{Camera, Scene};
 
 use crate::worker::FrameInfo;
 
 /// Largest reflection depth the slider offers.
 pub const MAX_REFLECTION_DEPTH: u32 = 8;
+
+/// How far the light sliders reach from the origin on each axis.
+pub const LIGHT_RANGE: f32 = 30.0;
+
+/// Largest orbit-speed factor.
+pub const MAX_ORBIT_SPEED: f32 = 4.0;
+
+/// Head speed while a movement key is held, scene units per second.
+pub const HEAD_SPEED: f32 = 2.0;
+
+/// Head turn per pixel of mouse drag, degrees.
+pub const TURN_PER_PIXEL: f32 = 0.2;
+
+/// Pitch limit, degrees: the head never looks straight up or down.
+pub const MAX_PITCH: f32 = 89.0;
+
+/// The keys, as the panel lists them.
+pub const HELP: &str = "W/↑ forward · ↓ back · A/← D/→ sideways · right-drag (or left-drag outside \
+                        the panel) turns · R reset · 1 2 3 layout · X swap · M mask · Space pause · \
+                        S save · Esc quit";
 
 /// Everything the user sets in the panel or with keys.
 // Each flag is an independent checkbox in the panel; an enum or bit set would only obscure that.
@@ -38,6 +59,18 @@ pub struct Settings {
     pub live_psnr: bool,
     /// Scene time stands still (key Space).
     pub paused: bool,
+    /// Exchange the eyes (key X).
+    pub swap_eyes: bool,
+    /// Head position (midpoint between the eyes), world space.
+    pub position: Vec3,
+    /// Head turn about +y, degrees.
+    pub yaw_deg: f32,
+    /// Head tilt, degrees, within ±[`MAX_PITCH`].
+    pub pitch_deg: f32,
+    /// Position of the scene's first light; `None` when the scene has no lights.
+    pub light: Option<Vec3>,
+    /// Scene seconds per wall second for the revolving spheres (0..4).
+    pub orbit_speed: f32,
 }
 
 impl Settings {
@@ -55,17 +88,53 @@ impl Settings {
             show_mask: false,
             live_psnr: false,
             paused: false,
+            swap_eyes: false,
+            position: Vec3::ZERO,
+            yaw_deg: 0.0,
+            pitch_deg: 0.0,
+            light: scene.lights.first().map(|l| l.position.clamp(Vec3::splat(-LIGHT_RANGE), Vec3::splat(LIGHT_RANGE))),
+            orbit_speed: 1.0,
         };
         s.reset_camera(scene);
         s
     }
 
-    /// Restores IPD, distance and reflection depth from the scene (clamped to the sliders'
-    /// ranges).
+    /// Restores the head pose, IPD, distance and reflection depth from the scene (clamped to
+    /// the sliders' ranges).
     pub fn reset_camera(&mut self, scene: &Scene) {
         self.ipd = scene.camera.ipd.clamp(0.0, 2.0);
         self.distance = scene.camera.distance.clamp(1.0, 100.0);
         self.depth = scene.render.max_depth.min(MAX_REFLECTION_DEPTH);
+        self.position = scene.camera.position;
+        self.yaw_deg = scene.camera.yaw_deg;
+        self.pitch_deg = scene.camera.pitch_deg.clamp(-MAX_PITCH, MAX_PITCH);
+    }
+
+    /// The camera these settings ask for: `base` (the scene's) with the head pose, IPD and
+    /// distance set here.
+    #[must_use]
+    pub fn camera(&self, base: &Camera) -> Camera {
+        Camera {
+            ipd: self.ipd,
+            distance: self.distance,
+            position: self.position,
+            yaw_deg: self.yaw_deg,
+            pitch_deg: self.pitch_deg,
+            ..*base
+        }
+    }
+
+    /// Moves the head (both eyes together) by `forward` and `right` scene units along its own
+    /// axes (forward follows the pitch too).
+    pub fn move_head(&mut self, forward: f32, right: f32) {
+        let rot = self.camera(&Camera::default()).world_from_head();
+        self.position += rot * Vec3::new(right, 0.0, forward);
+    }
+
+    /// Turns the head by a mouse drag of `dx`, `dy` pixels (right turns right, up looks up).
+    pub fn turn_head(&mut self, dx: f32, dy: f32) {
+        self.yaw_deg = (self.yaw_deg + dx * TURN_PER_PIXEL).rem_euclid(360.0);
+        self.pitch_deg = (self.pitch_deg - dy * TURN_PER_PIXEL).clamp(-MAX_PITCH, MAX_PITCH);
     }
 
     /// The size to trace an eye at, for an eye of `width` × `height` on screen.
@@ -82,17 +151,41 @@ impl Settings {
     }
 }
 
-/// The last frame times, for the small plot (a fixed ring, no allocation).
+/// The series of the frame-time plot: name and line colour.
+pub const SERIES: [(&str, Color32); SERIES_LEN] = [
+    ("frame", Color32::from_rgb(200, 200, 200)),
+    ("left eye", Color32::from_rgb(255, 110, 90)),
+    ("right eye", Color32::from_rgb(90, 200, 255)),
+    ("reproject", Color32::from_rgb(120, 230, 110)),
+    ("retrace", Color32::from_rgb(240, 200, 60)),
+    ("reshade", Color32::from_rgb(210, 120, 255)),
+];
+
+/// Number of series in the frame-time plot.
+pub const SERIES_LEN: usize = 6;
+
+/// One frame's times, milliseconds, in [`SERIES`] order.
+pub type Sample = [f32; SERIES_LEN];
+
+/// The times of one frame in [`SERIES`] order: the whole job, each eye, and the right eye's
+/// stages (the left eye's only stage is its trace).
+#[must_use]
+pub fn sample(wall_ms: f64, stats: &FrameStats) -> Sample {
+    let st = &stats.stages;
+    [wall_ms, stats.left.ms, stats.right.ms, st.reproject, st.retrace, st.reshade].map(|v| v as f32)
+}
+
+/// The last frames' times, for the plot (a fixed ring, no allocation).
 #[derive(Clone, Debug)]
 pub struct FrameTimes {
-    ms: [f32; Self::LEN],
+    ms: [Sample; Self::LEN],
     head: usize,
     len: usize,
 }
 
 impl Default for FrameTimes {
     fn default() -> Self {
-        Self { ms: [0.0; Self::LEN], head: 0, len: 0 }
+        Self { ms: [[0.0; SERIES_LEN]; Self::LEN], head: 0, len: 0 }
     }
 }
 
@@ -100,17 +193,17 @@ impl FrameTimes {
     /// How many frames the plot shows.
     pub const LEN: usize = 120;
 
-    /// Records one frame's time.
-    pub fn push(&mut self, ms: f32) {
+    /// Records one frame's times.
+    pub fn push(&mut self, ms: Sample) {
         self.ms[self.head] = ms;
         self.head = (self.head + 1) % Self::LEN;
         self.len = (self.len + 1).min(Self::LEN);
     }
 
     /// Oldest first.
-    pub fn iter(&self) -> impl Iterator<Item = f32> + '_ {
+    pub fn iter(&self) -> impl Iterator<Item = &Sample> + '_ {
         let start = (self.head + Self::LEN - self.len) % Self::LEN;
-        (0..self.len).map(move |k| self.ms[(start + k) % Self::LEN])
+        (0..self.len).map(move |k| &self.ms[(start + k) % Self::LEN])
     }
 }
 
@@ -129,6 +222,8 @@ pub struct Readout<'a> {
     pub animated: bool,
     /// Recent frame times.
     pub history: &'a FrameTimes,
+    /// What the last screenshot wrote, while it is recent.
+    pub saved: Option<&'a str>,
 }
 
 /// Buttons pressed this frame.
@@ -138,6 +233,8 @@ pub struct Actions {
     pub reset: bool,
     /// "save pair (S)" was clicked.
     pub save: bool,
+    /// "reset light" was clicked.
+    pub reset_light: bool,
 }
 
 /// Formats a ray count as millions, e.g. "1.23 M".
@@ -151,8 +248,8 @@ pub fn setup_style(ctx: &egui::Context) {
     ctx.set_theme(egui::Theme::Dark);
 }
 
-/// Draws the panel and applies the user's edits to `settings`.
-pub fn panel(ctx: &egui::Context, settings: &mut Settings, readout: &Readout<'_>) -> Actions {
+/// Draws the panel and applies the user's edits to `settings` and the screenshot folder.
+pub fn panel(ctx: &egui::Context, settings: &mut Settings, readout: &Readout<'_>, folder: &mut String) -> Actions {
     let mut actions = Actions::default();
     let frame = egui::Frame::window(&ctx.global_style()).fill(Color32::from_rgba_unmultiplied(24, 24, 28, 215));
     egui::Window::new("stereotrace")
@@ -168,6 +265,8 @@ pub fn panel(ctx: &egui::Context, settings: &mut Settings, readout: &Readout<'_>
         .show(ctx, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
                 controls(ui, settings, readout, &mut actions);
+                screenshots(ui, readout, folder);
+                egui::CollapsingHeader::new("light").show(ui, |ui| light(ui, settings, readout, &mut actions));
                 ui.separator();
                 statistics(ui, settings, readout);
                 if settings.show_mask {
@@ -204,19 +303,68 @@ fn controls(ui: &mut egui::Ui, s: &mut Settings, readout: &Readout<'_>, actions:
         .on_disabled_hover_text("exact always retraces edges; full traces everything");
     ui.horizontal(|ui| {
         ui.label("layout");
-        for l in Layout::ALL {
-            ui.selectable_value(&mut s.layout, l, l.name());
+        for (k, l) in Layout::ALL.into_iter().enumerate() {
+            ui.selectable_value(&mut s.layout, l, l.name()).on_hover_text(format!("key {}", k + 1));
         }
     });
+
     ui.horizontal(|ui| {
         ui.checkbox(&mut s.show_mask, "show mask (M)");
         ui.add_enabled(readout.animated, egui::Checkbox::new(&mut s.paused, "pause (Space)"));
     });
-    ui.checkbox(&mut s.live_psnr, "live PSNR").on_hover_text("compare the right eye with a full trace each frame");
     ui.horizontal(|ui| {
-        actions.reset = ui.button("reset camera").clicked();
+        ui.checkbox(&mut s.swap_eyes, "swap eyes (X)").on_hover_text("exchange the left and right images");
+        ui.checkbox(&mut s.live_psnr, "live PSNR").on_hover_text("compare the right eye with a full trace each frame");
+    });
+    ui.horizontal(|ui| {
+        actions.reset = ui.button("reset camera (R)").clicked();
         actions.save = ui.button("save pair (S)").clicked();
     });
+    ui.label(
+        RichText::new(format!(
+            "head {:.1} {:.1} {:.1}  yaw {:.0}° pitch {:.0}°",
+            s.position.x, s.position.y, s.position.z, s.yaw_deg, s.pitch_deg
+        ))
+        .small()
+        .monospace(),
+    );
+    egui::CollapsingHeader::new("keys").show(ui, |ui| ui.label(RichText::new(HELP).small()));
+}
+
+fn screenshots(ui: &mut egui::Ui, r: &Readout<'_>, folder: &mut String) {
+    ui.horizontal(|ui| {
+        ui.label("folder");
+        ui.add(egui::TextEdit::singleline(folder).desired_width(150.0))
+            .on_hover_text("screenshots (S) go here; created if missing");
+    });
+    if let Some(saved) = r.saved {
+        ui.label(RichText::new(saved).small().color(Color32::from_rgb(150, 230, 150)));
+    }
+}
+
+fn light(ui: &mut egui::Ui, s: &mut Settings, r: &Readout<'_>, actions: &mut Actions) {
+    let range = -LIGHT_RANGE..=LIGHT_RANGE;
+    if s.light.is_some() {
+        ui.horizontal(|ui| {
+            ui.label("first light's position");
+            actions.reset_light = ui.small_button("reset").clicked();
+        });
+    } else {
+        ui.label(RichText::new("the scene has no lights").small().weak());
+    }
+    let mut none = Vec3::ZERO;
+    let enabled = s.light.is_some();
+    let p = s.light.as_mut().unwrap_or(&mut none);
+    for (value, axis) in [(&mut p.x, "x"), (&mut p.y, "y"), (&mut p.z, "z")] {
+        ui.add_enabled(enabled, Slider::new(value, range.clone()).text(axis));
+    }
+    ui.add_enabled(
+        r.animated,
+        Slider::new(&mut s.orbit_speed, 0.0..=MAX_ORBIT_SPEED)
+            .text("orbit speed")
+            .custom_formatter(|v, _| format!("{v:.2}×")),
+    )
+    .on_hover_text("scene time per wall second for the revolving spheres; 0 stands still");
 }
 
 fn statistics(ui: &mut egui::Ui, s: &Settings, r: &Readout<'_>) {
@@ -249,21 +397,36 @@ fn statistics(ui: &mut egui::Ui, s: &Settings, r: &Readout<'_>) {
     frame_time_plot(ui, r.history);
 }
 
-/// A sparkline of recent frame times with the scale in the label.
+/// Recent frame times as lines, one per series, with the scale in the label and a legend.
 fn frame_time_plot(ui: &mut egui::Ui, history: &FrameTimes) {
-    let max = history.iter().fold(1.0_f32, f32::max);
-    ui.label(RichText::new(format!("frame time, last {} frames (max {max:.0} ms)", FrameTimes::LEN)).small());
+    let max = history.iter().flatten().fold(1.0_f32, |a, &b| a.max(b));
+    ui.label(RichText::new(format!("ms per frame, last {} frames (top {max:.0} ms)", FrameTimes::LEN)).small());
     let width = ui.available_width().max(100.0);
-    let (response, painter) = ui.allocate_painter(egui::vec2(width, 36.0), egui::Sense::hover());
+    let (response, painter) = ui.allocate_painter(egui::vec2(width, 48.0), egui::Sense::hover());
     let rect = response.rect;
     painter.rect_filled(rect, 2.0, Color32::from_black_alpha(90));
     let step = rect.width() / (FrameTimes::LEN - 1) as f32;
-    let points: Vec<egui::Pos2> = history
-        .iter()
-        .enumerate()
-        .map(|(k, ms)| egui::pos2(rect.left() + k as f32 * step, rect.bottom() - rect.height() * ms / max))
-        .collect();
-    painter.add(egui::Shape::line(points, egui::Stroke::new(1.0, Color32::from_rgb(120, 200, 255))));
+    // Newest at the right edge.
+    let skip = FrameTimes::LEN - history.iter().count();
+    for (series, &(_, color)) in SERIES.iter().enumerate() {
+        let points: Vec<egui::Pos2> = history
+            .iter()
+            .enumerate()
+            .map(|(k, ms)| {
+                let y = rect.bottom() - rect.height() * (ms[series] / max).clamp(0.0, 1.0);
+                egui::pos2(rect.left() + (skip + k) as f32 * step, y)
+            })
+            .collect();
+        painter.add(egui::Shape::line(points, egui::Stroke::new(1.0, color)));
+    }
+    ui.horizontal_wrapped(|ui| {
+        ui.spacing_mut().item_spacing.x = 4.0;
+        for (name, color) in SERIES {
+            let (swatch, _) = ui.allocate_exact_size(egui::vec2(10.0, 3.0), egui::Sense::hover());
+            ui.painter().rect_filled(swatch, 0.0, color);
+            ui.label(RichText::new(name).small());
+        }
+    });
 }
 
 fn legend(ui: &mut egui::Ui) {
@@ -310,9 +473,9 @@ mod tests {
     fn frame_times_keep_the_last_ones_in_order() {
         let mut t = FrameTimes::default();
         for k in 0..(FrameTimes::LEN + 3) {
-            t.push(k as f32);
+            t.push([k as f32; SERIES_LEN]);
         }
-        let v: Vec<f32> = t.iter().collect();
+        let v: Vec<f32> = t.iter().map(|s| s[2]).collect();
         assert_eq!(v.len(), FrameTimes::LEN);
         assert_eq!(v[0], 3.0);
         assert_eq!(*v.last().unwrap(), (FrameTimes::LEN + 2) as f32);
@@ -325,30 +488,65 @@ mod tests {
         let mut s = Settings::from_scene(&scene());
         s.live_psnr = true;
         let history = FrameTimes::default();
-        let readout =
-            Readout { ui_fps: 60.0, render_fps: 10.0, frame: None, time: 0.0, animated: true, history: &history };
-        let panel_rect = |s: &mut Settings, height: f32| {
+        let readout = Readout {
+            ui_fps: 60.0,
+            render_fps: 10.0,
+            frame: None,
+            time: 0.0,
+            animated: true,
+            history: &history,
+            saved: None,
+        };
+        let mut folder = "./screenshots".to_owned();
+        let mut panel_rect = |s: &mut Settings, height: f32| {
             for _ in 0..3 {
                 let input = egui::RawInput {
                     screen_rect: Some(egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1600.0, height))),
                     ..Default::default()
                 };
                 let _ = ctx.run_ui(input, |ui| {
-                    let _ = panel(ui.ctx(), s, &readout);
+                    let _ = panel(ui.ctx(), s, &readout, &mut folder);
                 });
             }
             ctx.globally_used_rect()
         };
-        let without = panel_rect(&mut s, 600.0);
+        // The window's default height is 600; with the mask legend and the sections open the
+        // panel may scroll there, so it is measured in a taller one.
+        let without = panel_rect(&mut s, 700.0);
         s.show_mask = true;
-        let with = panel_rect(&mut s, 600.0);
+        let with = panel_rect(&mut s, 700.0);
         assert!(with.width() < 420.0, "the panel covers too much of the left eye: {with:?}");
         assert!(with.height() > without.height() + 60.0, "the legend should extend the panel: {with:?} vs {without:?}");
-        assert!(with.height() < 560.0, "the panel should wrap its contents: {with:?}");
+        assert!(with.height() < 660.0, "the panel should wrap its contents: {with:?}");
         let short = panel_rect(&mut s, 250.0);
         assert!(short.height() < 280.0, "a short window should scroll the panel: {short:?}");
-        let again = panel_rect(&mut s, 600.0);
+        let again = panel_rect(&mut s, 700.0);
         assert_eq!(again.height(), with.height(), "the panel should grow back");
         assert_eq!(mega(1_234_567), "1.23 M");
+    }
+
+    #[test]
+    fn the_head_moves_along_its_own_axes_and_resets_to_the_scene() {
+        let scene = scene();
+        let mut s = Settings::from_scene(&scene);
+        assert_eq!(s.light, None, "this scene has no lights");
+        s.move_head(2.0, 0.0);
+        assert!((s.position - Vec3::new(0.0, 0.0, 2.0)).length() < 1e-6, "forward is +z: {:?}", s.position);
+        s.turn_head(90.0 / TURN_PER_PIXEL, 0.0);
+        assert!((s.yaw_deg - 90.0).abs() < 1e-3);
+        s.move_head(1.0, 0.0);
+        assert!(
+            (s.position - Vec3::new(1.0, 0.0, 2.0)).length() < 1e-5,
+            "turned right, forward is +x: {:?}",
+            s.position
+        );
+        s.move_head(0.0, 1.0);
+        assert!((s.position - Vec3::new(1.0, 0.0, 1.0)).length() < 1e-5, "and right is -z: {:?}", s.position);
+        s.turn_head(0.0, -1e6);
+        assert_eq!(s.pitch_deg, MAX_PITCH, "dragging up looks up, clamped");
+        let cam = s.camera(&scene.camera);
+        assert_eq!((cam.position, cam.pitch_deg, cam.fov_deg), (s.position, MAX_PITCH, scene.camera.fov_deg));
+        s.reset_camera(&scene);
+        assert_eq!((s.position, s.yaw_deg, s.pitch_deg), (Vec3::ZERO, 0.0, 0.0));
     }
 }

@@ -11,6 +11,7 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
 use std::time::Instant;
 
+use glam::Vec3;
 use rayon::prelude::*;
 
 use stereo::{FrameStats, Options, PixelClass, Quality, StereoFrame};
@@ -35,6 +36,10 @@ pub struct Request {
     pub psnr: bool,
     /// Also make the red–cyan anaglyph of the pair.
     pub anaglyph: bool,
+    /// Exchange the eyes in the anaglyph (red over the right eye's image).
+    pub swap: bool,
+    /// Where the scene's first light is this frame (`None`: where the scene puts it).
+    pub light: Option<Vec3>,
 }
 
 /// What is known about a finished frame besides its pixels.
@@ -89,13 +94,12 @@ impl Finished {
             // thread at 60 Hz, so it is done here, once per frame, on the rayon pool.
             let w = (info.request.width as usize).max(1);
             self.anaglyph.resize(self.left.len(), 0);
-            self.anaglyph.par_chunks_mut(w).zip(self.left.par_chunks(w).zip(self.right.par_chunks(w))).for_each(
-                |(out, (l, r))| {
-                    for (o, (&a, &b)) in out.iter_mut().zip(l.iter().zip(r)) {
-                        *o = stereo::anaglyph_pixel(a, b);
-                    }
-                },
-            );
+            let (l, r) = if info.request.swap { (&self.right, &self.left) } else { (&self.left, &self.right) };
+            self.anaglyph.par_chunks_mut(w).zip(l.par_chunks(w).zip(r.par_chunks(w))).for_each(|(out, (l, r))| {
+                for (o, (&a, &b)) in out.iter_mut().zip(l.iter().zip(r)) {
+                    *o = stereo::anaglyph_pixel(a, b);
+                }
+            });
         }
         self.info = Some(*info);
     }
@@ -139,7 +143,7 @@ impl Worker {
     pub fn spawn(scene: Scene) -> anyhow::Result<Self> {
         let shared = Arc::new(Shared::default());
         let theirs = Arc::clone(&shared);
-        let thread = std::thread::Builder::new().name("render".into()).spawn(move || render_loop(&scene, &theirs))?;
+        let thread = std::thread::Builder::new().name("render".into()).spawn(move || render_loop(scene, &theirs))?;
         Ok(Self { shared, thread: Some(thread), front: Finished::default(), last_posted: None })
     }
 
@@ -191,9 +195,11 @@ impl Drop for Worker {
     }
 }
 
-/// The worker thread's state: scene, tracer and all buffers, reused frame after frame.
-fn render_loop(scene: &Scene, shared: &Shared) {
-    let mut tracer = Tracer::new(scene, 0.0);
+/// The worker thread's state: scene, tracer and all buffers, reused frame after frame. The
+/// scene is a working copy whose first light the requests move.
+fn render_loop(mut scene: Scene, shared: &Shared) {
+    let mut tracer = Tracer::new(&scene, 0.0);
+    let scene_light = scene.lights.first().map(|l| l.position);
     let mut frame = StereoFrame::new();
     let mut reference = Film::default();
     let mut back = Finished::default();
@@ -212,7 +218,10 @@ fn render_loop(scene: &Scene, shared: &Shared) {
             }
         };
         let started = Instant::now();
-        tracer.update(scene, request.time);
+        if let (Some(light), Some(home)) = (scene.lights.first_mut(), scene_light) {
+            light.position = request.light.unwrap_or(home);
+        }
+        tracer.update(&scene, request.time);
         tracer.set_max_depth(request.depth);
         let (w, h) = (request.width, request.height);
         let stats = frame.render(&tracer, &request.camera, w, h, request.opts);
@@ -254,6 +263,8 @@ mod tests {
             height: 24,
             psnr,
             anaglyph: psnr,
+            swap: false,
+            light: None,
         }
     }
 
@@ -282,6 +293,19 @@ mod tests {
         assert!(f.info.unwrap().quality.is_none());
         assert!(f.anaglyph.is_empty());
         worker.check_alive().unwrap();
+    }
+
+    #[test]
+    fn the_request_moves_the_first_light() {
+        let mut worker = Worker::spawn(scene()).unwrap();
+        worker.post(request(16, false));
+        let before = wait_for(&mut worker, 1).left.clone();
+        // Under the sphere: its visible side falls into shadow.
+        worker.post(Request { light: Some(Vec3::new(0.0, -20.0, 12.0)), ..request(16, false) });
+        let moved = wait_for(&mut worker, 2).left.clone();
+        assert_ne!(before, moved);
+        worker.post(request(16, true));
+        assert_eq!(wait_for(&mut worker, 3).left, before, "no override: the scene's light again");
     }
 
     #[test]

@@ -1,0 +1,106 @@
+//! Screenshots (key S): the frame on screen as PNGs named
+//! `stereotrace-YYYYmmdd-HHMMSS-<left|right|pair|mask>.png` (UTC) in a folder created if missing.
+
+use std::path::{Path, PathBuf};
+use std::time::{SystemTime, UNIX_EPOCH};
+
+use anyhow::Context as _;
+use stereo::Layout;
+
+use crate::present;
+use crate::worker::Finished;
+
+/// The default folder, relative to the current directory.
+pub const DEFAULT_FOLDER: &str = "./screenshots";
+
+/// `YYYYmmdd-HHMMSS` in UTC for a time (times before 1970 count as 1970-01-01 00:00:00).
+#[must_use]
+pub fn stamp(time: SystemTime) -> String {
+    let secs = time.duration_since(UNIX_EPOCH).map_or(0, |d| d.as_secs());
+    let (days, rem) = (secs / 86_400, secs % 86_400);
+    let (y, m, d) = civil_from_days(days as i64);
+    format!("{y:04}{m:02}{d:02}-{:02}{:02}{:02}", rem / 3600, rem % 3600 / 60, rem % 60)
+}
+
+/// Year, month (1..=12) and day (1..=31) of a day count since 1970-01-01 in the proleptic
+/// Gregorian calendar (Howard Hinnant's `civil_from_days`).
+fn civil_from_days(days: i64) -> (i64, u32, u32) {
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097); // [0, 146096]
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365; // [0, 399]
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100); // [0, 365]
+    let mp = (5 * doy + 2) / 153; // [0, 11], March first
+    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    (y, m, d)
+}
+
+/// Writes the left and right eyes, the pair in `layout` (eyes exchanged first when `swap`)
+/// and, when `with_mask`, the right eye's class mask into `folder`, creating it if missing.
+/// Returns the files written.
+pub fn save(
+    folder: &Path,
+    frame: &Finished,
+    layout: Layout,
+    swap: bool,
+    with_mask: bool,
+    time: SystemTime,
+) -> anyhow::Result<Vec<PathBuf>> {
+    let (w, h) = frame.size();
+    let n = w as usize * h as usize;
+    if frame.info.is_none() || frame.left.len() != n || frame.right.len() != n || frame.mask.len() != n {
+        anyhow::bail!("nothing to save yet: no frame has been rendered");
+    }
+    std::fs::create_dir_all(folder).with_context(|| format!("cannot create the folder {}", folder.display()))?;
+    let base = format!("stereotrace-{}", stamp(time));
+    let mut pair = Vec::new();
+    stereo::compose(layout, swap, &frame.left, &frame.right, w, h, &mut pair);
+    let (pw, ph) = layout.size(w, h);
+    let mut mask = Vec::new();
+    if with_mask {
+        present::mask_image(&frame.mask, &mut mask);
+    }
+    let mut written = Vec::new();
+    for (name, pixels, (iw, ih)) in [
+        ("left", &frame.left, (w, h)),
+        ("right", &frame.right, (w, h)),
+        ("pair", &pair, (pw, ph)),
+        ("mask", &mask, (w, h)),
+    ] {
+        if pixels.is_empty() {
+            continue;
+        }
+        let path = folder.join(format!("{base}-{name}.png"));
+        crate::png_out::write_png(&path, iw, ih, pixels)?;
+        written.push(path);
+    }
+    Ok(written)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::time::Duration;
+
+    #[test]
+    fn stamps_are_utc_civil_dates() {
+        assert_eq!(stamp(UNIX_EPOCH), "19700101-000000");
+        // 2000-02-29 12:34:56 UTC (a leap day in a century leap year).
+        assert_eq!(stamp(UNIX_EPOCH + Duration::from_secs(951_827_696)), "20000229-123456");
+        // 2026-11-22 03:46:45 UTC.
+        assert_eq!(stamp(UNIX_EPOCH + Duration::from_secs(1_795_319_205)), "20261122-034645");
+        // 2100-03-01 00:00:00 UTC (2100 is not a leap year).
+        assert_eq!(stamp(UNIX_EPOCH + Duration::from_secs(4_107_542_400)), "21000301-000000");
+        assert_eq!(stamp(UNIX_EPOCH - Duration::from_secs(5)), "19700101-000000");
+    }
+
+    #[test]
+    fn saving_before_the_first_frame_fails_cleanly() {
+        let dir = std::env::temp_dir().join(format!("stereotrace-shot-test-{}", std::process::id()));
+        let e = save(&dir, &Finished::default(), Layout::SideBySide, false, true, SystemTime::now()).unwrap_err();
+        assert!(e.to_string().contains("nothing to save"), "{e}");
+        assert!(!dir.exists(), "no folder is made for nothing");
+    }
+}
