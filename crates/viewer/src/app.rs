@@ -414,9 +414,11 @@ impl App {
         }
         self.render_meter.update(now, self.last_seq);
         if self.ui_meter.update(now, self.presented) && self.config.log_fps {
+            let s = &self.settings;
             let (busy, frames) = std::mem::take(&mut self.ui_busy);
             eprintln!(
-                "fps={:.1} render_fps={:.1} ui_ms={:.2} window={}x{} left_ms={:.1} right_ms={:.1}",
+                "fps={:.1} render_fps={:.1} ui_ms={:.2} window={}x{} left_ms={:.1} right_ms={:.1} \
+                 head={:.3},{:.3},{:.3} yaw={:.1} pitch={:.1} layout={} swap={} psnr={}",
                 self.ui_meter.rate(),
                 self.render_meter.rate(),
                 busy.as_secs_f64() * 1e3 / f64::from(frames.max(1)),
@@ -424,6 +426,14 @@ impl App {
                 size.height,
                 info.map_or(0.0, |i| i.stats.left.ms),
                 info.map_or(0.0, |i| i.stats.right.ms),
+                s.position.x,
+                s.position.y,
+                s.position.z,
+                s.yaw_deg,
+                s.pitch_deg,
+                s.layout,
+                s.swap_eyes,
+                info.and_then(|i| i.quality).map_or_else(|| "-".to_owned(), |q| format!("{:.2}", q.psnr_db)),
             );
         }
 

@@ -137,3 +137,104 @@ fn window_shows_both_eyes_under_xvfb() {
     assert!(corner.iter().all(|&c| c < 100), "the panel should be dark at (20, 20): {corner:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The last `key=value` of `key` in the fps log lines.
+fn last_logged<'a>(log: &'a str, key: &str) -> Option<&'a str> {
+    let prefix = format!("{key}=");
+    log.lines()
+        .rev()
+        .filter(|l| l.starts_with("fps="))
+        .find_map(|l| l.split_whitespace().find_map(|field| field.strip_prefix(prefix.as_str())))
+}
+
+/// Keys driven with xdotool: Up held moves the head forward, 3 picks the anaglyph, X swaps
+/// the eyes, S saves screenshots; exact mode stays identical to a full trace while moving.
+#[test]
+fn keys_move_the_head_switch_layouts_and_save_screenshots() {
+    if !on_path("xvfb-run") || !on_path("xdotool") {
+        assert!(std::env::var_os("CI").is_none(), "xvfb-run or xdotool not found, but CI must install them");
+        eprintln!("SKIPPED: xvfb-run or xdotool not found — install xvfb xauth xdotool");
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("stereotrace-keys-test-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let log = dir.join("stderr.txt");
+    // The viewer in the background; xdotool waits for its window, then types.
+    let script = r#"
+        "$0" --scene "$1" --width 400 --height 200 --live-psnr --time 1.0 &
+        viewer=$!
+        wid=""
+        for _ in $(seq 300); do
+            wid=$(xdotool search --name stereotrace 2>/dev/null | head -n 1)
+            [ -n "$wid" ] && break
+            sleep 0.1
+        done
+        [ -n "$wid" ] || { echo "no window" >&2; kill $viewer; exit 3; }
+        sleep 1.5
+        xdotool windowfocus --sync "$wid" 2>/dev/null
+        xdotool keydown Up; sleep 1.0; xdotool keyup Up
+        xdotool key 3; xdotool key x
+        sleep 2.5
+        xdotool key s
+        sleep 1.0
+        xdotool key Escape
+        wait $viewer
+    "#;
+    let mut child = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1920x1080x24", "sh", "-c", script, env!("CARGO_BIN_EXE_stereotrace")])
+        .arg(seed_scene())
+        .env("STEREOTRACE_LOG_FPS", "1")
+        .current_dir(&dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(File::create(&log).unwrap())
+        .process_group(0)
+        .spawn()
+        .expect("cannot start xvfb-run");
+    let started = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if started.elapsed() > TIMEOUT {
+            let _ = Command::new("kill").args(["-KILL", &format!("-{}", child.id())]).status();
+            let _ = child.wait();
+            panic!("the viewer did not exit within {TIMEOUT:?}; stderr:\n{}", std::fs::read_to_string(&log).unwrap());
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let stderr = std::fs::read_to_string(&log).unwrap();
+    assert!(status.success(), "viewer failed ({status}); stderr:\n{stderr}");
+
+    let head = last_logged(&stderr, "head").unwrap_or_else(|| panic!("no fps log line:\n{stderr}"));
+    let xyz: Vec<f32> = head.split(',').map(|v| v.parse().unwrap()).collect();
+    // Up held for about a second at 2 units/s, along +z (the seed scene looks along +z).
+    assert!(xyz[2] > 0.5 && xyz[2] < 4.0 && xyz[0].abs() < 1e-3, "head moved forward: {head}\n{stderr}");
+    assert_eq!(last_logged(&stderr, "layout"), Some("anaglyph"), "{stderr}");
+    assert_eq!(last_logged(&stderr, "swap"), Some("true"), "{stderr}");
+    assert_eq!(last_logged(&stderr, "psnr"), Some("inf"), "exact mode is identical to a full trace:\n{stderr}");
+
+    let shots = dir.join("screenshots");
+    let mut names: Vec<String> = std::fs::read_dir(&shots)
+        .unwrap_or_else(|e| panic!("no screenshots folder ({e}); stderr:\n{stderr}"))
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 3, "left, right, pair (no mask unless shown): {names:?}");
+    for (name, kind) in names.iter().zip(["left", "pair", "right"]) {
+        // stereotrace-YYYYmmdd-HHMMSS-<kind>.png
+        let stamp = name.strip_prefix("stereotrace-").and_then(|n| n.strip_suffix(&format!("-{kind}.png")));
+        let stamp = stamp.unwrap_or_else(|| panic!("unexpected name {name}"));
+        assert!(
+            stamp.len() == 15
+                && stamp.chars().enumerate().all(|(k, c)| if k == 8 { c == '-' } else { c.is_ascii_digit() }),
+            "{name}"
+        );
+    }
+    let (lw, lh, _) = read_rgb_png(&shots.join(&names[0]));
+    let (pw, ph, pair) = read_rgb_png(&shots.join(&names[1]));
+    assert_eq!((pw, ph), (lw, lh), "the anaglyph pair is eye-sized");
+    assert!(pair.chunks_exact(3).any(|p| p[0] != p[1] || p[1] != p[2]), "the anaglyph has colour fringes");
+    let _ = std::fs::remove_dir_all(&dir);
+}
