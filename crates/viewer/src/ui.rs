@@ -133,7 +133,7 @@ impl Settings {
 
     /// Turns the head by a mouse drag of `dx`, `dy` pixels (right turns right, up looks up).
     pub fn turn_head(&mut self, dx: f32, dy: f32) {
-        self.yaw_deg = (self.yaw_deg + dx * TURN_PER_PIXEL).rem_euclid(360.0);
+        self.yaw_deg = (self.yaw_deg + dx * TURN_PER_PIXEL + 180.0).rem_euclid(360.0) - 180.0;
         self.pitch_deg = (self.pitch_deg - dy * TURN_PER_PIXEL).clamp(-MAX_PITCH, MAX_PITCH);
     }
 
@@ -322,11 +322,10 @@ fn controls(ui: &mut egui::Ui, s: &mut Settings, readout: &Readout<'_>, actions:
     });
     ui.label(
         RichText::new(format!(
-            "head {:.1} {:.1} {:.1}  yaw {:.0}° pitch {:.0}°",
+            "head at {:.1}, {:.1}, {:.1} · yaw {:.0}° · pitch {:.0}°",
             s.position.x, s.position.y, s.position.z, s.yaw_deg, s.pitch_deg
         ))
-        .small()
-        .monospace(),
+        .small(),
     );
     egui::CollapsingHeader::new("keys").show(ui, |ui| ui.label(RichText::new(HELP).small()));
 }

@@ -296,6 +296,23 @@ mod tests {
     }
 
     #[test]
+    fn the_anaglyph_takes_red_from_the_left_eye_unless_swapped() {
+        let mut worker = Worker::spawn(scene()).unwrap();
+        let req = Request { camera: Camera { ipd: 1.5, ..Camera::default() }, ..request(32, true) };
+        worker.post(req);
+        let f = wait_for(&mut worker, 1);
+        let expect: Vec<u32> = f.left.iter().zip(&f.right).map(|(&l, &r)| stereo::anaglyph_pixel(l, r)).collect();
+        assert_eq!(f.anaglyph, expect);
+        assert_ne!(f.left, f.right, "the eyes should differ for this test to mean anything");
+        worker.post(Request { swap: true, ..req });
+        let f = wait_for(&mut worker, 2);
+        let expect: Vec<u32> = f.left.iter().zip(&f.right).map(|(&l, &r)| stereo::anaglyph_pixel(r, l)).collect();
+        assert_eq!(f.anaglyph, expect);
+        // Dubois's red row weighs the left image: a white left and black right eye give red.
+        assert!(stereo::anaglyph_pixel(0x00FF_FFFF, 0) >> 16 > 0xC0);
+    }
+
+    #[test]
     fn the_request_moves_the_first_light() {
         let mut worker = Worker::spawn(scene()).unwrap();
         worker.post(request(16, false));
