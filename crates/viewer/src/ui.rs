@@ -67,7 +67,8 @@ pub struct Settings {
     pub yaw_deg: f32,
     /// Head tilt, degrees, within ±[`MAX_PITCH`].
     pub pitch_deg: f32,
-    /// Position of the scene's first light; `None` when the scene has no lights.
+    /// Position of the scene's first light (the sliders reach ±[`LIGHT_RANGE`]); `None` when
+    /// the scene has no lights.
     pub light: Option<Vec3>,
     /// Scene seconds per wall second for the revolving spheres (0..4).
     pub orbit_speed: f32,
@@ -92,7 +93,7 @@ impl Settings {
             position: Vec3::ZERO,
             yaw_deg: 0.0,
             pitch_deg: 0.0,
-            light: scene.lights.first().map(|l| l.position.clamp(Vec3::splat(-LIGHT_RANGE), Vec3::splat(LIGHT_RANGE))),
+            light: scene.lights.first().map(|l| l.position),
             orbit_speed: 1.0,
         };
         s.reset_camera(scene);
@@ -355,7 +356,8 @@ fn light(ui: &mut egui::Ui, s: &mut Settings, r: &Readout<'_>, actions: &mut Act
     let enabled = s.light.is_some();
     let p = s.light.as_mut().unwrap_or(&mut none);
     for (value, axis) in [(&mut p.x, "x"), (&mut p.y, "y"), (&mut p.z, "z")] {
-        ui.add_enabled(enabled, Slider::new(value, range.clone()).text(axis));
+        // A scene light beyond the range keeps its place until the slider is moved.
+        ui.add_enabled(enabled, Slider::new(value, range.clone()).clamping(egui::SliderClamping::Edits).text(axis));
     }
     ui.add_enabled(
         r.animated,
@@ -522,6 +524,14 @@ mod tests {
         let again = panel_rect(&mut s, 700.0);
         assert_eq!(again.height(), with.height(), "the panel should grow back");
         assert_eq!(mega(1_234_567), "1.23 M");
+    }
+
+    #[test]
+    fn the_light_starts_where_the_scene_puts_it_even_beyond_the_sliders() {
+        let src = "[[lights]]\nposition = [40.0, 2.0, -3.0]\n[[spheres]]\ncenter = [0.0, 0.0, 10.0]\nradius = 1.0\n";
+        let s = Settings::from_scene(&Scene::from_toml(src, "l.toml").unwrap());
+        assert_eq!(s.light, Some(Vec3::new(40.0, 2.0, -3.0)));
+        assert_eq!(s.orbit_speed, 1.0);
     }
 
     #[test]
