@@ -28,6 +28,8 @@
 //! - the paper reprojects the left *colour*; here a reprojected pixel only names its source
 //!   left pixel, and the mode decides what to reuse from its visible-surface record.
 
+use wide::{f32x4, i32x4};
+
 /// "No left pixel fills this right pixel": it must be retraced.
 pub const NO_SOURCE: u32 = u32::MAX;
 
@@ -52,12 +54,29 @@ pub fn reproject_row(
     // z = +∞ shifts by exactly e rather than ∞/∞; j = ⌊x⌋ clamped to [−1, W] (the paper's M
     // for targets past the right edge; −1 for targets left of the image, which are dropped).
     let (offset, scaled_distance) = (0.5 + shift_scale, shift_scale * distance);
-    targets.clear();
-    targets.extend(z.iter().enumerate().map(|(i, &zi)| {
+    let target = |i: usize, zi: f32| {
         let x = ((i as f32 + offset) - scaled_distance / (distance + zi)).clamp(-1.0, w as f32);
-        // ⌊x⌋ for x ≥ −1 is a truncation of x + 1, minus 1: no libm floorf, and vectorisable.
+        // ⌊x⌋ for x ≥ −1 is a truncation of x + 1, minus 1: no libm floorf.
         (x + 1.0) as i32 - 1
-    }));
+    };
+    targets.clear();
+    targets.resize(z.len(), 0);
+    // Four at a time in SIMD lanes (the same operations in the same order as `target`).
+    let lane = f32x4::new([0.0, 1.0, 2.0, 3.0]);
+    let (lo, hi) = (f32x4::splat(-1.0), f32x4::splat(w as f32));
+    let (offset4, sd4, d4, one) =
+        (f32x4::splat(offset), f32x4::splat(scaled_distance), f32x4::splat(distance), f32x4::splat(1.0));
+    let whole = z.len() / 4 * 4;
+    for (c, (zs, ts)) in z[..whole].chunks_exact(4).zip(targets[..whole].chunks_exact_mut(4)).enumerate() {
+        let i = f32x4::splat((c * 4) as f32) + lane;
+        let zv = f32x4::new([zs[0], zs[1], zs[2], zs[3]]);
+        let x = ((i + offset4) - sd4 / (d4 + zv)).max(lo).min(hi);
+        let t = (x + one).fast_trunc_int() - i32x4::splat(1);
+        ts.copy_from_slice(t.as_array());
+    }
+    for i in whole..z.len() {
+        targets[i] = target(i, z[i]);
+    }
     // Then the scan in scanline order.
     src.fill(NO_SOURCE);
     let mut oldx: i32 = -1;
