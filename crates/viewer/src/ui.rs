@@ -418,7 +418,12 @@ fn frame_time_plot(ui: &mut egui::Ui, history: &FrameTimes) {
                 egui::pos2(rect.left() + (skip + k) as f32 * step, y)
             })
             .collect();
-        painter.add(egui::Shape::line(points, egui::Stroke::new(1.0, color)));
+        if let [only] = points[..] {
+            // A still scene renders once: show that frame as dots.
+            painter.circle_filled(only, 2.0, color);
+        } else {
+            painter.add(egui::Shape::line(points, egui::Stroke::new(1.0, color)));
+        }
     }
     ui.horizontal_wrapped(|ui| {
         ui.spacing_mut().item_spacing.x = 4.0;
