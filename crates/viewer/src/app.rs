@@ -83,7 +83,7 @@ struct Drag {
 
 /// Opens the window and runs until it is closed, Esc is pressed or `--frames` is reached.
 pub fn run(args: &WindowArgs) -> anyhow::Result<()> {
-    let scene_path = resolve_scene(args.scene.as_deref().unwrap_or(Path::new(DEFAULT_SCENE)));
+    let scene_path = crate::setup::resolve_scene(args.scene.as_deref().unwrap_or(Path::new(DEFAULT_SCENE)));
     let scene = Scene::load(&scene_path)?;
     let backend = syslibs::backend_from_env()?;
     syslibs::check_runtime_libraries(backend)?;
@@ -92,20 +92,6 @@ pub fn run(args: &WindowArgs) -> anyhow::Result<()> {
     let mut app = App::new(args, scene, format!("stereotrace — {name}"))?;
     event_loop.run_app(&mut app).context("the window's event loop failed")?;
     app.finish()
-}
-
-/// A relative scene path is looked up in the current directory first, then in the workspace
-/// root, so `cargo run` works from any directory.
-fn resolve_scene(path: &Path) -> PathBuf {
-    if path.is_absolute() || path.exists() {
-        return path.to_path_buf();
-    }
-    let in_workspace = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join(path);
-    if in_workspace.exists() {
-        in_workspace
-    } else {
-        path.to_path_buf()
-    }
 }
 
 /// The event loop on the chosen backend, with a clear error if the display cannot be opened.

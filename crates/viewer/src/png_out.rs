@@ -10,10 +10,7 @@ use anyhow::{Context, Result};
 /// Writes `pixels` (`0x00RRGGBB`, row-major) as an 8-bit sRGB PNG at `path`, atomically.
 pub fn write_png(path: &Path, width: u32, height: u32, pixels: &[u32]) -> Result<()> {
     assert_eq!(pixels.len(), width as usize * height as usize, "pixel count does not match the size");
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let dir = parent_dir(path);
     if !dir.is_dir() {
         anyhow::bail!("cannot write {}: directory {} does not exist", path.display(), dir.display());
     }
@@ -26,6 +23,14 @@ pub fn write_png(path: &Path, width: u32, height: u32, pixels: &[u32]) -> Result
         let _ = std::fs::remove_file(&tmp);
     }
     result.with_context(|| format!("cannot write {}", path.display()))
+}
+
+/// The directory a file will be written into (`.` for a bare file name).
+pub fn parent_dir(path: &Path) -> &Path {
+    match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p,
+        _ => Path::new("."),
+    }
 }
 
 fn write_file(tmp: &Path, width: u32, height: u32, pixels: &[u32]) -> Result<()> {

@@ -12,7 +12,7 @@ use stereo::{compose, mask_color, Options, Quality, StereoFrame};
 use tracer::{render_rgb, Eye, RayCounts, Tracer};
 
 use crate::cli::RenderArgs;
-use crate::png_out::write_png;
+use crate::png_out::{parent_dir, write_png};
 use crate::report;
 use crate::setup::{BadInput, FrameSetup};
 
@@ -144,10 +144,7 @@ fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
 
 /// Fails before any work if an output's directory is missing.
 fn check_output_dir(path: &Path) -> Result<()> {
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p,
-        _ => Path::new("."),
-    };
+    let dir = parent_dir(path);
     if dir.is_dir() {
         Ok(())
     } else {

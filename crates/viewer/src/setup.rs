@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 use tracer::{Camera, Scene, MAX_DEPTH_LIMIT};
 
-use crate::cli::{FrameArgs, DEFAULT_SCENE};
+use crate::cli::FrameArgs;
 
 /// Bad input from the user (an argument out of range): exit code 2, like a bad scene file.
 #[derive(Debug)]
@@ -21,16 +21,17 @@ impl fmt::Display for BadInput {
 
 impl std::error::Error for BadInput {}
 
-/// Finds a scene file: as given, or for the default scene also relative to the workspace
-/// root, so `cargo run` works from any directory.
+/// Finds a scene file. A relative path is looked up in the current directory first, then
+/// in the workspace root, so `cargo run` and the bundled scenes work from any directory.
+/// A path found nowhere is returned as given, so the error names what the user typed.
 #[must_use]
 pub fn resolve_scene(path: &Path) -> PathBuf {
-    if path.exists() || path != Path::new(DEFAULT_SCENE) {
+    if path.is_absolute() || path.exists() {
         return path.to_path_buf();
     }
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../..").join(DEFAULT_SCENE);
-    if root.exists() {
-        root
+    let in_workspace = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../..")).join(path);
+    if in_workspace.exists() {
+        in_workspace
     } else {
         path.to_path_buf()
     }
