@@ -259,12 +259,23 @@ impl Bvh {
     /// Closest hit in `(0, t_max)`: `(t, sphere id)`.
     pub(crate) fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(f32, u32)> {
         let root = self.nodes.first()?;
+        let (o, d) = (splat3(ray.origin), splat3(ray.dir));
+        let (mut t_best, mut best) = (t_max, None);
+        if root.count > 0 {
+            // A small scene is one leaf: its packets are the whole test, no box needed.
+            for p in &self.packets[root.first as usize..(root.first + root.count) as usize] {
+                for (lane, t) in Self::packet_hits(p, o, d, t_best).into_iter().enumerate() {
+                    if t < t_best {
+                        (t_best, best) = (t, Some(p.ids[lane]));
+                    }
+                }
+            }
+            return best.map(|k| (t_best, k));
+        }
         let br = BoxRay::new(ray);
         br.enter(root, t_max)?;
-        let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         let mut stack = [0u32; STACK];
         let mut sp = 1;
-        let (mut t_best, mut best) = (t_max, None);
         while sp > 0 {
             sp -= 1;
             let node = &self.nodes[stack[sp] as usize];
@@ -300,11 +311,16 @@ impl Bvh {
     /// Whether any sphere blocks the ray before `t_max` (early exit).
     pub(crate) fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         let Some(root) = self.nodes.first() else { return false };
+        let (o, d) = (splat3(ray.origin), splat3(ray.dir));
+        if root.count > 0 {
+            return self.packets[root.first as usize..(root.first + root.count) as usize]
+                .iter()
+                .any(|p| Self::packet_hits(p, o, d, t_max).iter().any(|t| t.is_finite()));
+        }
         let br = BoxRay::new(ray);
         if br.enter(root, t_max).is_none() {
             return false;
         }
-        let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         let mut stack = [0u32; STACK];
         let mut sp = 1;
         while sp > 0 {
