@@ -62,6 +62,15 @@ fn right_border_strip(tracer: &Tracer, camera: &Camera, shift_scale: f32, w: usi
 /// Rows per band of the reprojection pass.
 const BAND: usize = 16;
 
+thread_local! {
+    /// Per-thread scratch of the reprojection pass (targets, sources and keys of a band and
+    /// its halo rows), kept across frames: rayon's `for_each_init` would allocate afresh
+    /// for every split of the work, every frame.
+    static BAND_SCRATCH: std::cell::RefCell<(Vec<i32>, Vec<u32>, Vec<u64>)> = const {
+        std::cell::RefCell::new((Vec::new(), Vec::new(), Vec::new()))
+    };
+}
+
 fn ms_since(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
@@ -161,9 +170,9 @@ impl StereoFrame {
         // Bands of rows, each reprojected with one halo row above and below into per-worker
         // scratch and classified at once while it is in cache: one pass over the left
         // planes instead of a reprojection pass and a classification pass.
-        self.src.par_chunks_mut(w * BAND).zip(self.mask.par_chunks_mut(w * BAND)).enumerate().for_each_init(
-            || (Vec::new(), Vec::new(), Vec::new()),
-            |(targets, srcs, keys), (b, (src_band, mask_band))| {
+        let bands = self.src.par_chunks_mut(w * BAND).zip(self.mask.par_chunks_mut(w * BAND));
+        bands.enumerate().for_each(|(b, (src_band, mask_band))| {
+            BAND_SCRATCH.with_borrow_mut(|(targets, srcs, keys)| {
                 let (j0, rows) = (b * BAND, src_band.len() / w);
                 let (lo, hi) = (j0.saturating_sub(1), (j0 + rows + 1).min(h));
                 srcs.resize((hi - lo) * w, NO_SOURCE);
@@ -185,8 +194,8 @@ impl StereoFrame {
                 for (r, out) in mask_band.chunks_mut(w).enumerate() {
                     classify_row(keys, w, j0 - lo + r, edges, shadows, out);
                 }
-            },
-        );
+            });
+        });
     }
 
     /// Stage 4: full primary rays for every pixel not reprojected.
