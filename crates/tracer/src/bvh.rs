@@ -256,6 +256,29 @@ impl Bvh {
         t.is_finite().then_some(t)
     }
 
+    /// The packets of a leaf.
+    fn leaf(&self, node: &Node) -> &[Packet] {
+        &self.packets[node.first as usize..(node.first + node.count) as usize]
+    }
+
+    /// Narrows `(t_best, best)` to the closest hit among a leaf's spheres.
+    #[inline]
+    fn leaf_closest(&self, node: &Node, o: [f32x4; 3], d: [f32x4; 3], t_best: &mut f32, best: &mut Option<u32>) {
+        for p in self.leaf(node) {
+            for (lane, t) in Self::packet_hits(p, o, d, *t_best).into_iter().enumerate() {
+                if t < *t_best {
+                    (*t_best, *best) = (t, Some(p.ids[lane]));
+                }
+            }
+        }
+    }
+
+    /// Whether any of a leaf's spheres is hit before `t_max`.
+    #[inline]
+    fn leaf_blocks(&self, node: &Node, o: [f32x4; 3], d: [f32x4; 3], t_max: f32) -> bool {
+        self.leaf(node).iter().any(|p| Self::packet_hits(p, o, d, t_max).iter().any(|t| t.is_finite()))
+    }
+
     /// Closest hit in `(0, t_max)`: `(t, sphere id)`.
     pub(crate) fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(f32, u32)> {
         let root = self.nodes.first()?;
@@ -263,13 +286,7 @@ impl Bvh {
         let (mut t_best, mut best) = (t_max, None);
         if root.count > 0 {
             // A small scene is one leaf: its packets are the whole test, no box needed.
-            for p in &self.packets[root.first as usize..(root.first + root.count) as usize] {
-                for (lane, t) in Self::packet_hits(p, o, d, t_best).into_iter().enumerate() {
-                    if t < t_best {
-                        (t_best, best) = (t, Some(p.ids[lane]));
-                    }
-                }
-            }
+            self.leaf_closest(root, o, d, &mut t_best, &mut best);
             return best.map(|k| (t_best, k));
         }
         let br = BoxRay::new(ray);
@@ -280,13 +297,7 @@ impl Bvh {
             sp -= 1;
             let node = &self.nodes[stack[sp] as usize];
             if node.count > 0 {
-                for p in &self.packets[node.first as usize..(node.first + node.count) as usize] {
-                    for (lane, t) in Self::packet_hits(p, o, d, t_best).into_iter().enumerate() {
-                        if t < t_best {
-                            (t_best, best) = (t, Some(p.ids[lane]));
-                        }
-                    }
-                }
+                self.leaf_closest(node, o, d, &mut t_best, &mut best);
                 continue;
             }
             let (a, b) = (node.first, node.first + 1);
@@ -313,9 +324,7 @@ impl Bvh {
         let Some(root) = self.nodes.first() else { return false };
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         if root.count > 0 {
-            return self.packets[root.first as usize..(root.first + root.count) as usize]
-                .iter()
-                .any(|p| Self::packet_hits(p, o, d, t_max).iter().any(|t| t.is_finite()));
+            return self.leaf_blocks(root, o, d, t_max);
         }
         let br = BoxRay::new(ray);
         if br.enter(root, t_max).is_none() {
@@ -327,10 +336,8 @@ impl Bvh {
             sp -= 1;
             let node = &self.nodes[stack[sp] as usize];
             if node.count > 0 {
-                for p in &self.packets[node.first as usize..(node.first + node.count) as usize] {
-                    if Self::packet_hits(p, o, d, t_max).iter().any(|t| t.is_finite()) {
-                        return true;
-                    }
+                if self.leaf_blocks(node, o, d, t_max) {
+                    return true;
                 }
                 continue;
             }
