@@ -3,7 +3,7 @@
 use std::time::Instant;
 
 use rayon::prelude::*;
-use tracer::{render_eye, render_rgb, Camera, Eye, EyeView, Film, RayCounts, Tracer, NO_OBJECT};
+use tracer::{render_eye, render_rgb, Camera, Eye, EyeView, Film, PrimaryBins, RayCounts, Tracer, NO_OBJECT};
 
 use crate::classify::{classify_row, key, GAP_KEY};
 use crate::mode::{Mode, Options};
@@ -27,6 +27,8 @@ pub struct Image {
 pub struct StereoFrame {
     left: Film,
     right: Image,
+    /// Screen bins of the right eye's view, for the pixels it traces.
+    right_bins: PrimaryBins,
     /// For each right pixel, the left pixel that fills it, or [`NO_SOURCE`].
     src: Vec<u32>,
     mask: Vec<PixelClass>,
@@ -132,7 +134,7 @@ impl StereoFrame {
         if n == 0 {
         } else if opts.mode == Mode::Full {
             let t = Instant::now();
-            stats.right.rays = render_rgb(tracer, &rv, &mut self.right.rgb);
+            stats.right.rays = render_rgb(tracer, &rv, &mut self.right_bins, &mut self.right.rgb);
             self.mask.fill(PixelClass::Traced);
             stats.stages.retrace = ms_since(t);
         } else {
@@ -141,6 +143,7 @@ impl StereoFrame {
             stats.stages.reproject = ms_since(t);
 
             let t = Instant::now();
+            self.right_bins.build(tracer, &rv);
             let retraced = self.retrace(tracer, &rv);
             stats.stages.retrace = ms_since(t);
 
@@ -201,6 +204,7 @@ impl StereoFrame {
     /// Stage 4: full primary rays for every pixel not reprojected.
     fn retrace(&mut self, tracer: &Tracer, rv: &EyeView) -> RayCounts {
         let w = rv.width as usize;
+        let bins = &self.right_bins;
         self.right
             .rgb
             .par_chunks_mut(w)
@@ -210,7 +214,7 @@ impl StereoFrame {
                 let mut counts = RayCounts::default();
                 for (i, &class) in mask.iter().enumerate() {
                     if class != PixelClass::Reprojected {
-                        rgb[i] = tracer.trace_pixel(rv, i as u32, j as u32, &mut counts).rgb;
+                        rgb[i] = tracer.trace_primary(bins, i as u32, j as u32, &mut counts).rgb;
                     }
                 }
                 counts
@@ -223,7 +227,7 @@ impl StereoFrame {
     /// is a silhouette the edge test did not catch: it is retraced and marked as an edge.
     fn fill(&mut self, tracer: &Tracer, rv: &EyeView, mode: Mode) -> (RayCounts, u64) {
         let w = rv.width as usize;
-        let left = &self.left;
+        let (left, bins) = (&self.left, &self.right_bins);
         self.right
             .rgb
             .par_chunks_mut(w)
@@ -259,7 +263,7 @@ impl StereoFrame {
                                     tracer.shade_known_visibility(rv, &ray, t, object, left.lights[s], &mut counts).rgb
                                 } else {
                                     mask[i] = PixelClass::RetracedEdge;
-                                    tracer.trace_pixel(rv, i as u32, j as u32, &mut counts).rgb
+                                    tracer.trace_primary(bins, i as u32, j as u32, &mut counts).rgb
                                 }
                             } else {
                                 left.rgb[s]
@@ -290,7 +294,7 @@ mod tests {
         let rv = scene.camera.view(Eye::Right, w, h);
         let counts = frame.retrace(&tracer, &rv);
         let mut full = Vec::new();
-        let full_counts = render_rgb(&tracer, &rv, &mut full);
+        let full_counts = render_rgb(&tracer, &rv, &mut PrimaryBins::new(), &mut full);
         assert_eq!(frame.right.rgb, full);
         assert_eq!(counts, full_counts);
     }

@@ -4,7 +4,8 @@ use glam::Vec3;
 use proptest::prelude::*;
 use stereo::{reproject_row, Mode, Options, PixelClass, Quality, StereoFrame, NO_SOURCE};
 use tracer::{
-    render_eye, render_rgb, Camera, Eye, Film, Light, Material, Motion, RenderSettings, Scene, SceneSphere, Tracer,
+    render_eye, render_rgb, Camera, Eye, Film, Light, Material, Motion, PrimaryBins, RenderSettings, Scene,
+    SceneSphere, Tracer,
 };
 
 fn seed() -> Scene {
@@ -13,7 +14,7 @@ fn seed() -> Scene {
 
 fn full_right(tracer: &Tracer, camera: &Camera, w: u32, h: u32) -> Vec<u32> {
     let mut rgb = Vec::new();
-    render_rgb(tracer, &camera.view(Eye::Right, w, h), &mut rgb);
+    render_rgb(tracer, &camera.view(Eye::Right, w, h), &mut PrimaryBins::new(), &mut rgb);
     rgb
 }
 

@@ -16,9 +16,8 @@ use glam::Vec3;
 use wide::f32x4;
 
 use crate::ray::Ray;
+use crate::sphere::{splat3, SpherePacket, LANES};
 
-/// Spheres per leaf packet.
-const LANES: usize = 4;
 /// Most packets in one leaf.
 const LEAF_PACKETS: usize = 2;
 /// Traversal stack depth: a median split over `u32` items is at most ~32 levels deep.
@@ -34,21 +33,11 @@ struct Node {
     count: u32,
 }
 
-/// Up to four spheres, one per lane. Unused lanes have NaN centres, which never hit.
-#[derive(Clone, Copy, Debug)]
-struct Packet {
-    cx: f32x4,
-    cy: f32x4,
-    cz: f32x4,
-    r: f32x4,
-    ids: [u32; LANES],
-}
-
 /// The hierarchy. Empty until [`Bvh::build`].
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Bvh {
     nodes: Vec<Node>,
-    packets: Vec<Packet>,
+    packets: Vec<SpherePacket>,
     items: Vec<u32>,
     /// For each sphere id, its packet and lane.
     slots: Vec<(u32, u32)>,
@@ -143,10 +132,6 @@ fn partition(items: &mut [u32], left: impl Fn(u32) -> bool) -> usize {
     mid
 }
 
-fn splat3(v: Vec3) -> [f32x4; 3] {
-    [f32x4::splat(v.x), f32x4::splat(v.y), f32x4::splat(v.z)]
-}
-
 impl Bvh {
     /// Rebuilds over the spheres `(centers[k], radii[k])`, reusing the buffers.
     pub(crate) fn build(&mut self, centers: &[Vec3], radii: &[f32]) {
@@ -178,15 +163,12 @@ impl Bvh {
         if items.len() <= LANES * LEAF_PACKETS {
             let first = self.packets.len() as u32;
             for chunk in items.chunks(LANES) {
-                let nan = f32::NAN;
-                let (mut cx, mut cy, mut cz, mut r, mut ids) =
-                    ([nan; LANES], [nan; LANES], [nan; LANES], [0.0; LANES], [0; LANES]);
+                let mut packet = SpherePacket::EMPTY;
                 for (lane, &k) in chunk.iter().enumerate() {
-                    let c = centers[k as usize];
-                    (cx[lane], cy[lane], cz[lane], r[lane], ids[lane]) = (c.x, c.y, c.z, radii[k as usize], k);
+                    packet.set(lane, k, centers[k as usize], radii[k as usize]);
                     self.slots[k as usize] = (self.packets.len() as u32, lane as u32);
                 }
-                self.packets.push(Packet { cx: cx.into(), cy: cy.into(), cz: cz.into(), r: r.into(), ids });
+                self.packets.push(packet);
             }
             self.nodes[index] = Node { min, max, first, count: self.packets.len() as u32 - first };
             return;
@@ -220,44 +202,16 @@ impl Bvh {
         self.build_node(first + 1, right, centers, radii);
     }
 
-    /// The ray's parameter against each lane of a packet, +∞ where it misses or the hit
-    /// is outside `(0, t_max)`. Same arithmetic as [`intersect_sphere`], four at a time.
-    #[inline]
-    fn packet_hits(p: &Packet, o: [f32x4; 3], d: [f32x4; 3], t_max: f32) -> [f32; LANES] {
-        let (ox, oy, oz) = (o[0] - p.cx, o[1] - p.cy, o[2] - p.cz);
-        let b = ox * d[0] + oy * d[1] + oz * d[2];
-        let r2 = p.r * p.r;
-        let c = (ox * ox + oy * oy + oz * oz) - r2;
-        let (px, py, pz) = (ox - b * d[0], oy - b * d[1], oz - b * d[2]);
-        let disc = r2 - (px * px + py * py + pz * pz);
-        let zero = f32x4::splat(0.0);
-        let touched = disc.simd_ge(zero);
-        let inf = f32x4::splat(f32::INFINITY);
-        if touched.to_bitmask() == 0 {
-            return inf.to_array();
-        }
-        let sq = disc.sqrt();
-        let q = b.simd_gt(zero).bitselect(-b - sq, -b + sq);
-        let t0 = c / q;
-        let (near, far) = (t0.min(q), t0.max(q));
-        let t_max = f32x4::splat(t_max);
-        let near_ok = near.simd_gt(zero) & near.simd_lt(t_max);
-        let far_ok = far.simd_gt(zero) & far.simd_lt(t_max);
-        let t = near_ok.bitselect(near, far_ok.bitselect(far, inf));
-        touched.bitselect(t, inf).to_array()
-    }
-
     /// Hit parameter in `(0, ∞)` of the ray against sphere `k` alone.
     #[inline]
     pub(crate) fn intersect_one(&self, ray: &Ray, k: u32) -> Option<f32> {
         let (packet, lane) = self.slots[k as usize];
-        let t = Self::packet_hits(&self.packets[packet as usize], splat3(ray.origin), splat3(ray.dir), f32::INFINITY)
-            [lane as usize];
+        let t = self.packets[packet as usize].hits(splat3(ray.origin), splat3(ray.dir), f32::INFINITY)[lane as usize];
         t.is_finite().then_some(t)
     }
 
     /// The packets of a leaf.
-    fn leaf(&self, node: &Node) -> &[Packet] {
+    fn leaf(&self, node: &Node) -> &[SpherePacket] {
         &self.packets[node.first as usize..(node.first + node.count) as usize]
     }
 
@@ -265,7 +219,7 @@ impl Bvh {
     #[inline]
     fn leaf_closest(&self, node: &Node, o: [f32x4; 3], d: [f32x4; 3], t_best: &mut f32, best: &mut Option<u32>) {
         for p in self.leaf(node) {
-            for (lane, t) in Self::packet_hits(p, o, d, *t_best).into_iter().enumerate() {
+            for (lane, t) in p.hits(o, d, *t_best).into_iter().enumerate() {
                 if t < *t_best {
                     (*t_best, *best) = (t, Some(p.ids[lane]));
                 }
@@ -276,7 +230,7 @@ impl Bvh {
     /// Whether any of a leaf's spheres is hit before `t_max`.
     #[inline]
     fn leaf_blocks(&self, node: &Node, o: [f32x4; 3], d: [f32x4; 3], t_max: f32) -> bool {
-        self.leaf(node).iter().any(|p| Self::packet_hits(p, o, d, t_max).iter().any(|t| t.is_finite()))
+        self.leaf(node).iter().any(|p| p.hits(o, d, t_max).iter().any(|t| t.is_finite()))
     }
 
     /// Closest hit in `(0, t_max)`: `(t, sphere id)`.

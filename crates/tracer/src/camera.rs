@@ -8,6 +8,7 @@
 //! `world = position + R · (head + (0, 0, d))`, R = R_y(yaw) · R_x(−pitch).
 
 use glam::{Mat3, Vec2, Vec3};
+use wide::f32x4;
 
 use crate::ray::Ray;
 
@@ -123,14 +124,14 @@ pub struct EyeView {
     pub height: u32,
     /// The eye's world position; every primary ray starts here.
     pub origin: Vec3,
-    eye_x: f32,
-    distance: f32,
-    window_width: f32,
-    window_height: f32,
+    pub(crate) eye_x: f32,
+    pub(crate) distance: f32,
+    pub(crate) window_width: f32,
+    pub(crate) window_height: f32,
     inv_width: f32,
     inv_height: f32,
-    world_from_head: Mat3,
-    head_from_world: Mat3,
+    pub(crate) world_from_head: Mat3,
+    pub(crate) head_from_world: Mat3,
     head_position: Vec3,
 }
 
@@ -150,14 +151,33 @@ impl EyeView {
     /// The camera ray through the centre of pixel (i, j).
     ///
     /// The pixel centre lies on the window at x = ((i + ½)/W − ½)·width,
-    /// y = (½ − (j + ½)/H)·height.
+    /// y = (½ − (j + ½)/H)·height. Lane 0 of [`EyeView::primary_dirs4`], so a ray made one
+    /// at a time is bit-for-bit the one made four at a time.
     #[inline]
     #[must_use]
     pub fn primary_ray(&self, i: u32, j: u32) -> Ray {
-        let x = ((i as f32 + 0.5) * self.inv_width - 0.5) * self.window_width;
+        let [x, y, z] = self.primary_dirs4(i, j);
+        Ray::new(self.origin, Vec3::new(x.as_array()[0], y.as_array()[0], z.as_array()[0]))
+    }
+
+    /// Unit world directions of the primary rays through pixels (i + k, j), k = 0..4, one
+    /// per lane.
+    ///
+    /// The head-space direction (x − eye_x, y, d) is turned to world space and normalised
+    /// with the operations, in the order, of glam's `Mat3 * Vec3` and `Vec3::normalize`.
+    #[inline]
+    #[must_use]
+    pub(crate) fn primary_dirs4(&self, i: u32, j: u32) -> [f32x4; 3] {
+        let lane = f32x4::new([i as f32, (i + 1) as f32, (i + 2) as f32, (i + 3) as f32]);
+        let x = ((lane + 0.5) * self.inv_width - 0.5) * self.window_width;
         let y = (0.5 - (j as f32 + 0.5) * self.inv_height) * self.window_height;
-        let dir_head = Vec3::new(x - self.eye_x, y, self.distance);
-        Ray::new(self.origin, (self.world_from_head * dir_head).normalize())
+        let (hx, hy, hz) = (x - self.eye_x, f32x4::splat(y), f32x4::splat(self.distance));
+        let (a, b, c) = (self.world_from_head.x_axis, self.world_from_head.y_axis, self.world_from_head.z_axis);
+        let wx = (hx * a.x + hy * b.x) + hz * c.x;
+        let wy = (hx * a.y + hy * b.y) + hz * c.y;
+        let wz = (hx * a.z + hy * b.z) + hz * c.z;
+        let recip = f32x4::splat(1.0) / ((wx * wx + wy * wy) + wz * wz).sqrt();
+        [wx * recip, wy * recip, wz * recip]
     }
 
     /// Head-space depth beyond the window (the paper's z) of a world point.
@@ -229,6 +249,22 @@ mod tests {
             assert!((c.disparity(z) * l.pixels_per_unit() - expected).abs() < 1e-3);
         }
         assert_eq!(c.disparity(f32::INFINITY), c.ipd);
+    }
+
+    #[test]
+    fn four_rays_at_a_time_are_glams_rays() {
+        // The lanes reproduce glam's Mat3 * Vec3 and normalize bit for bit.
+        let c = Camera { yaw_deg: 33.0, pitch_deg: -12.0, position: Vec3::new(1.0, 2.0, -3.0), ..camera() };
+        let v = c.view(Eye::Right, 1280, 720);
+        for (i, j) in [(0, 0), (17, 301), (640, 360), (1276, 719)] {
+            let x = ((i as f32 + 0.5) * v.inv_width - 0.5) * v.window_width;
+            let y = (0.5 - (j as f32 + 0.5) * v.inv_height) * v.window_height;
+            let want = (v.world_from_head * Vec3::new(x - v.eye_x, y, v.distance)).normalize();
+            assert_eq!(v.primary_ray(i, j).dir, want, "({i}, {j})");
+            let [dx, dy, dz] = v.primary_dirs4(i - i % 4, j);
+            let k = (i % 4) as usize;
+            assert_eq!(Vec3::new(dx.as_array()[k], dy.as_array()[k], dz.as_array()[k]), want);
+        }
     }
 
     #[test]

@@ -63,8 +63,11 @@ pub struct Film {
     pub object: Vec<u32>,
     /// Per-light visibility bits at each pixel's hit (see [`Surface::lights`]).
     pub lights: Vec<u32>,
-    /// Hit point, normal and view-independent light of each pixel.
+    /// Hit point, normal and view-independent light of each pixel that hit a sphere;
+    /// unspecified where `object` is [`NO_OBJECT`].
     pub shading: Vec<Shading>,
+    /// Screen bins of the view last rendered into this film, kept for their buffers.
+    pub(crate) bins: crate::primary::PrimaryBins,
 }
 
 impl Film {
@@ -88,9 +91,13 @@ impl Film {
         self.shading.resize(n, Shading { point: Vec3::ZERO, normal: Vec3::ZERO, diffuse: Vec3::ZERO });
     }
 
-    /// The whole visible-surface record of pixel `k` (row-major index).
+    /// The whole visible-surface record of pixel `k` (row-major index); [`Surface::MISS`]
+    /// for a pixel that saw only background.
     #[must_use]
     pub fn surface(&self, k: usize) -> Surface {
+        if self.object[k] == NO_OBJECT {
+            return Surface::MISS;
+        }
         let s = &self.shading[k];
         Surface { point: s.point, normal: s.normal, diffuse: s.diffuse, object: self.object[k], lights: self.lights[k] }
     }

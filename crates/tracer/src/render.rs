@@ -3,22 +3,27 @@
 use rayon::prelude::*;
 
 use crate::camera::EyeView;
-use crate::film::{Film, Shading};
+use crate::film::{Film, Shading, Surface, NO_OBJECT};
+use crate::primary::{PrimaryBins, TILE};
 use crate::stats::RayCounts;
 use crate::world::Tracer;
 
 /// Traces every pixel of `view` into `film` (resized to the view if needed) and returns the
 /// rays cast.
 ///
-/// Rows are independent work items; each row counts its own rays and the counts are summed
-/// afterwards, so the result — pixels and counts — is the same for any thread count. Nothing
-/// is allocated per pixel or per ray.
+/// First hits are found through screen-space bins ([`PrimaryBins`], kept in the film and
+/// rebuilt for `view`), the rest through the BVH. Rows are independent work items; each
+/// row counts its own rays and the counts are summed afterwards, so the result — pixels and
+/// counts — is the same for any thread count. Nothing is allocated per pixel or per ray,
+/// nor per frame once the film has its size.
 pub fn render_eye(tracer: &Tracer, view: &EyeView, film: &mut Film) -> RayCounts {
     film.resize(view.width, view.height);
     let w = view.width as usize;
     if w == 0 || view.height == 0 {
         return RayCounts::default();
     }
+    film.bins.build(tracer, view);
+    let bins = &film.bins;
     (
         film.rgb.par_chunks_mut(w),
         film.z.par_chunks_mut(w),
@@ -30,34 +35,71 @@ pub fn render_eye(tracer: &Tracer, view: &EyeView, film: &mut Film) -> RayCounts
         .enumerate()
         .map(|(j, (rgb, z, object, lights, shading))| {
             let mut counts = RayCounts::default();
-            for i in 0..w {
-                let s = tracer.trace_pixel(view, i as u32, j as u32, &mut counts);
-                rgb[i] = s.rgb;
-                z[i] = s.z;
-                object[i] = s.surface.object;
-                lights[i] = s.surface.lights;
-                shading[i] = Shading { point: s.surface.point, normal: s.surface.normal, diffuse: s.surface.diffuse };
+            let j = j as u32;
+            for span in spans(w) {
+                if bins.is_empty_at(span.start as u32, j) {
+                    // Background without a sphere test. The shading entries of a miss are
+                    // left as they are: nothing reads them (see `Film::surface`).
+                    counts.primary += span.len() as u64;
+                    rgb[span.clone()].fill(tracer.background_rgb);
+                    z[span.clone()].fill(f32::INFINITY);
+                    object[span.clone()].fill(NO_OBJECT);
+                    lights[span].fill(0);
+                    continue;
+                }
+                for i0 in span.clone().step_by(4) {
+                    let n = (span.end - i0).min(4);
+                    tracer.trace_primary4(bins, i0 as u32, j, n, &mut counts, |k, s| {
+                        let i = i0 + k;
+                        rgb[i] = s.rgb;
+                        z[i] = s.z;
+                        object[i] = s.surface.object;
+                        lights[i] = s.surface.lights;
+                        if s.surface.is_hit() {
+                            let Surface { point, normal, diffuse, .. } = s.surface;
+                            shading[i] = Shading { point, normal, diffuse };
+                        }
+                    });
+                }
             }
             counts
         })
         .sum()
 }
 
+/// The pixel spans of a `w`-pixel row that fall in one screen tile each.
+fn spans(w: usize) -> impl Iterator<Item = std::ops::Range<usize>> {
+    let tile = TILE as usize;
+    (0..w.div_ceil(tile)).map(move |t| t * tile..((t + 1) * tile).min(w))
+}
+
 /// Traces every pixel of `view` for colour only into `rgb` (resized to the view), for
-/// images whose visible-surface record nobody reads. Returns the rays cast; pixels and
-/// counts are those of [`render_eye`].
-pub fn render_rgb(tracer: &Tracer, view: &EyeView, rgb: &mut Vec<u32>) -> RayCounts {
+/// images whose visible-surface record nobody reads. `bins` is rebuilt for `view` (pass the
+/// same one every frame to reuse its buffers). Returns the rays cast; pixels and counts are
+/// those of [`render_eye`].
+pub fn render_rgb(tracer: &Tracer, view: &EyeView, bins: &mut PrimaryBins, rgb: &mut Vec<u32>) -> RayCounts {
     let w = view.width as usize;
     rgb.resize(w * view.height as usize, 0);
-    if w == 0 {
+    if w == 0 || view.height == 0 {
         return RayCounts::default();
     }
+    bins.build(tracer, view);
+    let bins = &*bins;
     rgb.par_chunks_mut(w)
         .enumerate()
         .map(|(j, row)| {
             let mut counts = RayCounts::default();
-            for (i, px) in row.iter_mut().enumerate() {
-                *px = tracer.trace_pixel(view, i as u32, j as u32, &mut counts).rgb;
+            let j = j as u32;
+            for span in spans(w) {
+                if bins.is_empty_at(span.start as u32, j) {
+                    counts.primary += span.len() as u64;
+                    row[span].fill(tracer.background_rgb);
+                    continue;
+                }
+                for i0 in span.clone().step_by(4) {
+                    let n = (span.end - i0).min(4);
+                    tracer.trace_primary4(bins, i0 as u32, j, n, &mut counts, |k, s| row[i0 + k] = s.rgb);
+                }
             }
             counts
         })
@@ -226,11 +268,11 @@ mod tests {
         scene.camera.ipd = 0.0;
         let tracer = Tracer::new(&scene, 0.0);
         let (mut l, mut r) = (Vec::new(), Vec::new());
-        render_rgb(&tracer, &scene.camera.view(Eye::Left, 96, 54), &mut l);
-        render_rgb(&tracer, &scene.camera.view(Eye::Right, 96, 54), &mut r);
+        render_rgb(&tracer, &scene.camera.view(Eye::Left, 96, 54), &mut PrimaryBins::new(), &mut l);
+        render_rgb(&tracer, &scene.camera.view(Eye::Right, 96, 54), &mut PrimaryBins::new(), &mut r);
         assert_eq!(l, r);
         scene.camera.ipd = 0.65;
-        render_rgb(&tracer, &scene.camera.view(Eye::Right, 96, 54), &mut r);
+        render_rgb(&tracer, &scene.camera.view(Eye::Right, 96, 54), &mut PrimaryBins::new(), &mut r);
         assert_ne!(l, r, "a real IPD changes the right eye");
     }
 }

@@ -82,9 +82,22 @@ impl Tracer {
         counts.primary += 1;
         let ray = view.primary_ray(i, j);
         match self.intersect(&ray, f32::INFINITY) {
-            Some((t, object)) => self.shaded_sample(view, &ray, t, object, Visibility::Trace, counts),
+            Some((t, object)) => self.shade_primary_hit(view, &ray, t, object, counts),
             None => self.miss_sample(),
         }
+    }
+
+    /// Shades the first hit of a primary ray, casting its shadow and reflection rays.
+    #[inline]
+    pub(crate) fn shade_primary_hit(
+        &self,
+        view: &EyeView,
+        ray: &Ray,
+        t: f32,
+        object: u32,
+        counts: &mut RayCounts,
+    ) -> Shaded {
+        self.shaded_sample(view, ray, t, object, Visibility::Trace, counts)
     }
 
     /// Shades the hit of `ray` on sphere `object` at parameter `t` with known light

@@ -1,6 +1,7 @@
 //! Spheres and the ray–sphere test.
 
 use glam::Vec3;
+use wide::f32x4;
 
 use crate::ray::Ray;
 
@@ -42,6 +43,124 @@ pub fn intersect_sphere(ray: &Ray, center: Vec3, radius: f32, t_max: f32) -> Opt
     } else {
         None
     }
+}
+
+/// Spheres per SIMD packet.
+pub(crate) const LANES: usize = 4;
+
+/// Up to four spheres in structure-of-arrays lanes (`wide::f32x4`: SSE2 on x86-64, NEON on
+/// aarch64, scalar elsewhere), tested against one ray at once. Unused lanes have NaN
+/// centres, which never hit.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SpherePacket {
+    cx: f32x4,
+    cy: f32x4,
+    cz: f32x4,
+    r: f32x4,
+    /// Sphere id of each lane.
+    pub(crate) ids: [u32; LANES],
+}
+
+/// A vector splatted across four lanes, one `f32x4` per component.
+#[inline]
+pub(crate) fn splat3(v: Vec3) -> [f32x4; 3] {
+    [f32x4::splat(v.x), f32x4::splat(v.y), f32x4::splat(v.z)]
+}
+
+impl SpherePacket {
+    /// A packet with every lane empty.
+    pub(crate) const EMPTY: Self = Self {
+        cx: f32x4::splat(f32::NAN),
+        cy: f32x4::splat(f32::NAN),
+        cz: f32x4::splat(f32::NAN),
+        r: f32x4::splat(0.0),
+        ids: [u32::MAX; LANES],
+    };
+
+    /// Puts sphere `id` in `lane`.
+    pub(crate) fn set(&mut self, lane: usize, id: u32, center: Vec3, radius: f32) {
+        let put = |v: &mut f32x4, x: f32| {
+            let mut a = v.to_array();
+            a[lane] = x;
+            *v = f32x4::from(a);
+        };
+        put(&mut self.cx, center.x);
+        put(&mut self.cy, center.y);
+        put(&mut self.cz, center.z);
+        put(&mut self.r, radius);
+        self.ids[lane] = id;
+    }
+
+    /// The ray's parameter against each lane (ray origin `o` and unit direction `d`
+    /// splatted), +∞ where it misses or the hit is outside `(0, t_max)`.
+    ///
+    /// The same operations in the same order as [`intersect_sphere`], lane by lane, so a
+    /// sphere's `t` is bit-for-bit the scalar one whichever packet and lane it sits in:
+    /// every query that tests spheres (BVH leaves, screen tiles, single-sphere tests) agrees.
+    #[inline]
+    pub(crate) fn hits(&self, o: [f32x4; 3], d: [f32x4; 3], t_max: f32) -> [f32; LANES] {
+        let (ox, oy, oz) = (o[0] - self.cx, o[1] - self.cy, o[2] - self.cz);
+        let r2 = self.r * self.r;
+        let c = (ox * ox + oy * oy + oz * oz) - r2;
+        nearest_root([ox, oy, oz], d, r2, c, f32x4::splat(t_max)).to_array()
+    }
+}
+
+/// One sphere seen from a fixed ray origin, ready to test four rays from there at once:
+/// the primary rays of an eye.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SphereFromOrigin {
+    /// origin − centre.
+    oc: [f32; 3],
+    /// radius².
+    r2: f32,
+    /// |oc|² − radius².
+    c: f32,
+    /// The sphere's id.
+    pub(crate) id: u32,
+}
+
+impl SphereFromOrigin {
+    /// The sphere (`center`, `radius`) as seen from `origin`.
+    pub(crate) fn new(origin: Vec3, center: Vec3, radius: f32, id: u32) -> Self {
+        let oc = [origin.x - center.x, origin.y - center.y, origin.z - center.z];
+        let r2 = radius * radius;
+        let c = (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2]) - r2;
+        Self { oc, r2, c, id }
+    }
+
+    /// Each lane's ray (unit direction `d`, from the origin) against the sphere: `t` in
+    /// `(0, t_max)` per lane, +∞ otherwise. Bit-for-bit what [`SpherePacket::hits`] gives
+    /// for the same ray and sphere: the same operations on the same values.
+    #[inline]
+    pub(crate) fn hits4(&self, d: [f32x4; 3], t_max: f32x4) -> f32x4 {
+        let oc = self.oc.map(f32x4::splat);
+        nearest_root(oc, d, f32x4::splat(self.r2), f32x4::splat(self.c), t_max)
+    }
+}
+
+/// The lane-wise core of the ray–sphere test shared by every SIMD query, in the order of
+/// [`intersect_sphere`]: `oc` = origin − centre, `d` unit, `r2` = r², `c` = |oc|² − r².
+#[inline]
+fn nearest_root(oc: [f32x4; 3], d: [f32x4; 3], r2: f32x4, c: f32x4, t_max: f32x4) -> f32x4 {
+    let [ox, oy, oz] = oc;
+    let b = ox * d[0] + oy * d[1] + oz * d[2];
+    let (px, py, pz) = (ox - b * d[0], oy - b * d[1], oz - b * d[2]);
+    let disc = r2 - (px * px + py * py + pz * pz);
+    let zero = f32x4::splat(0.0);
+    let touched = disc.simd_ge(zero);
+    let inf = f32x4::splat(f32::INFINITY);
+    if touched.to_bitmask() == 0 {
+        return inf;
+    }
+    let sq = disc.sqrt();
+    let q = b.simd_gt(zero).bitselect(-b - sq, -b + sq);
+    let t0 = c / q;
+    let (near, far) = (t0.min(q), t0.max(q));
+    let near_ok = near.simd_gt(zero) & near.simd_lt(t_max);
+    let far_ok = far.simd_gt(zero) & far.simd_lt(t_max);
+    let t = near_ok.bitselect(near, far_ok.bitselect(far, inf));
+    touched.bitselect(t, inf)
 }
 
 impl Sphere {

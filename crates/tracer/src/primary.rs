@@ -1,0 +1,392 @@
+//! Screen-space bins for one eye's primary rays: which spheres each tile of pixels can see.
+//!
+//! Every primary ray of an eye starts at the eye, so before tracing we can bound where each
+//! sphere can appear on screen, as a rasteriser would, and give each 8 × 8 tile of pixels
+//! the short list of spheres whose bound covers it (the "tile binning" of sort-middle
+//! rasterisers, used here to cull a ray tracer's first hits). A pixel whose tile lists no
+//! sphere is background without a single sphere test; the others test just their tile's
+//! spheres, four pixels at a time: the four rays share the eye as origin, so each sphere's
+//! origin terms are computed once per frame and the rays fill the SIMD lanes. Secondary
+//! rays, which start anywhere, go through the BVH.
+//!
+//! **The bound.** In the eye's head frame (x right, y up, z forward) a primary ray has
+//! direction ∝ (u, v, 1). Projecting the ray and the sphere (centre (a, b, c), radius r)
+//! onto the xz-plane, a hit needs the line x = u·z to meet the disc of radius r about
+//! (a, c): u lies between the slopes of the two tangents from the origin,
+//!
+//! ```text
+//! u = (a·c ∓ r·√(a² + c² − r²)) / (c² − r²)          (needs c > r),
+//! ```
+//!
+//! and likewise v from (b, c) in the yz-plane. The pair of intervals is a conservative
+//! screen rectangle: exact in each axis, loose only in the corners. A sphere that reaches
+//! the eye's plane (c ≤ r) could be anywhere ahead and goes in every tile; one wholly
+//! behind it (c ≤ −r) is in none.
+//!
+//! **Exactness.** Binning only decides which spheres to *test*; the test itself is the
+//! BVH's lane arithmetic on the same values, so a listed sphere yields bit-for-bit the `t`
+//! it would in the BVH (see `SphereFromOrigin::hits4`), and the four rays are bit-for-bit
+//! [`EyeView::primary_ray`]'s. For the result to equal [`Tracer::trace_pixel`]'s, the
+//! bound must never miss a sphere the f32 test would report. It is computed in f64 with
+//! the radius grown by 10⁻⁴ of the distance (the f32 test's perpendicular distance is good
+//! to a few 10⁻⁷ of it) and then widened by one pixel on each side; a test compares the
+//! two paths over the scenes.
+
+use glam::{DVec3, Vec3};
+use wide::f32x4;
+
+use crate::camera::EyeView;
+use crate::ray::Ray;
+use crate::shade::Shaded;
+use crate::sphere::SphereFromOrigin;
+use crate::stats::RayCounts;
+use crate::world::Tracer;
+
+/// Tile edge in pixels.
+pub const TILE: u32 = 8;
+
+/// Growth of a sphere's radius for the bound, relative to its distance from the eye.
+const RADIUS_MARGIN: f64 = 1e-4;
+
+/// Screen tiles of one eye's view, each with the packets of spheres its pixels can hit.
+///
+/// Built by [`PrimaryBins::build`] into buffers reused from frame to frame; traced through
+/// by [`Tracer::trace_primary`].
+#[derive(Clone, Debug, Default)]
+pub struct PrimaryBins {
+    view: Option<EyeView>,
+    tiles_x: u32,
+    /// Tile t's spheres are `spheres[first[t]..first[t + 1]]`, in id order.
+    first: Vec<u32>,
+    spheres: Vec<SphereFromOrigin>,
+    /// Per sphere: its inclusive tile rectangle `[x0, y0, x1, y1]`, or `None` when it is
+    /// behind the eye or off screen.
+    rects: Vec<Option<[u32; 4]>>,
+    /// Scratch: spheres placed so far in each tile.
+    fill: Vec<u32>,
+}
+
+/// Inclusive range of slopes u = x/z of the lines from the origin that meet the disc of
+/// radius `r` about (a, c), for c > r.
+fn tangent_slopes(a: f64, c: f64, r: f64) -> (f64, f64) {
+    let root = r * (a * a + c * c - r * r).sqrt();
+    let den = c * c - r * r;
+    ((a * c - root) / den, (a * c + root) / den)
+}
+
+/// The inclusive tile rectangle a sphere's primary hits can fall in.
+/// Where on screen a sphere's primary hits can be.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Bound {
+    /// Behind the eye: no primary ray reaches it.
+    Nowhere,
+    /// Reaches the eye's plane: any primary ray may hit it.
+    Everywhere,
+    /// Only pixels (i, j) with `i0 ≤ i ≤ i1` and `j0 ≤ j ≤ j1`: `[i0, j0, i1, j1]`, in
+    /// continuous pixel indices (pixel i's centre ray is at index i), unclipped.
+    Pixels([f64; 4]),
+}
+
+/// The screen bound of the sphere (`center`, `radius` grown by `margin` of its distance).
+fn screen_bound(view: &EyeView, center: Vec3, radius: f32, margin: f64) -> Bound {
+    let to_head = view.head_from_world.as_dmat3();
+    let p: DVec3 = to_head * (center.as_dvec3() - view.origin.as_dvec3());
+    let r = f64::from(radius) * (1.0 + margin) + margin * p.length();
+    if !p.is_finite() || !r.is_finite() {
+        return Bound::Everywhere;
+    }
+    if p.z <= -r {
+        return Bound::Nowhere;
+    }
+    if p.z <= r {
+        return Bound::Everywhere;
+    }
+    // Slopes to window coordinates to continuous pixel indices of the ray through a
+    // pixel centre: x = eye_x + u·d, i + ½ = (x/width + ½)·W (and j grows downwards).
+    let d = f64::from(view.distance);
+    let (u0, u1) = tangent_slopes(p.x, p.z, r);
+    let (v0, v1) = tangent_slopes(p.y, p.z, r);
+    let (w, h) = (f64::from(view.width), f64::from(view.height));
+    let column = |u: f64| ((f64::from(view.eye_x) + u * d) / f64::from(view.window_width) + 0.5) * w - 0.5;
+    let row = |v: f64| (0.5 - v * d / f64::from(view.window_height)) * h - 0.5;
+    Bound::Pixels([column(u0), row(v1), column(u1), row(v0)])
+}
+
+/// The inclusive tile rectangle a sphere's primary hits can fall in, if any.
+fn tile_rect(view: &EyeView, center: Vec3, radius: f32) -> Option<[u32; 4]> {
+    let (w, h) = (view.width, view.height);
+    if w == 0 || h == 0 {
+        return None;
+    }
+    let [i0, j0, i1, j1] = match screen_bound(view, center, radius, RADIUS_MARGIN) {
+        Bound::Nowhere => return None,
+        Bound::Everywhere => return Some([0, 0, (w - 1) / TILE, (h - 1) / TILE]),
+        Bound::Pixels(b) => b,
+    };
+    // One pixel of slack on each side for rounding in the rays themselves.
+    let (i0, j0, i1, j1) = (i0.floor() - 1.0, j0.floor() - 1.0, i1.ceil() + 1.0, j1.ceil() + 1.0);
+    if i1 < 0.0 || j1 < 0.0 || i0 >= f64::from(w) || j0 >= f64::from(h) {
+        return None;
+    }
+    let tile = |x: f64, n: u32| (x.clamp(0.0, f64::from(n - 1)) as u32) / TILE;
+    Some([tile(i0, w), tile(j0, h), tile(i1, w), tile(j1, h)])
+}
+
+impl PrimaryBins {
+    /// Empty bins; [`PrimaryBins::build`] fills them.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The view the bins were last built for.
+    #[must_use]
+    pub fn view(&self) -> Option<&EyeView> {
+        self.view.as_ref()
+    }
+
+    /// Bins the spheres of `tracer` for the primary rays of `view`, reusing the buffers.
+    pub fn build(&mut self, tracer: &Tracer, view: &EyeView) {
+        self.view = Some(*view);
+        self.tiles_x = view.width.div_ceil(TILE);
+        let tiles_y = view.height.div_ceil(TILE);
+        let tiles = (self.tiles_x * tiles_y) as usize;
+        self.rects.clear();
+        self.rects.extend(tracer.centers.iter().zip(&tracer.radii).map(|(&c, &r)| tile_rect(view, c, r)));
+        // Counting sort of the spheres into tiles.
+        self.fill.clear();
+        self.fill.resize(tiles, 0);
+        for [x0, y0, x1, y1] in self.rects.iter().flatten() {
+            for ty in *y0..=*y1 {
+                let row = (ty * self.tiles_x) as usize;
+                for n in &mut self.fill[row + *x0 as usize..=row + *x1 as usize] {
+                    *n += 1;
+                }
+            }
+        }
+        self.first.clear();
+        self.first.reserve(tiles + 1);
+        let mut total = 0u32;
+        for &n in &self.fill {
+            self.first.push(total);
+            total += n;
+        }
+        self.first.push(total);
+        let empty = SphereFromOrigin::new(Vec3::ZERO, Vec3::ZERO, 0.0, 0);
+        self.spheres.clear();
+        self.spheres.resize(total as usize, empty);
+        self.fill.fill(0);
+        for (k, rect) in self.rects.iter().enumerate() {
+            let Some([x0, y0, x1, y1]) = *rect else { continue };
+            let sphere = SphereFromOrigin::new(view.origin, tracer.centers[k], tracer.radii[k], k as u32);
+            for ty in y0..=y1 {
+                for tx in x0..=x1 {
+                    let t = (ty * self.tiles_x + tx) as usize;
+                    self.spheres[(self.first[t] + self.fill[t]) as usize] = sphere;
+                    self.fill[t] += 1;
+                }
+            }
+        }
+    }
+
+    /// The spheres of the tile holding pixel (i, j).
+    #[inline]
+    fn spheres_at(&self, i: u32, j: u32) -> &[SphereFromOrigin] {
+        let t = ((j / TILE) * self.tiles_x + i / TILE) as usize;
+        &self.spheres[self.first[t] as usize..self.first[t + 1] as usize]
+    }
+
+    /// Whether pixel (i, j)'s tile lists no sphere: its primary ray sees only background.
+    #[inline]
+    #[must_use]
+    pub fn is_empty_at(&self, i: u32, j: u32) -> bool {
+        self.spheres_at(i, j).is_empty()
+    }
+
+    /// First hits of the primary rays `dirs` of pixels (i + k, j), k = 0..4, all in the
+    /// tile of pixel (i, j): per lane the hit parameter (+∞ for none) and sphere id.
+    #[inline]
+    fn closest4(&self, i: u32, j: u32, dirs: [f32x4; 3]) -> ([f32; 4], [u32; 4]) {
+        let mut t_best = f32x4::splat(f32::INFINITY);
+        let mut best = [u32::MAX; 4];
+        for s in self.spheres_at(i, j) {
+            let t = s.hits4(dirs, t_best);
+            let nearer = t.simd_lt(t_best);
+            if nearer.any() {
+                t_best = nearer.bitselect(t, t_best);
+                for (lane, b) in best.iter_mut().enumerate() {
+                    if nearer.as_array()[lane] != 0.0 {
+                        *b = s.id;
+                    }
+                }
+            }
+        }
+        (t_best.to_array(), best)
+    }
+}
+
+impl Tracer {
+    /// Traces and shades pixel (i, j) of the view `bins` was built for: the same result as
+    /// [`Tracer::trace_pixel`], with the first hit found among the pixel's tile's spheres
+    /// instead of through the BVH.
+    ///
+    /// # Panics
+    /// If `bins` has not been built.
+    #[inline]
+    #[must_use]
+    pub fn trace_primary(&self, bins: &PrimaryBins, i: u32, j: u32, counts: &mut RayCounts) -> Shaded {
+        let view = bins.view.as_ref().expect("PrimaryBins::build before tracing");
+        counts.primary += 1;
+        if bins.is_empty_at(i, j) {
+            return self.miss_sample();
+        }
+        let ray = view.primary_ray(i, j);
+        let (t, ids) = bins.closest4(i, j, [ray.dir.x, ray.dir.y, ray.dir.z].map(f32x4::splat));
+        if t[0].is_finite() {
+            self.shade_primary_hit(view, &ray, t[0], ids[0], counts)
+        } else {
+            self.miss_sample()
+        }
+    }
+
+    /// Traces and shades pixels (i + k, j), k = 0..n (n ≤ 4), which lie in one tile, into
+    /// `out(k, sample)`: the same samples as [`Tracer::trace_primary`] one by one.
+    ///
+    /// # Panics
+    /// If `bins` has not been built.
+    #[inline]
+    pub fn trace_primary4(
+        &self,
+        bins: &PrimaryBins,
+        i: u32,
+        j: u32,
+        n: usize,
+        counts: &mut RayCounts,
+        mut out: impl FnMut(usize, Shaded),
+    ) {
+        let view = bins.view.as_ref().expect("PrimaryBins::build before tracing");
+        counts.primary += n as u64;
+        let dirs = view.primary_dirs4(i, j);
+        let (t, ids) = bins.closest4(i, j, dirs);
+        for k in 0..n.min(4) {
+            let sample = if t[k].is_finite() {
+                let dir = Vec3::new(dirs[0].as_array()[k], dirs[1].as_array()[k], dirs[2].as_array()[k]);
+                self.shade_primary_hit(view, &Ray::new(view.origin, dir), t[k], ids[k], counts)
+            } else {
+                self.miss_sample()
+            };
+            out(k, sample);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::{Camera, Eye};
+    use crate::scene::Scene;
+
+    fn scene(name: &str) -> Scene {
+        let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+        let text = std::fs::read_to_string(&path).expect("scene file");
+        Scene::from_toml(&text, &path).expect("valid scene")
+    }
+
+    /// Every pixel through the bins equals the BVH path: colour, depth and surface.
+    fn assert_same_as_bvh(scene: &Scene, camera: &Camera, t: f32, w: u32, h: u32) {
+        let tracer = Tracer::new(scene, t);
+        for eye in [Eye::Left, Eye::Right] {
+            let view = camera.view(eye, w, h);
+            let mut bins = PrimaryBins::new();
+            bins.build(&tracer, &view);
+            let (mut a, mut b) = (RayCounts::default(), RayCounts::default());
+            for j in 0..h {
+                for i in 0..w {
+                    let x = tracer.trace_primary(&bins, i, j, &mut a);
+                    let y = tracer.trace_pixel(&view, i, j, &mut b);
+                    assert_eq!(
+                        (x.rgb, x.z.to_bits(), x.surface),
+                        (y.rgb, y.z.to_bits(), y.surface),
+                        "{eye:?} pixel ({i}, {j})"
+                    );
+                }
+            }
+            assert_eq!(a, b);
+        }
+    }
+
+    #[test]
+    fn bins_trace_every_scene_like_the_bvh() {
+        for name in ["seed.toml", "many.toml", "thousand.toml", "window.toml"] {
+            let scene = scene(name);
+            assert_same_as_bvh(&scene, &scene.camera, 1.3, 160, 90);
+        }
+    }
+
+    #[test]
+    fn bins_hold_for_turned_heads_spheres_around_the_eye_and_odd_sizes() {
+        let mut scene = scene("many.toml");
+        let camera = Camera { yaw_deg: 35.0, pitch_deg: -20.0, position: Vec3::new(1.0, 0.5, 4.0), ..scene.camera };
+        assert_same_as_bvh(&scene, &camera, 0.0, 67, 41);
+        // A sphere around the eye and one straddling the eye's plane go in every tile.
+        scene.spheres[0].motion = crate::scene::Motion::Static(camera.position);
+        scene.spheres[1].motion = crate::scene::Motion::Static(camera.position + Vec3::new(3.0, 0.0, 0.2));
+        assert_same_as_bvh(&scene, &camera, 0.0, 33, 17);
+    }
+
+    #[test]
+    fn unpadded_bound_is_tight_around_every_hit_pixel() {
+        // With no margin at all the bound is the exact tangent rectangle: every pixel whose
+        // centre ray touches the sphere lies inside it, to rounding. (Shrinking the radius
+        // by 1 % breaks this.)
+        let scene = scene("many.toml");
+        let tracer = Tracer::new(&scene, 0.0);
+        let camera = Camera { yaw_deg: 10.0, pitch_deg: 5.0, ..scene.camera };
+        let view = camera.view(Eye::Right, 320, 180);
+        let mut checked = 0;
+        for k in 0..tracer.sphere_count() as u32 {
+            let Bound::Pixels([i0, j0, i1, j1]) =
+                screen_bound(&view, tracer.centers[k as usize], tracer.radii[k as usize], 0.0)
+            else {
+                continue;
+            };
+            for j in 0..view.height {
+                for i in 0..view.width {
+                    if tracer.intersect_object(&view.primary_ray(i, j), k).is_some() {
+                        let (x, y) = (f64::from(i), f64::from(j));
+                        assert!(
+                            x >= i0 - 1e-3 && x <= i1 + 1e-3 && y >= j0 - 1e-3 && y <= j1 + 1e-3,
+                            "sphere {k} at ({i}, {j}) outside [{i0}, {i1}] × [{j0}, {j1}]"
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked > 1000, "the scene's spheres cover pixels: {checked}");
+    }
+
+    #[test]
+    fn bound_covers_the_projected_disc_and_little_more() {
+        // A unit sphere 10 ahead, seen head-on by a mono eye: its silhouette has angular
+        // radius asin(1/10), so on a 90° window (half-width d) it spans ±d·tan(asin 0.1).
+        let camera = Camera { ipd: 0.0, distance: 1.0, fov_deg: 90.0, ..Camera::default() };
+        let mut scene = scene("seed.toml");
+        scene.spheres.truncate(1);
+        scene.spheres[0].radius = 1.0;
+        scene.spheres[0].motion = crate::scene::Motion::Static(Vec3::new(0.0, 0.0, 10.0));
+        let tracer = Tracer::new(&scene, 0.0);
+        let (w, h) = (800, 800);
+        let view = camera.view(Eye::Left, w, h);
+        let mut bins = PrimaryBins::new();
+        bins.build(&tracer, &view);
+        let half = (0.1f64.asin().tan() * 400.0) as u32; // ≈ 40 pixels
+        let [x0, y0, x1, y1] = bins.rects[0].expect("visible");
+        assert_eq!(screen_bound(&view, Vec3::new(0.0, 0.0, -10.0), 1.0, 0.0), Bound::Nowhere);
+        assert_eq!(screen_bound(&view, Vec3::new(5.0, 0.0, 0.5), 1.0, 0.0), Bound::Everywhere);
+        assert!(x0 * TILE <= 400 - half && (x1 + 1) * TILE >= 400 + half, "{x0}..{x1}");
+        assert!(y0 * TILE <= 400 - half && (y1 + 1) * TILE >= 400 + half, "{y0}..{y1}");
+        assert!((x1 - x0 + 1) * TILE <= 2 * half + 3 * TILE, "no more than a tile of slack per side");
+        assert!(bins.is_empty_at(0, 0) && !bins.is_empty_at(400, 400));
+    }
+}
