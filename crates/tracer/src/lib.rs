@@ -27,6 +27,7 @@ mod render;
 mod scene;
 mod scene_file;
 mod shade;
+mod shadow;
 mod sphere;
 mod stats;
 mod world;

@@ -35,7 +35,7 @@ pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
 
 /// Relative offset used by [`spawn_ray`], scaled by the magnitude of the hit point so
 /// that it stays above f32 rounding far from the origin.
-const SPAWN_EPSILON: f32 = 1e-4;
+pub(crate) const SPAWN_EPSILON: f32 = 1e-4;
 
 /// A secondary ray leaving the surface point `p` (unit outward normal `n`) along `dir`.
 ///

@@ -44,24 +44,46 @@ pub struct Shaded {
     pub surface: Surface,
 }
 
-/// (n·h)^shininess: repeated multiplication for whole exponents up to 256 (the common
-/// case, several times faster than `powf`), `powf` otherwise. Every eye and mode shades
-/// through here, so the choice never makes two paths disagree.
-#[inline]
-fn highlight(ndh: f32, shininess: f32) -> f32 {
-    if shininess.fract() == 0.0 && shininess <= 256.0 {
-        let mut e = shininess as u32;
-        let (mut base, mut acc) = (ndh, 1.0f32);
-        while e > 0 {
-            if e & 1 == 1 {
-                acc *= base;
-            }
-            base *= base;
-            e >>= 1;
+/// How a material's highlight exponent is evaluated: by repeated squaring for whole
+/// exponents up to 256 (the common case, several times faster than `powf`), `powf`
+/// otherwise. Decided once per material when the tracer is updated; every eye and mode
+/// shades through [`highlight`], so the choice never makes two paths disagree.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) enum Exponent {
+    /// A whole exponent.
+    Whole(u32),
+    /// Any other exponent.
+    #[default]
+    Real,
+}
+
+impl Exponent {
+    /// The evaluation of `shininess`.
+    pub(crate) fn of(shininess: f32) -> Self {
+        if shininess.fract() == 0.0 && (0.0..=256.0).contains(&shininess) {
+            Self::Whole(shininess as u32)
+        } else {
+            Self::Real
         }
-        acc
-    } else {
-        ndh.powf(shininess)
+    }
+}
+
+/// (n·h)^shininess.
+#[inline]
+fn highlight(ndh: f32, shininess: f32, exponent: Exponent) -> f32 {
+    match exponent {
+        Exponent::Whole(mut e) => {
+            let (mut base, mut acc) = (ndh, 1.0f32);
+            while e > 0 {
+                if e & 1 == 1 {
+                    acc *= base;
+                }
+                base *= base;
+                e >>= 1;
+            }
+            acc
+        }
+        Exponent::Real => ndh.powf(shininess),
     }
 }
 
@@ -124,8 +146,8 @@ impl Tracer {
     #[inline]
     #[must_use]
     pub fn reshade(&self, d: Vec3, surface: &Surface, counts: &mut RayCounts) -> u32 {
-        let m = &self.materials[surface.object as usize];
-        let view_dependent = self.view_dependent(surface.point, surface.normal, d, m, surface.lights, 0, counts);
+        let view_dependent =
+            self.view_dependent(surface.point, surface.normal, d, surface.object, surface.lights, 0, counts);
         pack_rgb(surface.diffuse + view_dependent)
     }
 
@@ -163,7 +185,7 @@ impl Tracer {
         let n = (p - self.centers[k]).normalize();
         let m = &self.materials[k];
         let (diffuse, lights) = self.view_independent(p, n, m.color, m.diffuse, vis, counts);
-        let color = diffuse + self.view_dependent(p, n, ray.dir, m, lights, depth, counts);
+        let color = diffuse + self.view_dependent(p, n, ray.dir, object, lights, depth, counts);
         (color, Surface { point: p, normal: n, diffuse, object, lights })
     }
 
@@ -182,7 +204,7 @@ impl Tracer {
         for (k, light) in self.lights.iter().enumerate() {
             let to_light = light.position - p;
             let dist = to_light.length();
-            let l = to_light / dist;
+            let l = to_light * dist.recip();
             let ndl = n.dot(l);
             if ndl <= 0.0 {
                 continue;
@@ -190,7 +212,7 @@ impl Tracer {
             let visible = match vis {
                 Visibility::Trace => {
                     counts.shadow += 1;
-                    !self.occluded(&spawn_ray(p, n, l), dist)
+                    !self.shadowed(k, p, &spawn_ray(p, n, l), dist)
                 }
                 Visibility::Known(known) => known & (1 << k) != 0,
             };
@@ -208,11 +230,12 @@ impl Tracer {
         p: Vec3,
         n: Vec3,
         d: Vec3,
-        m: &crate::Material,
+        object: u32,
         lights: u32,
         depth: u32,
         counts: &mut RayCounts,
     ) -> Vec3 {
+        let (m, exponent) = (&self.materials[object as usize], self.exponents[object as usize]);
         let mut out = Vec3::ZERO;
         if m.specular > 0.0 {
             for (k, light) in self.lights.iter().enumerate() {
@@ -222,13 +245,14 @@ impl Tracer {
                 let l = (light.position - p).normalize();
                 let ndh = n.dot((l - d).normalize_or_zero());
                 if ndh > 0.0 {
-                    out += m.specular * highlight(ndh, m.shininess) * light.color;
+                    out += m.specular * highlight(ndh, m.shininess, exponent) * light.color;
                 }
             }
         }
         if m.reflectivity > 0.0 && depth < self.settings.max_depth {
             counts.reflection += 1;
-            let reflected = spawn_ray(p, n, reflect(d, n).normalize());
+            // d and n are unit, so r is too, to rounding: no normalisation needed.
+            let reflected = spawn_ray(p, n, reflect(d, n));
             out += m.reflectivity * self.trace(&reflected, depth + 1, counts);
         }
         out

@@ -3,8 +3,10 @@
 use glam::Vec3;
 
 use crate::bvh::Bvh;
-use crate::ray::Ray;
+use crate::ray::{Ray, SPAWN_EPSILON};
 use crate::scene::{Light, Material, RenderSettings, Scene};
+use crate::shade::Exponent;
+use crate::shadow::ShadowBins;
 
 /// A scene at one instant, laid out for tracing. Build it once and [`Tracer::update`] it each
 /// frame: the buffers are reused, so a warm viewer does not allocate per frame.
@@ -13,11 +15,14 @@ pub struct Tracer {
     pub(crate) centers: Vec<Vec3>,
     pub(crate) radii: Vec<f32>,
     pub(crate) materials: Vec<Material>,
+    /// How each material's highlight exponent is evaluated.
+    pub(crate) exponents: Vec<Exponent>,
     pub(crate) lights: Vec<Light>,
     pub(crate) settings: RenderSettings,
     /// The background, encoded once per update.
     pub(crate) background_rgb: u32,
     bvh: Bvh,
+    shadows: ShadowBins,
 }
 
 impl Tracer {
@@ -34,17 +39,23 @@ impl Tracer {
         self.centers.clear();
         self.radii.clear();
         self.materials.clear();
+        self.exponents.clear();
         for (k, s) in scene.spheres.iter().enumerate() {
             let g = scene.sphere_at(k, t);
             self.centers.push(g.center);
             self.radii.push(g.radius);
             self.materials.push(s.material);
+            self.exponents.push(Exponent::of(s.material.shininess));
         }
         self.lights.clear();
         self.lights.extend_from_slice(&scene.lights);
         self.settings = scene.render;
         self.background_rgb = crate::color::pack_rgb(self.settings.background);
         self.bvh.build(&self.centers, &self.radii);
+        // The largest offset `spawn_ray` can give a ray leaving any sphere, with room to spare.
+        let reach = self.centers.iter().zip(&self.radii).map(|(c, r)| c.abs().max_element() + r).fold(0.0, f32::max);
+        let spawn_offset = 2.0 * SPAWN_EPSILON * (1.0 + reach);
+        self.shadows.build(&self.centers, &self.radii, &self.lights, spawn_offset);
     }
 
     /// The render settings in force (reflection depth, background, ambient).
@@ -86,11 +97,20 @@ impl Tracer {
         self.bvh.intersect(ray, t_max)
     }
 
-    /// Whether anything blocks `ray` before `t_max` (any hit, early exit): the shadow query.
+    /// Whether anything blocks `ray` before `t_max` (any hit, early exit), through the BVH.
     #[inline]
     #[must_use]
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         self.bvh.occluded(ray, t_max)
+    }
+
+    /// The shadow query: whether anything blocks `ray`, spawned from the surface point `p`
+    /// towards light `k` with `t_max` the distance to it. Answered from the light's cube
+    /// map of sphere lists, exactly as [`Tracer::occluded`] would.
+    #[inline]
+    #[must_use]
+    pub fn shadowed(&self, k: usize, p: Vec3, ray: &Ray, t_max: f32) -> bool {
+        self.shadows.occluded(k, self.lights[k].position, p, ray, t_max).unwrap_or_else(|| self.occluded(ray, t_max))
     }
 
     /// Hit parameter of `ray` against the one sphere `object`, ignoring all others. Used by

@@ -1,0 +1,242 @@
+//! Cube-map bins around each point light: which spheres can block a shadow ray to it.
+//!
+//! Every shadow ray towards light k ends at the light, so seen from the light all shadow
+//! rays are rays *from* one point, like an eye's primary rays. Around each light we lay a
+//! cube map of 6 × 64 × 64 cells and list in each cell the spheres whose angular disc, seen
+//! from the light, covers it; a shadow ray from a surface point p then tests only the
+//! spheres of the cell in direction p − light (four at a time in the BVH's SIMD packets),
+//! instead of walking the BVH. This is the shadow-ray counterpart of
+//! [`crate::PrimaryBins`], close in spirit to Haines and Greenberg's light buffer (1986).
+//!
+//! **The bound.** A shadow ray leaves p + ε·n (see [`crate::spawn_ray`], ε ≤ the largest
+//! spawn offset in the scene) along the exact direction to the light, so it stays within ε
+//! of the segment from p to the light, which lies on the ray from the light through p. A
+//! sphere it hits therefore meets that ray once grown by ε. For a cube face with major axis
+//! m and minor axis a, the ray's direction w has u = w_a / |w_m|; projecting onto the
+//! (a, m) plane, a ray that hits the grown ball hits its disc, so its angle from the
+//! face's axis lies within asin(r / |c|) of the disc centre's angle. Clipping that angle
+//! interval to the face (±45°) and taking tangents gives an exact u range; likewise for the
+//! other minor axis. A grown ball that contains the light is listed in every cell.
+//!
+//! **Exactness.** As with the primary bins, cells only choose which spheres to test, the
+//! test is the BVH's, and the bound is padded (radius by 10⁻⁴ of the distance, angles by
+//! 10⁻⁴ rad), so [`ShadowBins::occluded`] answers exactly as [`crate::Tracer::occluded`]
+//! would; a test compares the two.
+
+use std::f64::consts::FRAC_PI_4;
+
+use glam::{DVec3, Vec3};
+
+use crate::ray::Ray;
+use crate::scene::Light;
+use crate::sphere::{splat3, SpherePacket, LANES};
+
+/// Cells along each edge of a cube face.
+const RES: u32 = 64;
+/// Cells per light: six faces.
+const CELLS: usize = 6 * (RES * RES) as usize;
+/// Growth of a sphere's radius, relative to its distance from the light.
+const RADIUS_MARGIN: f64 = 1e-4;
+/// Widening of each angle interval, in radians.
+const ANGLE_MARGIN: f64 = 1e-4;
+
+/// The cube maps of all lights, rebuilt each frame into reused buffers.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct ShadowBins {
+    /// Cell c of light k holds `packets[first[k·CELLS + c]..first[k·CELLS + c + 1]]`.
+    first: Vec<u32>,
+    packets: Vec<SpherePacket>,
+    /// Scratch: `(light, sphere, face, [u0, v0, u1, v1])` for every face a sphere shows on.
+    rects: Vec<(u32, u32, u32, [u32; 4])>,
+    /// Scratch: spheres placed so far per cell.
+    fill: Vec<u32>,
+}
+
+/// The face's major axis, its sign, and its two minor axes (u, v), for faces 0..6:
+/// +x, −x, +y, −y, +z, −z.
+fn face_axes(face: u32) -> (usize, f64, usize, usize) {
+    let m = (face / 2) as usize;
+    let sign = if face.is_multiple_of(2) { 1.0 } else { -1.0 };
+    (m, sign, (m + 1) % 3, (m + 2) % 3)
+}
+
+/// Range of u = x/z (clipped to the face, ±1 and a margin) over the rays from the origin
+/// into z > 0 that meet the disc of radius `r` about (x, z), if any.
+fn face_interval(x: f64, z: f64, r: f64) -> Option<(f64, f64)> {
+    let dist = x.hypot(z);
+    let centre = x.atan2(z);
+    let half = (r / dist).min(1.0).asin() + ANGLE_MARGIN;
+    let edge = FRAC_PI_4 + ANGLE_MARGIN;
+    let (lo, hi) = ((centre - half).max(-edge), (centre + half).min(edge));
+    (lo <= hi).then(|| (lo.tan(), hi.tan()))
+}
+
+/// Cell index along a face edge of the coordinate u ∈ [−1, 1] (clamped).
+fn cell(u: f64) -> u32 {
+    (((u + 1.0) * 0.5 * f64::from(RES)).floor().clamp(0.0, f64::from(RES - 1))) as u32
+}
+
+impl ShadowBins {
+    /// Bins the spheres `(centers[k], radii[k])` around each light. `spawn_offset` bounds
+    /// the offset of any shadow ray's origin from its surface point.
+    pub(crate) fn build(&mut self, centers: &[Vec3], radii: &[f32], lights: &[Light], spawn_offset: f32) {
+        self.rects.clear();
+        for (k, light) in lights.iter().enumerate() {
+            let l = light.position.as_dvec3();
+            for (j, (&c, &r)) in centers.iter().zip(radii).enumerate() {
+                let q: DVec3 = c.as_dvec3() - l;
+                let r = f64::from(r) * (1.0 + RADIUS_MARGIN) + f64::from(spawn_offset) + RADIUS_MARGIN * q.length();
+                let contains_light = q.length() <= r || !q.is_finite() || !r.is_finite();
+                for face in 0..6 {
+                    let (m, sign, a, b) = face_axes(face);
+                    let rect = if contains_light {
+                        Some([0, 0, RES - 1, RES - 1])
+                    } else {
+                        let z = sign * q[m];
+                        face_interval(q[a], z, r)
+                            .zip(face_interval(q[b], z, r))
+                            .map(|((u0, u1), (v0, v1))| [cell(u0), cell(v0), cell(u1), cell(v1)])
+                    };
+                    if let Some(rect) = rect {
+                        self.rects.push((k as u32, j as u32, face, rect));
+                    }
+                }
+            }
+        }
+        // Counting sort into cells, then each cell's list cut into packets.
+        let total_cells = lights.len() * CELLS;
+        self.fill.clear();
+        self.fill.resize(total_cells, 0);
+        for &(k, _, face, rect) in &self.rects {
+            for index in cells(k, face, rect) {
+                self.fill[index] += 1;
+            }
+        }
+        self.first.clear();
+        self.first.reserve(total_cells + 1);
+        let mut total = 0u32;
+        for &n in &self.fill {
+            self.first.push(total);
+            total += n.div_ceil(LANES as u32);
+        }
+        self.first.push(total);
+        self.packets.clear();
+        self.packets.resize(total as usize, SpherePacket::EMPTY);
+        self.fill.fill(0);
+        for &(k, j, face, rect) in &self.rects {
+            for index in cells(k, face, rect) {
+                let slot = self.fill[index] as usize;
+                self.fill[index] += 1;
+                let packet = &mut self.packets[self.first[index] as usize + slot / LANES];
+                packet.set(slot % LANES, j, centers[j as usize], radii[j as usize]);
+            }
+        }
+    }
+
+    /// Whether a sphere blocks `ray`, a shadow ray spawned from surface point `p` towards
+    /// light `k`, before `t_max`. `None` if the bins cannot answer (no bins for the light,
+    /// or `p` at the light).
+    #[inline]
+    pub(crate) fn occluded(&self, k: usize, light: Vec3, p: Vec3, ray: &Ray, t_max: f32) -> Option<bool> {
+        let w = p - light;
+        let abs = w.abs();
+        let m = if abs.x >= abs.y && abs.x >= abs.z {
+            0
+        } else if abs.y >= abs.z {
+            1
+        } else {
+            2
+        };
+        let major = w[m];
+        if major == 0.0 || !major.is_finite() || (k + 1) * CELLS >= self.first.len() {
+            return None;
+        }
+        let face = 2 * m + usize::from(major < 0.0);
+        let (a, b) = ((m + 1) % 3, (m + 2) % 3);
+        let inv = 1.0 / f64::from(major.abs());
+        let (u, v) = (f64::from(w[a]) * inv, f64::from(w[b]) * inv);
+        let index = k * CELLS + face * (RES * RES) as usize + (cell(v) * RES + cell(u)) as usize;
+        let packets = &self.packets[self.first[index] as usize..self.first[index + 1] as usize];
+        let (o, d) = (splat3(ray.origin), splat3(ray.dir));
+        Some(packets.iter().any(|p| p.hits(o, d, t_max).iter().any(|t| t.is_finite())))
+    }
+}
+
+/// Indices of the cells of light `k`'s face `face` in the inclusive rectangle `rect`.
+fn cells(k: u32, face: u32, [u0, v0, u1, v1]: [u32; 4]) -> impl Iterator<Item = usize> {
+    let base = k as usize * CELLS + (face * RES * RES) as usize;
+    (v0..=v1).flat_map(move |v| (u0..=u1).map(move |u| base + (v * RES + u) as usize))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::ray::spawn_ray;
+    use crate::scene::{Motion, Scene};
+    use crate::world::Tracer;
+
+    fn scene(name: &str) -> Scene {
+        let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+        Scene::load(path).expect("scene loads")
+    }
+
+    /// Shadow rays from points spread over every sphere to every light: the bins answer as
+    /// the BVH does. Returns how many of the rays were blocked.
+    fn assert_same_as_bvh(scene: &Scene, t: f32) -> usize {
+        let tracer = Tracer::new(scene, t);
+        let mut blocked = 0;
+        for s in 0..tracer.sphere_count() {
+            let (c, r) = (tracer.centers[s], tracer.radii[s]);
+            for i in 0..40 {
+                // Fibonacci points on the sphere.
+                let z = 1.0 - 2.0 * (i as f32 + 0.5) / 40.0;
+                let a = i as f32 * 2.399_963;
+                let n = Vec3::new((1.0 - z * z).sqrt() * a.cos(), (1.0 - z * z).sqrt() * a.sin(), z);
+                let p = c + r * n;
+                for (k, light) in scene.lights.iter().enumerate() {
+                    let to_light = light.position - p;
+                    let dist = to_light.length();
+                    let ray = spawn_ray(p, n, to_light * dist.recip());
+                    let want = tracer.occluded(&ray, dist);
+                    assert_eq!(tracer.shadowed(k, p, &ray, dist), want, "sphere {s}, point {i}, light {k}");
+                    blocked += usize::from(want);
+                }
+            }
+        }
+        blocked
+    }
+
+    #[test]
+    fn bins_answer_every_scene_like_the_bvh() {
+        for name in ["seed.toml", "many.toml", "thousand.toml", "window.toml"] {
+            let blocked = assert_same_as_bvh(&scene(name), 0.9);
+            assert!(blocked > 0, "{name}: some shadow rays are blocked");
+        }
+    }
+
+    #[test]
+    fn bins_hold_with_a_light_inside_a_sphere_and_on_a_cube_edge() {
+        let mut s = scene("many.toml");
+        let light = s.lights[0].position;
+        // A sphere around the light, and spheres on the light's axis planes and diagonals.
+        s.spheres[0].motion = Motion::Static(light + Vec3::new(0.1, 0.0, 0.0));
+        s.spheres[1].motion = Motion::Static(light + Vec3::new(3.0, 3.0, 0.0));
+        s.spheres[2].motion = Motion::Static(light + Vec3::new(0.0, -4.0, 0.0));
+        s.spheres[3].motion = Motion::Static(light + Vec3::new(2.0, 2.0, 2.0));
+        assert_same_as_bvh(&s, 0.0);
+    }
+
+    #[test]
+    fn face_interval_is_the_tangent_range() {
+        // A disc of radius 1 at distance 10 straight ahead: u = ±tan(asin 0.1).
+        let (lo, hi) = face_interval(0.0, 10.0, 1.0).unwrap();
+        let want = 0.1f64.asin().tan();
+        assert!((hi - want).abs() < 2e-4 && (lo + want).abs() < 2e-4, "{lo} {hi}");
+        // Behind the face, or beside it past 45°, it is not on this face.
+        assert_eq!(face_interval(0.0, -10.0, 1.0), None);
+        assert_eq!(face_interval(10.0, 1.0, 1.0), None);
+        // Straddling the face's edge it is clipped to it.
+        let (_, hi) = face_interval(10.0, 10.0, 1.0).unwrap();
+        assert!((hi - 1.0).abs() < 1e-3);
+    }
+}
