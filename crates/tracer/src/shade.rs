@@ -24,6 +24,12 @@ use crate::ray::{reflect, spawn_ray, Ray};
 use crate::stats::RayCounts;
 use crate::world::Tracer;
 
+/// How many lights' directions the diffuse step hands on to the highlight step.
+const KEPT_LIGHTS: usize = 4;
+
+/// Directions from a hit to the first [`KEPT_LIGHTS`] lights.
+type LightDirs = [Vec3; KEPT_LIGHTS];
+
 /// Where light visibility comes from when shading a hit.
 #[derive(Clone, Copy, Debug)]
 enum Visibility {
@@ -147,7 +153,7 @@ impl Tracer {
     #[must_use]
     pub fn reshade(&self, d: Vec3, surface: &Surface, counts: &mut RayCounts) -> u32 {
         let view_dependent =
-            self.view_dependent(surface.point, surface.normal, d, surface.object, surface.lights, 0, counts);
+            self.view_dependent(surface.point, surface.normal, d, surface.object, surface.lights, None, 0, counts);
         pack_rgb(surface.diffuse + view_dependent)
     }
 
@@ -184,12 +190,22 @@ impl Tracer {
         // Normalised rather than divided by r: the hit lies on the sphere only to rounding.
         let n = (p - self.centers[k]).normalize();
         let m = &self.materials[k];
-        let (diffuse, lights) = self.view_independent(p, n, m.color, m.diffuse, vis, counts);
-        let color = diffuse + self.view_dependent(p, n, ray.dir, object, lights, depth, counts);
+        let (diffuse, lights, dirs) = self.view_independent(p, n, m.color, m.diffuse, vis, counts);
+        let color = diffuse + self.view_dependent(p, n, ray.dir, object, lights, Some(&dirs), depth, counts);
         (color, Surface { point: p, normal: n, diffuse, object, lights })
     }
 
-    /// Ambient + Lambert diffuse with hard shadows, and the visibility bits it found.
+    /// Unit direction and distance from `p` to light `k`: the one formula every shading
+    /// path uses, so that a direction kept from one step equals one recomputed in another.
+    #[inline]
+    fn to_light(&self, p: Vec3, k: usize) -> (Vec3, f32) {
+        let v = self.lights[k].position - p;
+        let dist = v.length();
+        (v * dist.recip(), dist)
+    }
+
+    /// Ambient + Lambert diffuse with hard shadows, the visibility bits it found, and the
+    /// directions to the first [`KEPT_LIGHTS`] lights for the highlights.
     fn view_independent(
         &self,
         p: Vec3,
@@ -198,13 +214,15 @@ impl Tracer {
         kd: f32,
         vis: Visibility,
         counts: &mut RayCounts,
-    ) -> (Vec3, u32) {
+    ) -> (Vec3, u32, LightDirs) {
         let mut sum = Vec3::ZERO;
         let mut bits = 0u32;
+        let mut dirs = [Vec3::ZERO; KEPT_LIGHTS];
         for (k, light) in self.lights.iter().enumerate() {
-            let to_light = light.position - p;
-            let dist = to_light.length();
-            let l = to_light * dist.recip();
+            let (l, dist) = self.to_light(p, k);
+            if let Some(d) = dirs.get_mut(k) {
+                *d = l;
+            }
             let ndl = n.dot(l);
             if ndl <= 0.0 {
                 continue;
@@ -221,7 +239,7 @@ impl Tracer {
                 sum += ndl * light.color;
             }
         }
-        (color * (self.settings.ambient + kd * sum), bits)
+        (color * (self.settings.ambient + kd * sum), bits, dirs)
     }
 
     /// Blinn–Phong highlights from the visible lights plus the mirror reflection.
@@ -232,6 +250,7 @@ impl Tracer {
         d: Vec3,
         object: u32,
         lights: u32,
+        dirs: Option<&LightDirs>,
         depth: u32,
         counts: &mut RayCounts,
     ) -> Vec3 {
@@ -242,7 +261,10 @@ impl Tracer {
                 if lights & (1 << k) == 0 {
                     continue;
                 }
-                let l = (light.position - p).normalize();
+                let l = match dirs {
+                    Some(dirs) if k < KEPT_LIGHTS => dirs[k],
+                    _ => self.to_light(p, k).0,
+                };
                 let ndh = n.dot((l - d).normalize_or_zero());
                 if ndh > 0.0 {
                     out += m.specular * highlight(ndh, m.shininess, exponent) * light.color;

@@ -73,7 +73,8 @@ fn face_interval(x: f64, z: f64, r: f64) -> Option<(f64, f64)> {
 
 /// Cell index along a face edge of the coordinate u ∈ [−1, 1] (clamped).
 fn cell(u: f64) -> u32 {
-    (((u + 1.0) * 0.5 * f64::from(RES)).floor().clamp(0.0, f64::from(RES - 1))) as u32
+    // Truncation is the floor once clamped to be non-negative (and skips libm's `floor`).
+    ((u + 1.0) * 0.5 * f64::from(RES)).clamp(0.0, f64::from(RES - 1)) as u32
 }
 
 impl ShadowBins {
