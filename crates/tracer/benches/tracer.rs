@@ -5,7 +5,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
-use tracer::{intersect_sphere, render_eye, Eye, Film, Ray, RayCounts, Scene, Tracer};
+use tracer::{intersect_sphere, render_eye, Eye, Film, PrimaryBins, Ray, RayCounts, Scene, Tracer};
 
 fn scene(name: &str) -> Scene {
     let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -31,7 +31,8 @@ fn ray_sphere(c: &mut Criterion) {
     });
 }
 
-/// Primary rays of a 160×90 view: BVH traversal alone (closest hit), and shading.
+/// Primary rays of a 160×90 view: BVH traversal alone (closest hit), and shading with the
+/// first hit found through the BVH or, one pixel at a time, through the screen bins.
 fn traversal_and_shading(c: &mut Criterion) {
     for name in ["seed.toml", "thousand.toml"] {
         let s = scene(name);
@@ -41,6 +42,23 @@ fn traversal_and_shading(c: &mut Criterion) {
             (0..90).flat_map(|j| (0..160).map(move |i| (i, j))).map(|(i, j)| view.primary_ray(i, j)).collect();
         c.bench_function(&format!("bvh_closest_hit_160x90_{name}"), |b| {
             b.iter(|| rays.iter().filter(|r| tracer.intersect(black_box(r), f32::INFINITY).is_some()).count());
+        });
+        let mut bins = PrimaryBins::new();
+        bins.build(&tracer, &view);
+        c.bench_function(&format!("screen_bins_build_160x90_{name}"), |b| {
+            b.iter(|| bins.build(black_box(&tracer), &view));
+        });
+        c.bench_function(&format!("shade_binned_160x90_{name}"), |b| {
+            b.iter(|| {
+                let mut counts = RayCounts::default();
+                let mut sum = 0u32;
+                for j in 0..90 {
+                    for i in 0..160 {
+                        sum = sum.wrapping_add(tracer.trace_primary(&bins, i, j, &mut counts).rgb);
+                    }
+                }
+                (sum, counts)
+            });
         });
         c.bench_function(&format!("shade_160x90_{name}"), |b| {
             b.iter(|| {
