@@ -10,55 +10,103 @@
 //! the background or another object (a near sphere's silhouette moves by a different
 //! amount than the background behind it).
 //!
-//! The pass reads one compact 8-byte key per right pixel (object id and light bits of its
-//! source, gathered during reprojection), never the left eye's full records.
+//! The pass reads two compact 32-bit planes per right pixel, the object id and the light
+//! bits of its source, carried along by the reprojection scan (`reproject.rs`), never the left
+//! eye's full records. A gap is marked in the object plane alone, by [`GAP_OBJECT`], which
+//! no sample has: a miss is [`tracer::NO_OBJECT`] (`u32::MAX`) and a hit is a sphere index,
+//! below the scene's sphere count (checked against `GAP_OBJECT` when a frame is
+//! reprojected). So "object differs from a neighbour's" already covers "neighbour is a gap",
+//! and a row is classified with SSE2's 32-bit lane compares and masks, without a branch per
+//! pixel: two 32-bit planes rather than one 64-bit key, which SSE2 cannot compare.
 
 use crate::stats::PixelClass;
 
-/// Key of a right pixel that no left pixel fills.
-pub(crate) const GAP_KEY: u64 = u64::MAX;
+/// Object plane of a right pixel that no left pixel fills: one below
+/// [`tracer::NO_OBJECT`], so it is no sphere index in any scene of fewer than
+/// `u32::MAX - 1` spheres (such a scene would not fit in memory).
+pub(crate) const GAP_OBJECT: u32 = tracer::NO_OBJECT - 1;
 
-/// The key of a reprojected sample: object id in the high half, light bits in the low half.
-#[inline]
-pub(crate) fn key(object: u32, lights: u32) -> u64 {
-    (u64::from(object) << 32) | u64::from(lights)
+/// Lights plane of a right pixel that no left pixel fills. Never decisive: a gap is itself
+/// classified by its object plane, and a gap neighbour is an edge (when edges are retraced)
+/// or is skipped by the shadow test.
+pub(crate) const GAP_LIGHTS: u32 = 0;
+
+/// The key planes of three consecutive right rows: the row classified and its neighbours
+/// above and below (the row itself at the image's top or bottom edge), all the same width.
+#[derive(Clone, Copy)]
+pub(crate) struct KeyRows<'a> {
+    /// Object ids (or [`GAP_OBJECT`]) of the rows above, at and below the row.
+    pub object: [&'a [u32]; 3],
+    /// Light bits of the rows above, at and below the row.
+    pub lights: [&'a [u32]; 3],
 }
 
-/// Classifies right row `j` from the key plane `keys` (whole image, row-major, `w` wide)
-/// into `out` (this row only).
-pub(crate) fn classify_row(keys: &[u64], w: usize, j: usize, edges: bool, shadows: bool, out: &mut [PixelClass]) {
-    let h = keys.len() / w;
-    let row = &keys[j * w..(j + 1) * w];
-    let above = if j > 0 { &keys[(j - 1) * w..j * w] } else { row };
-    let below = if j + 1 < h { &keys[(j + 1) * w..(j + 2) * w] } else { row };
-    // Bits that must agree with a neighbour: the object (edges) and/or the lights (shadows).
-    let object_bits = if edges { 0xFFFF_FFFF_0000_0000 } else { 0 };
-    let light_bits = if shadows { 0x0000_0000_FFFF_FFFF } else { 0 };
-    for (i, class) in out.iter_mut().enumerate() {
-        let me = row[i];
-        if me == GAP_KEY {
-            *class = PixelClass::RetracedGap;
-            continue;
+/// Classifies one right row into `out`: [`PixelClass::RetracedGap`] where it has no source;
+/// else [`PixelClass::RetracedEdge`] if `edges` and a 4-neighbour is a gap or has another
+/// object; else [`PixelClass::RetracedShadow`] if `shadows` and a 4-neighbour that is not a
+/// gap has other light bits; else [`PixelClass::Reprojected`]. Neighbours beyond the image
+/// count as the pixel itself.
+pub(crate) fn classify_row(rows: KeyRows<'_>, edges: bool, shadows: bool, out: &mut [PixelClass]) {
+    // One monomorphised loop per option pair, so that each does only its own tests.
+    match (edges, shadows) {
+        (false, false) => classify::<false, false>(rows, out),
+        (true, false) => classify::<true, false>(rows, out),
+        (false, true) => classify::<false, true>(rows, out),
+        (true, true) => classify::<true, true>(rows, out),
+    }
+}
+
+/// The class of a pixel with key (`object`, `lights`) and its four neighbours' keys.
+#[inline]
+fn class_of<const EDGES: bool, const SHADOWS: bool>(
+    object: u32,
+    lights: u32,
+    neighbours: [(u32, u32); 4],
+) -> PixelClass {
+    // No branches: the comparisons are side-effect free, so this compiles to lane-wise masks.
+    let (mut same_object, mut same_lights) = (true, true);
+    for (o, l) in neighbours {
+        same_object &= o == object;
+        // With edges retraced a gap neighbour makes this pixel an edge whatever the lights
+        // say; without, a gap neighbour must not count as a shadow boundary.
+        same_lights &= l == lights || (!EDGES && o == GAP_OBJECT);
+    }
+    if object == GAP_OBJECT {
+        PixelClass::RetracedGap
+    } else if EDGES && !same_object {
+        PixelClass::RetracedEdge
+    } else if SHADOWS && !same_lights {
+        PixelClass::RetracedShadow
+    } else {
+        PixelClass::Reprojected
+    }
+}
+
+/// [`classify_row`] for one option pair.
+fn classify<const EDGES: bool, const SHADOWS: bool>(rows: KeyRows<'_>, out: &mut [PixelClass]) {
+    let w = out.len();
+    let ([ao, ro, bo], [al, rl, bl]) = (rows.object, rows.lights);
+    assert!([ao, ro, bo, al, rl, bl].iter().all(|p| p.len() == w));
+    let at = |i: usize, left: usize, right: usize| {
+        let neighbours = [(ro[left], rl[left]), (ro[right], rl[right]), (ao[i], al[i]), (bo[i], bl[i])];
+        class_of::<EDGES, SHADOWS>(ro[i], rl[i], neighbours)
+    };
+    if w < 3 {
+        for (i, class) in out.iter_mut().enumerate() {
+            *class = at(i, i.saturating_sub(1), (i + 1).min(w - 1));
         }
-        let left = if i > 0 { row[i - 1] } else { me };
-        let right = if i + 1 < w { row[i + 1] } else { me };
-        let (mut edge, mut shadow) = (false, false);
-        for n in [left, right, above[i], below[i]] {
-            if n == GAP_KEY {
-                edge |= edges;
-            } else {
-                let diff = n ^ me;
-                edge |= diff & object_bits != 0;
-                shadow |= diff & light_bits != 0;
-            }
-        }
-        *class = if edge {
-            PixelClass::RetracedEdge
-        } else if shadow {
-            PixelClass::RetracedShadow
-        } else {
-            PixelClass::Reprojected
-        };
+        return;
+    }
+    out[0] = at(0, 0, 1);
+    out[w - 1] = at(w - 1, w - 2, w - 1);
+    // The interior, over equal-length slices so that the loop has no bounds checks and
+    // vectorises: pixel k + 1 with its left neighbour at k and its right one at k + 2.
+    let n = w - 2;
+    let (o_left, o_me, o_right, o_up, o_down) = (&ro[..n], &ro[1..=n], &ro[2..], &ao[1..=n], &bo[1..=n]);
+    let (l_left, l_me, l_right, l_up, l_down) = (&rl[..n], &rl[1..=n], &rl[2..], &al[1..=n], &bl[1..=n]);
+    for (k, class) in out[1..=n].iter_mut().enumerate() {
+        let neighbours = [(o_left[k], l_left[k]), (o_right[k], l_right[k]), (o_up[k], l_up[k]), (o_down[k], l_down[k])];
+        *class = class_of::<EDGES, SHADOWS>(o_me[k], l_me[k], neighbours);
     }
 }
 
@@ -66,10 +114,17 @@ pub(crate) fn classify_row(keys: &[u64], w: usize, j: usize, edges: bool, shadow
 mod tests {
     use super::*;
 
-    fn classes(keys: &[u64], w: usize, edges: bool, shadows: bool) -> Vec<PixelClass> {
+    const GAP: (u32, u32) = (GAP_OBJECT, GAP_LIGHTS);
+
+    fn classes(keys: &[(u32, u32)], w: usize, edges: bool, shadows: bool) -> Vec<PixelClass> {
+        let object: Vec<u32> = keys.iter().map(|k| k.0).collect();
+        let lights: Vec<u32> = keys.iter().map(|k| k.1).collect();
+        let h = keys.len() / w;
         let mut out = vec![PixelClass::Traced; keys.len()];
         for (j, row) in out.chunks_mut(w).enumerate() {
-            classify_row(keys, w, j, edges, shadows, row);
+            let rows = [j.saturating_sub(1), j, (j + 1).min(h - 1)].map(|r| r * w..(r + 1) * w);
+            let rows = KeyRows { object: rows.clone().map(|r| &object[r]), lights: rows.map(|r| &lights[r]) };
+            classify_row(rows, edges, shadows, row);
         }
         out
     }
@@ -77,14 +132,26 @@ mod tests {
     #[test]
     fn edges_shadows_and_gaps() {
         use PixelClass::{Reprojected as P, RetracedEdge as E, RetracedGap as G, RetracedShadow as S};
-        let (a, b, a_dark) = (key(0, 1), key(1, 1), key(0, 0));
+        let (a, b, a_dark) = ((0, 1), (1, 1), (0, 0));
         // One row: a a b b | a a_dark a | gap a
-        let keys = [a, a, b, b, a, a_dark, a, GAP_KEY, a];
+        let keys = [a, a, b, b, a, a_dark, a, GAP, a];
         assert_eq!(classes(&keys, 9, true, true), vec![P, E, E, E, E, S, E, G, E]);
         assert_eq!(classes(&keys, 9, false, true), vec![P, P, P, P, S, S, S, G, P]);
         assert_eq!(classes(&keys, 9, false, false), vec![P, P, P, P, P, P, P, G, P]);
         // Vertical neighbours count too.
         let keys = [a, a, a, b];
         assert_eq!(classes(&keys, 2, true, false), vec![P, E, E, E]);
+    }
+
+    #[test]
+    fn misses_next_to_gaps() {
+        use PixelClass::{Reprojected as P, RetracedEdge as E, RetracedGap as G, RetracedShadow as S};
+        // A miss is not a gap, and a gap's light bits never make a shadow boundary.
+        let (miss, lit) = ((tracer::NO_OBJECT, 0), (7, u32::MAX));
+        assert_eq!(classes(&[miss, miss, GAP], 3, false, false), vec![P, P, G]);
+        assert_eq!(classes(&[miss, miss, GAP, miss], 4, true, false), vec![P, E, G, E]);
+        assert_eq!(classes(&[lit, lit, GAP, miss], 4, false, true), vec![P, P, G, P]);
+        assert_eq!(classes(&[lit, lit, GAP, miss], 4, true, true), vec![P, E, G, E]);
+        assert_eq!(classes(&[(7, 0), lit, lit], 3, false, true), vec![S, S, P]);
     }
 }

@@ -27,8 +27,20 @@
 //!   edge is still gap-tested, and targets left of 0 are dropped without a write;
 //! - the paper reprojects the left *colour*; here a reprojected pixel only names its source
 //!   left pixel, and the mode decides what to reuse from its visible-surface record.
+//!
+//! How it runs, per row: first every target at once, four lanes at a time (the division is
+//! most of the arithmetic); then the scan, which writes runs of targets that go up one by
+//! one a block of four pixels at a time and takes the rules above pixel by pixel only where
+//! a run breaks (see `scan` for why that changes nothing). For the frame's pass the scan
+//! also carries each source's object id and light bits, read in scanline order alongside
+//! its target, into the right row's key planes for the classification (`classify.rs`), so
+//! no second pass gathers them by source index.
 
-use wide::{f32x4, i32x4};
+use std::ops::Range;
+
+use wide::{f32x4, i32x4, u32x4};
+
+use crate::classify::{GAP_LIGHTS, GAP_OBJECT};
 
 /// "No left pixel fills this right pixel": it must be retraced.
 pub const NO_SOURCE: u32 = u32::MAX;
@@ -47,9 +59,49 @@ pub fn reproject_row(
     src: &mut [u32],
     targets: &mut Vec<i32>,
 ) {
-    debug_assert_eq!(z.len(), src.len());
-    let w = src.len() as i32;
-    // First every target, in a loop the compiler vectorises:
+    assert_eq!(z.len(), src.len());
+    row_targets(z, shift_scale, distance, targets);
+    scan(targets, &mut Sources { src, row_base });
+}
+
+/// The left row's keys (see `classify.rs`) and the right row's planes they are carried to.
+pub(crate) struct KeyedRow<'a> {
+    /// The left row's object ids.
+    pub left_object: &'a [u32],
+    /// The left row's light bits.
+    pub left_lights: &'a [u32],
+    /// Source map of the right row, as [`reproject_row`] writes it.
+    pub src: &'a mut [u32],
+    /// Object id of each right pixel's source, or [`GAP_OBJECT`].
+    pub object: &'a mut [u32],
+    /// Light bits of each right pixel's source, or [`GAP_LIGHTS`].
+    pub lights: &'a mut [u32],
+}
+
+/// [`reproject_row`] that also carries each source's classification key, read in scanline
+/// order along with its target rather than gathered afterwards by source index: on return
+/// `row.object[j]` and `row.lights[j]` are the left pixel's that `row.src[j]` names, or
+/// ([`GAP_OBJECT`], [`GAP_LIGHTS`]) where it is [`NO_SOURCE`].
+pub(crate) fn reproject_row_keyed(
+    z: &[f32],
+    shift_scale: f32,
+    distance: f32,
+    row_base: u32,
+    row: KeyedRow<'_>,
+    targets: &mut Vec<i32>,
+) {
+    let w = z.len();
+    assert!([row.left_object.len(), row.left_lights.len(), row.src.len(), row.object.len(), row.lights.len()]
+        .iter()
+        .all(|&n| n == w));
+    row_targets(z, shift_scale, distance, targets);
+    scan(targets, &mut Keyed { row, row_base });
+}
+
+/// The target right pixel of every left pixel of a row, into `targets`.
+pub(crate) fn row_targets(z: &[f32], shift_scale: f32, distance: f32, targets: &mut Vec<i32>) {
+    let w = z.len() as i32;
+    // A loop the compiler vectorises:
     // x = i + ½ + e·(1 − d/(d+z)) (in pixels) = (i + ½ + e) − e·d/(d+z), written so that
     // z = +∞ shifts by exactly e rather than ∞/∞; j = ⌊x⌋ clamped to [−1, W] (the paper's M
     // for targets past the right edge; −1 for targets left of the image, which are dropped).
@@ -59,9 +111,11 @@ pub fn reproject_row(
         // ⌊x⌋ for x ≥ −1 is a truncation of x + 1, minus 1: no libm floorf.
         (x + 1.0) as i32 - 1
     };
-    targets.clear();
+    // Every entry is overwritten: no need to clear.
     targets.resize(z.len(), 0);
-    // Four at a time in SIMD lanes (the same operations in the same order as `target`).
+    // Four at a time in SIMD lanes (the same operations in the same order as `target`). The
+    // clamp's bounds are never NaN, so `fast_max` and `fast_min` (SSE's maxps and minps) give
+    // exactly what `max` and `min` give, which only add a NaN test of the bound.
     let lane = f32x4::new([0.0, 1.0, 2.0, 3.0]);
     let (lo, hi) = (f32x4::splat(-1.0), f32x4::splat(w as f32));
     let (offset4, sd4, d4, one) =
@@ -70,31 +124,219 @@ pub fn reproject_row(
     for (c, (zs, ts)) in z[..whole].chunks_exact(4).zip(targets[..whole].chunks_exact_mut(4)).enumerate() {
         let i = f32x4::splat((c * 4) as f32) + lane;
         let zv = f32x4::new([zs[0], zs[1], zs[2], zs[3]]);
-        let x = ((i + offset4) - sd4 / (d4 + zv)).max(lo).min(hi);
+        let x = ((i + offset4) - sd4 / (d4 + zv)).fast_max(lo).fast_min(hi);
         let t = (x + one).fast_trunc_int() - i32x4::splat(1);
         ts.copy_from_slice(t.as_array());
     }
     for i in whole..z.len() {
         targets[i] = target(i, z[i]);
     }
-    // Then the scan in scanline order.
-    src.fill(NO_SOURCE);
+}
+
+/// Pixels per block of the scan's fast path: one SSE2 vector of 32-bit lanes.
+const BLOCK: usize = 4;
+
+/// Where the scan writes: the source map alone, or the source map and the keys. `j` is a
+/// right pixel, `i` a left pixel, both in the row.
+trait RowSink {
+    /// Width of the row.
+    fn width(&self) -> usize;
+    /// Right pixel `j` is filled by left pixel `i`.
+    fn put(&mut self, j: usize, i: usize);
+    /// Writes the run of left pixels from `i` (whose target is `j`) in whole blocks of
+    /// [`BLOCK`] pixels, while whole blocks fit in the row and the `targets` continue the run.
+    /// Returns how many pixels continue it (0 when no whole block fits); the rest of the
+    /// last block written is provisional (see [`scan`]).
+    fn put_run(&mut self, j: usize, i: usize, targets: &[i32]) -> usize;
+    /// Right pixels `range` are not filled.
+    fn gap(&mut self, range: Range<usize>);
+    /// Right pixels `j..j + BLOCK` are not filled.
+    fn gap_block(&mut self, j: usize);
+}
+
+/// The scan in scanline order over the row's `targets`, writing into `sink`.
+///
+/// It applies the per-pixel rules, with two shortcuts that leave the result unchanged:
+/// - Most of a row is runs: left pixels whose targets go up by exactly one (a surface
+///   shifted by a constant whole number of pixels, typically tens of pixels long). Inside a
+///   run every target is `oldx + 1`, so there is no gap and each target is written in turn.
+///   A run is written a block of [`BLOCK`] pixels at a time, before the block's targets are
+///   checked: the run goes on to the first target that breaks it.
+/// - A short gap is filled as one whole block.
+///
+/// Both may write past what they stand for: a run's last block past the end of the run, a
+/// gap's block past the target j that ends the gap. Such writes are provisional: once the
+/// step that made them is done, each is either overwritten already or lies past the new
+/// `oldx`. And after any step, every right pixel p > `oldx` is written again by a later
+/// step as the per-pixel rules say: if some later target reaches p, the first one that does
+/// lands on p or jumps over it from below (a gap fill over p); if none does, the scanline's
+/// closing fill covers p. So the last write to every pixel is the one the per-pixel rules
+/// make, in the same order.
+fn scan(targets: &[i32], sink: &mut impl RowSink) {
+    let (n, w) = (targets.len(), sink.width() as i32);
+    debug_assert_eq!(n, sink.width());
     let mut oldx: i32 = -1;
-    for (i, &j) in targets.iter().enumerate() {
+    let mut i = 0;
+    while i < n {
+        let j = targets[i];
         if j - oldx > 1 {
-            let lo = (oldx + 1).max(0) as usize;
-            src[lo..j as usize].fill(NO_SOURCE);
+            // A gap: j > oldx + 1 ≥ 0. A short one is filled as a block ending at most
+            // BLOCK − 1 pixels after j, which are provisional.
+            let lo = (oldx + 1).max(0);
+            if j - lo <= BLOCK as i32 && lo + BLOCK as i32 <= w {
+                sink.gap_block(lo as usize);
+            } else {
+                sink.gap(lo as usize..j as usize);
+            }
         }
+        let run = if j >= 0 { sink.put_run(j as usize, i, targets) } else { 0 };
+        if run > 0 {
+            i += run;
+            oldx = j + run as i32 - 1;
+            continue;
+        }
+        // One pixel, near an edge of the image.
         if (0..w).contains(&j) {
-            src[j as usize] = row_base + i as u32;
+            sink.put(j as usize, i);
         }
         oldx = j;
+        i += 1;
     }
     // The right border: what lies after the last target came from beyond the left eye's
     // window edge, so only earlier, farther writes can be there. Close the scanline with a
     // target at W, as the paper's `M` does for pixels that leave the image.
     if oldx + 1 < w {
-        src[(oldx + 1).max(0) as usize..].fill(NO_SOURCE);
+        sink.gap((oldx + 1).max(0) as usize..w as usize);
+    }
+}
+
+/// Lane offsets of a block's targets.
+const LANES: [i32; BLOCK] = [0, 1, 2, 3];
+
+/// Lane offsets of a block's sources.
+const SOURCE_LANES: [u32; BLOCK] = [0, 1, 2, 3];
+
+/// How many of a block's `targets` (from the first) equal `expected`'s lanes.
+#[inline]
+fn continuing(targets: &[i32], expected: i32x4) -> usize {
+    let t = i32x4::new([targets[0], targets[1], targets[2], targets[3]]);
+    (!t.simd_eq(expected).to_bitmask()).trailing_zeros().min(BLOCK as u32) as usize
+}
+
+/// The length in whole blocks of the longest run from left pixel `i` to right pixel `j`
+/// that fits in a row of `targets.len()` pixels.
+#[inline]
+fn whole_blocks(targets: &[i32], j: usize, i: usize) -> usize {
+    let n = targets.len();
+    (n - j).min(n - i) / BLOCK * BLOCK
+}
+
+/// Writes the source map only.
+struct Sources<'a> {
+    src: &'a mut [u32],
+    row_base: u32,
+}
+
+impl RowSink for Sources<'_> {
+    fn width(&self) -> usize {
+        self.src.len()
+    }
+
+    #[inline]
+    fn put(&mut self, j: usize, i: usize) {
+        self.src[j] = self.row_base + i as u32;
+    }
+
+    #[inline]
+    fn put_run(&mut self, j: usize, i: usize, targets: &[i32]) -> usize {
+        let len = whole_blocks(targets, j, i);
+        let mut expected = i32x4::splat(j as i32) + i32x4::new(LANES);
+        let mut source = u32x4::splat(self.row_base + i as u32) + u32x4::new(SOURCE_LANES);
+        let mut run = 0;
+        for (t, src) in targets[i..i + len].chunks_exact(BLOCK).zip(self.src[j..j + len].chunks_exact_mut(BLOCK)) {
+            src.copy_from_slice(source.as_array());
+            let k = continuing(t, expected);
+            run += k;
+            if k < BLOCK {
+                break;
+            }
+            expected += i32x4::splat(BLOCK as i32);
+            source += u32x4::splat(BLOCK as u32);
+        }
+        run
+    }
+
+    #[inline]
+    fn gap(&mut self, range: Range<usize>) {
+        self.src[range].fill(NO_SOURCE);
+    }
+
+    #[inline]
+    fn gap_block(&mut self, j: usize) {
+        self.src[j..j + BLOCK].copy_from_slice(&[NO_SOURCE; BLOCK]);
+    }
+}
+
+/// Writes the source map and carries the keys.
+struct Keyed<'a> {
+    row: KeyedRow<'a>,
+    row_base: u32,
+}
+
+impl RowSink for Keyed<'_> {
+    fn width(&self) -> usize {
+        self.row.src.len()
+    }
+
+    #[inline]
+    fn put(&mut self, j: usize, i: usize) {
+        let r = &mut self.row;
+        r.src[j] = self.row_base + i as u32;
+        r.object[j] = r.left_object[i];
+        r.lights[j] = r.left_lights[i];
+    }
+
+    #[inline]
+    fn put_run(&mut self, j: usize, i: usize, targets: &[i32]) -> usize {
+        let r = &mut self.row;
+        let len = whole_blocks(targets, j, i);
+        let mut expected = i32x4::splat(j as i32) + i32x4::new(LANES);
+        let mut source = u32x4::splat(self.row_base + i as u32) + u32x4::new(SOURCE_LANES);
+        let mut run = 0;
+        let blocks = targets[i..i + len]
+            .chunks_exact(BLOCK)
+            .zip(r.src[j..j + len].chunks_exact_mut(BLOCK))
+            .zip(r.object[j..j + len].chunks_exact_mut(BLOCK).zip(r.lights[j..j + len].chunks_exact_mut(BLOCK)))
+            .zip(r.left_object[i..i + len].chunks_exact(BLOCK).zip(r.left_lights[i..i + len].chunks_exact(BLOCK)));
+        for (((t, src), (object, lights)), (left_object, left_lights)) in blocks {
+            src.copy_from_slice(source.as_array());
+            object.copy_from_slice(left_object);
+            lights.copy_from_slice(left_lights);
+            let k = continuing(t, expected);
+            run += k;
+            if k < BLOCK {
+                break;
+            }
+            expected += i32x4::splat(BLOCK as i32);
+            source += u32x4::splat(BLOCK as u32);
+        }
+        run
+    }
+
+    #[inline]
+    fn gap(&mut self, range: Range<usize>) {
+        let r = &mut self.row;
+        r.src[range.clone()].fill(NO_SOURCE);
+        r.object[range.clone()].fill(GAP_OBJECT);
+        r.lights[range].fill(GAP_LIGHTS);
+    }
+
+    #[inline]
+    fn gap_block(&mut self, j: usize) {
+        let r = &mut self.row;
+        r.src[j..j + BLOCK].copy_from_slice(&[NO_SOURCE; BLOCK]);
+        r.object[j..j + BLOCK].copy_from_slice(&[GAP_OBJECT; BLOCK]);
+        r.lights[j..j + BLOCK].copy_from_slice(&[GAP_LIGHTS; BLOCK]);
     }
 }
 

@@ -1,0 +1,262 @@
+//! The fast reprojection pass ([`reproject_and_classify`]: keys carried by a block-wise
+//! scan, banded, branch-free classification) against a plain reference, bit for bit: on
+//! random left films built to have runs, stretches, overlaps, points in front of the window
+//! and clipped rows, and on every scene at several IPDs.
+
+use tracer::{Eye, Film, Scene, Tracer, NO_OBJECT};
+
+use super::{reproject_and_classify, right_border_strip, Reprojection, StereoFrame};
+use crate::mode::{Mode, Options};
+use crate::reproject::{reproject_row, NO_SOURCE};
+use crate::stats::PixelClass;
+
+/// The reprojection and classification one pixel at a time, as the per-pixel rules in
+/// `reproject.rs` and `classify.rs` state them and as they were first written: a scalar
+/// scan per row, then each right pixel's 64-bit key (object, lights) gathered by source
+/// index, then a branchy per-pixel classification over the whole image.
+mod reference {
+    use super::{Film, PixelClass, Reprojection, NO_SOURCE};
+
+    /// Key of a pixel without a source.
+    const GAP_KEY: u64 = u64::MAX;
+
+    /// The right pixel left pixel `i` at depth `z` lands in, clamped to [−1, `w`].
+    fn target(i: usize, z: f32, shift_scale: f32, distance: f32, w: usize) -> i32 {
+        let (offset, scaled_distance) = (0.5 + shift_scale, shift_scale * distance);
+        let x = ((i as f32 + offset) - scaled_distance / (distance + z)).clamp(-1.0, w as f32);
+        (x + 1.0) as i32 - 1
+    }
+
+    /// The source map of one row.
+    pub(super) fn reproject_row(z: &[f32], shift_scale: f32, distance: f32, row_base: u32) -> Vec<u32> {
+        let w = z.len();
+        let mut src = vec![NO_SOURCE; w];
+        let mut oldx = -1;
+        for (i, &zi) in z.iter().enumerate() {
+            let j = target(i, zi, shift_scale, distance, w);
+            if j - oldx > 1 {
+                for s in &mut src[(oldx + 1).max(0) as usize..j as usize] {
+                    *s = NO_SOURCE;
+                }
+            }
+            if (0..w as i32).contains(&j) {
+                src[j as usize] = row_base + i as u32;
+            }
+            oldx = j;
+        }
+        if oldx + 1 < w as i32 {
+            for s in &mut src[(oldx + 1).max(0) as usize..] {
+                *s = NO_SOURCE;
+            }
+        }
+        src
+    }
+
+    /// The source map and the classes of the whole right image.
+    pub(super) fn reproject_and_classify(left: &Film, p: Reprojection) -> (Vec<u32>, Vec<PixelClass>) {
+        let (w, h) = (left.width() as usize, left.height() as usize);
+        let mut src = Vec::with_capacity(w * h);
+        for (j, z) in left.z.chunks(w).enumerate() {
+            let mut row = reproject_row(z, p.shift_scale, p.distance, (j * w) as u32);
+            row[w - p.strip..].fill(NO_SOURCE);
+            src.extend(row);
+        }
+        let keys: Vec<u64> = src
+            .iter()
+            .map(|&s| {
+                if s == NO_SOURCE {
+                    GAP_KEY
+                } else {
+                    (u64::from(left.object[s as usize]) << 32) | u64::from(left.lights[s as usize])
+                }
+            })
+            .collect();
+        let key = |i: usize, j: usize| keys[j * w + i];
+        let mut mask = Vec::with_capacity(w * h);
+        for j in 0..h {
+            for i in 0..w {
+                let me = key(i, j);
+                if me == GAP_KEY {
+                    mask.push(PixelClass::RetracedGap);
+                    continue;
+                }
+                let neighbours = [
+                    key(i.saturating_sub(1), j),
+                    key((i + 1).min(w - 1), j),
+                    key(i, j.saturating_sub(1)),
+                    key(i, (j + 1).min(h - 1)),
+                ];
+                let (mut edge, mut shadow) = (false, false);
+                for n in neighbours {
+                    if n == GAP_KEY {
+                        edge |= p.edges;
+                    } else {
+                        edge |= p.edges && (n >> 32) != (me >> 32);
+                        shadow |= p.shadows && (n as u32) != (me as u32);
+                    }
+                }
+                mask.push(if edge {
+                    PixelClass::RetracedEdge
+                } else if shadow {
+                    PixelClass::RetracedShadow
+                } else {
+                    PixelClass::Reprojected
+                });
+            }
+        }
+        (src, mask)
+    }
+}
+
+/// xorshift64*: a small deterministic generator, so that a failure names a case to rerun.
+struct Rng(u64);
+
+impl Rng {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+
+    /// Uniform in 0..n.
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+
+    /// Uniform in lo..hi.
+    fn range(&mut self, lo: f32, hi: f32) -> f32 {
+        lo + (hi - lo) * (self.next() >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
+/// A random left film that obeys the tracer's invariants (a miss is at +∞ with no object
+/// and no light; a hit names one of a few spheres): rows of segments that are misses, flat,
+/// slanted, noisy, on the window or in front of it, each segment one sphere; half the rows
+/// repeat the row above, so that there are vertical runs of equal keys too.
+fn random_film(rng: &mut Rng, w: usize, h: usize, distance: f32) -> Film {
+    let mut film = Film::new(w as u32, h as u32);
+    for j in 0..h {
+        if j > 0 && rng.below(2) == 0 {
+            for plane in [&mut film.object, &mut film.lights] {
+                plane.copy_within((j - 1) * w..j * w, j * w);
+            }
+            film.z.copy_within((j - 1) * w..j * w, j * w);
+            continue;
+        }
+        let mut i = 0;
+        while i < w {
+            let len = 1 + rng.below((w - i).min(48));
+            let kind = rng.below(7);
+            let (object, lights) = match rng.below(8) {
+                0 => (rng.below(4) as u32, u32::MAX),
+                1 => (rng.below(4) as u32, rng.next() as u32),
+                _ => (rng.below(4) as u32, rng.below(3) as u32),
+            };
+            let (z0, z1) = (rng.range(-0.95 * distance, 6.0 * distance), rng.range(-0.5 * distance, 3.0 * distance));
+            for k in 0..len {
+                let t = k as f32 / len as f32;
+                let z = match kind {
+                    0 => f32::INFINITY,
+                    1 => z0,
+                    2 => z0 + (z1 - z0) * t,
+                    3 => rng.range(-0.9 * distance, 10.0 * distance),
+                    4 => 0.0,
+                    5 => -distance * rng.range(0.5, 0.99),
+                    _ => z1 * t * t,
+                };
+                let at = j * w + i + k;
+                film.z[at] = z;
+                (film.object[at], film.lights[at]) = if z == f32::INFINITY { (NO_OBJECT, 0) } else { (object, lights) };
+            }
+            i += len;
+        }
+    }
+    film
+}
+
+/// Runs the fast pass on `left`, in a pool of `threads` threads.
+fn fast(left: &Film, p: Reprojection, threads: usize) -> (Vec<u32>, Vec<PixelClass>) {
+    let n = (left.width() * left.height()) as usize;
+    let (mut src, mut mask) = (vec![0; n], vec![PixelClass::Traced; n]);
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    pool.install(|| reproject_and_classify(left, p, &mut src, &mut mask));
+    (src, mask)
+}
+
+#[test]
+fn the_fast_pass_equals_the_reference_on_random_films() {
+    let mut rng = Rng(0x5EED_2024_0BAD_CAFE);
+    let widths = [1, 2, 3, 4, 5, 7, 8, 9, 31, 64, 101, 250];
+    let heights = [1, 2, 3, 15, 16, 17, 33, 40];
+    for case in 0..300 {
+        let (w, h) = (widths[rng.below(widths.len())], heights[rng.below(heights.len())]);
+        let distance = rng.range(2.0, 30.0);
+        let shift_scale = [0.0, 0.3, 1.0, 2.5, 7.0, rng.range(0.0, 120.0)][rng.below(6)];
+        let strip = [0, 0, 1, rng.below(w + 1), w][rng.below(5)];
+        let left = random_film(&mut rng, w, h, distance);
+        for (edges, shadows) in [(false, false), (true, false), (false, true), (true, true)] {
+            let p = Reprojection { shift_scale, distance, strip, edges, shadows };
+            let expected = reference::reproject_and_classify(&left, p);
+            let threads = 1 + case % 3;
+            let (src, mask) = fast(&left, p, threads);
+            assert!(src == expected.0, "case {case}: {w}×{h}, {p:?}, {threads} threads: source maps differ");
+            assert!(mask == expected.1, "case {case}: {w}×{h}, {p:?}, {threads} threads: classes differ");
+        }
+        // The public one-row function, without the border strip.
+        for (j, z) in left.z.chunks(w).enumerate() {
+            let mut src = vec![0; w];
+            reproject_row(z, shift_scale, distance, (j * w) as u32, &mut src, &mut Vec::new());
+            assert_eq!(src, reference::reproject_row(z, shift_scale, distance, (j * w) as u32), "case {case}, row {j}");
+        }
+    }
+}
+
+#[test]
+fn the_fast_pass_equals_the_reference_on_every_scene() {
+    let scenes = [
+        ("seed.toml", include_str!("../../../../assets/scenes/seed.toml")),
+        ("many.toml", include_str!("../../../../assets/scenes/many.toml")),
+        ("thousand.toml", include_str!("../../../../assets/scenes/thousand.toml")),
+        ("window.toml", include_str!("../../../../assets/scenes/window.toml")),
+    ];
+    // Not multiples of the band height or of the scan's block.
+    let (w, h) = (203, 115);
+    let mut frame = StereoFrame::new();
+    for (name, text) in scenes {
+        let scene = Scene::from_toml(text, name).unwrap();
+        for ipd in [0.0, 0.05, scene.camera.ipd, 1.7] {
+            for t in [0.0, 2.7] {
+                let camera = tracer::Camera { ipd, ..scene.camera };
+                let tracer = Tracer::new(&scene, t);
+                frame.render(&tracer, &camera, w, h, Options { mode: Mode::Copy, retrace_edges: false });
+                let rv = camera.view(Eye::Right, w, h);
+                let shift_scale = camera.ipd * rv.pixels_per_unit();
+                let strip = right_border_strip(&tracer, &camera, shift_scale, w as usize);
+                let p = |edges, shadows| Reprojection { shift_scale, distance: camera.distance, strip, edges, shadows };
+                // Through the stage as the modes call it (edges and shadows off at IPD 0)…
+                for opts in [
+                    Options { mode: Mode::Copy, retrace_edges: false },
+                    Options { mode: Mode::Reshade, retrace_edges: true },
+                    Options { mode: Mode::Exact, retrace_edges: false },
+                ] {
+                    frame.reproject(&tracer, &camera, &rv, opts);
+                    let moved = ipd != 0.0;
+                    let expected = reference::reproject_and_classify(
+                        &frame.left,
+                        p(opts.edges() && moved, opts.shadow_boundaries() && moved),
+                    );
+                    let at = format!("{name}, IPD {ipd}, t = {t}, {opts:?}");
+                    assert!(frame.src == expected.0, "{at}: source maps differ");
+                    assert!(frame.mask == expected.1, "{at}: classes differ");
+                }
+                // …and every option pair directly.
+                for (edges, shadows) in [(false, false), (true, false), (false, true), (true, true)] {
+                    let expected = reference::reproject_and_classify(&frame.left, p(edges, shadows));
+                    let got = fast(&frame.left, p(edges, shadows), 2);
+                    assert!(got == expected, "{name}, IPD {ipd}, t = {t}, edges {edges}, shadows {shadows}: differ");
+                }
+            }
+        }
+    }
+}
