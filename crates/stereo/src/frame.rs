@@ -285,6 +285,19 @@ impl StereoFrame {
     fn fill(&mut self, tracer: &Tracer, rv: &EyeView, mode: Mode) -> (RayCounts, u64) {
         let w = rv.width as usize;
         let (left, bins) = (&self.left, &self.right_bins);
+        if mode == Mode::Copy {
+            // The paper's mode is a gather of finished colours: a loop of its own.
+            self.right.rgb.par_chunks_mut(w).zip(self.mask.par_chunks(w)).zip(self.src.par_chunks(w)).for_each(
+                |((rgb, mask), src)| {
+                    for ((px, &class), &s) in rgb.iter_mut().zip(mask).zip(src) {
+                        if class == PixelClass::Reprojected {
+                            *px = left.rgb[s as usize];
+                        }
+                    }
+                },
+            );
+            return (RayCounts::default(), 0);
+        }
         self.right
             .rgb
             .par_chunks_mut(w)
@@ -302,8 +315,7 @@ impl StereoFrame {
                     let object = left.object[s];
                     let hit = object != NO_OBJECT;
                     match mode {
-                        Mode::Full => unreachable!("full mode does not reproject"),
-                        Mode::Copy => rgb[i] = left.rgb[s],
+                        Mode::Full | Mode::Copy => unreachable!("full mode does not reproject; copy is above"),
                         Mode::Reshade => {
                             rgb[i] = if hit {
                                 let dir = rv.primary_ray(i as u32, j as u32).dir;
