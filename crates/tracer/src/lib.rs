@@ -19,6 +19,7 @@
 mod bvh;
 mod camera;
 mod color;
+mod cones;
 mod error;
 mod film;
 mod primary;

@@ -103,6 +103,15 @@ impl Tracer {
         }
     }
 
+    /// Radiance arriving along `ray`, a mirror ray spawned from sphere `from` (normal `n`
+    /// there), at depth `depth`.
+    fn trace_reflection(&self, from: u32, n: Vec3, ray: &Ray, depth: u32, counts: &mut RayCounts) -> Vec3 {
+        match self.intersect_from(from, n, ray) {
+            Some((t, object)) => self.shade_hit(ray, t, object, depth, Visibility::Trace, counts).0,
+            None => self.settings.background,
+        }
+    }
+
     /// Traces the primary ray of pixel (i, j) of `view` and shades it fully.
     #[inline]
     #[must_use]
@@ -275,7 +284,7 @@ impl Tracer {
             counts.reflection += 1;
             // d and n are unit, so r is too, to rounding: no normalisation needed.
             let reflected = spawn_ray(p, n, reflect(d, n));
-            out += m.reflectivity * self.trace(&reflected, depth + 1, counts);
+            out += m.reflectivity * self.trace_reflection(object, n, &reflected, depth + 1, counts);
         }
         out
     }

@@ -3,6 +3,7 @@
 use glam::Vec3;
 
 use crate::bvh::Bvh;
+use crate::cones::Cones;
 use crate::ray::{Ray, SPAWN_EPSILON};
 use crate::scene::{Light, Material, RenderSettings, Scene};
 use crate::shade::Exponent;
@@ -23,6 +24,7 @@ pub struct Tracer {
     pub(crate) background_rgb: u32,
     bvh: Bvh,
     shadows: ShadowBins,
+    pub(crate) cones: Cones,
 }
 
 impl Tracer {
@@ -56,6 +58,7 @@ impl Tracer {
         let reach = self.centers.iter().zip(&self.radii).map(|(c, r)| c.abs().max_element() + r).fold(0.0, f32::max);
         let spawn_offset = 2.0 * SPAWN_EPSILON * (1.0 + reach);
         self.shadows.build(&self.centers, &self.radii, &self.lights, spawn_offset);
+        self.cones.build(&self.centers, &self.radii, spawn_offset);
     }
 
     /// The render settings in force (reflection depth, background, ambient).
@@ -102,6 +105,21 @@ impl Tracer {
     #[must_use]
     pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
         self.bvh.occluded(ray, t_max)
+    }
+
+    /// Closest hit of `ray`, spawned (by [`crate::spawn_ray`]) from a point of sphere `from`
+    /// with outward normal `n`. A ray leaving outwards cannot meet its own sphere again, so
+    /// in small scenes it is tested against the direction cones to the other spheres; one
+    /// going inwards (an eye inside a sphere) or a large scene goes through the BVH. The
+    /// answer is the same either way.
+    #[inline]
+    #[must_use]
+    pub fn intersect_from(&self, from: u32, n: Vec3, ray: &Ray) -> Option<(f32, u32)> {
+        if ray.dir.dot(n) >= 0.0 && self.cones.is_built() {
+            self.cones.intersect_from(from, ray, f32::INFINITY)
+        } else {
+            self.intersect(ray, f32::INFINITY)
+        }
     }
 
     /// The shadow query: whether anything blocks `ray`, spawned from the surface point `p`

@@ -1,10 +1,13 @@
 //! The viewer window: a winit 0.30 [`ApplicationHandler`] that shows the two eyes side by side
 //! with softbuffer and an egui panel over them.
 //!
-//! Per UI frame (about 60 a second, paced with `ControlFlow::WaitUntil`, whatever the
-//! renderer's speed): take the newest finished stereo frame from the [`Worker`], run the egui
-//! panel, post the settings as the next render request, compose the eyes into the softbuffer
-//! frame, rasterise the UI over them (`egui_software_backend`), present once. Tracing happens
+//! The UI ticks 60 times a second (paced with `ControlFlow::WaitUntil`). On a tick it redraws
+//! only when there is something new to show: a finished stereo frame from the [`Worker`],
+//! input, a moving head, an egui animation, or a quarter second gone by; otherwise it just
+//! posts the next render request, so the two cores go to tracing rather than to repainting
+//! an unchanged window. A redraw takes the newest frame, runs the egui panel, posts the
+//! settings as the next render request, composes the eyes into the softbuffer frame,
+//! rasterises the UI over them (`egui_software_backend`) and presents once. Tracing happens
 //! only on the worker thread, never while the softbuffer buffer is held.
 //!
 //! Keys (ignored while egui has keyboard focus, e.g. typing a slider value): W/Up and Down
@@ -39,8 +42,12 @@ use crate::timing::{RateMeter, SceneClock};
 use crate::ui::{self, FrameTimes, Readout, Settings};
 use crate::worker::{Request, Worker};
 
-/// Time between UI frames (60 Hz).
+/// Time between UI ticks (60 Hz).
 const FRAME_INTERVAL: Duration = Duration::from_micros(16_667);
+
+/// Longest time between redraws of an otherwise unchanged window (clocks and rates in the
+/// panel keep moving).
+const IDLE_REDRAW: Duration = Duration::from_millis(250);
 
 /// Longest time step a held movement key advances the head by, so a stall does not jump.
 const MAX_MOVE_STEP: f32 = 0.1;
@@ -164,6 +171,10 @@ struct App {
     /// Sequence number of the newest rendered frame seen.
     last_seq: u64,
     next_redraw: Instant,
+    /// Input arrived, or egui asked for a repaint, since the last redraw.
+    dirty: bool,
+    /// When the window was last redrawn.
+    last_redraw: Instant,
     /// Time spent in `redraw` and frames drawn since the last fps log line.
     ui_busy: (Duration, u32),
     /// Copy of the last presented frame, kept only with `--dump`.
@@ -215,6 +226,8 @@ impl App {
             presented_with_eyes: 0,
             last_seq: 0,
             next_redraw: now,
+            dirty: true,
+            last_redraw: now,
             ui_busy: (Duration::ZERO, 0),
             dump: (Vec::new(), 0, 0),
             error: None,
@@ -381,9 +394,21 @@ impl App {
         }
     }
 
+    /// Posts the render request for a `width` × `height` window at `now` (none for a
+    /// minimised window). The worker ignores a request equal to the last one.
+    fn post_request(&mut self, width: u32, height: u32, now: Instant) {
+        let (eye_w, eye_h) = present::eye_size(width, height);
+        if eye_w > 0 {
+            let request = self.request(eye_w, eye_h, now);
+            self.worker.post(request);
+        }
+    }
+
     /// One UI frame. A minimised (zero-sized) window is skipped entirely.
     fn redraw(&mut self, event_loop: &ActiveEventLoop) -> anyhow::Result<()> {
         let now = Instant::now();
+        self.dirty = false;
+        self.last_redraw = now;
         self.move_head(now);
         let Some(gfx) = self.gfx.as_mut() else { return Ok(()) };
         let size = gfx.window.inner_size();
@@ -438,6 +463,9 @@ impl App {
         let mut actions = ui::Actions::default();
         let folder = &mut self.folder;
         let output = self.egui.run_ui(raw_input, |ui| actions = ui::panel(ui.ctx(), &mut settings, &readout, folder));
+        let repaint_now =
+            output.viewport_output.get(&egui::ViewportId::ROOT).is_some_and(|v| v.repaint_delay.is_zero());
+        self.dirty |= repaint_now;
         gfx.egui_winit.handle_platform_output(&gfx.window, output.platform_output);
         if actions.reset {
             settings.reset_camera(&self.scene);
@@ -454,11 +482,8 @@ impl App {
         }
 
         // The next render request.
-        let (eye_w, eye_h) = present::eye_size(size.width, size.height);
-        if eye_w > 0 {
-            let request = self.request(eye_w, eye_h, now);
-            self.worker.post(request);
-        }
+        let (eye_w, _) = present::eye_size(size.width, size.height);
+        self.post_request(size.width, size.height, now);
 
         // Compose, draw the UI over the eyes, present once.
         let Some(gfx) = self.gfx.as_mut() else { return Ok(()) };
@@ -516,6 +541,9 @@ impl ApplicationHandler for App {
         let Some(gfx) = self.gfx.as_mut() else { return };
         // egui sees every event; its `repaint` hint is not needed, the UI redraws at a fixed rate.
         let _ = gfx.egui_winit.on_window_event(&gfx.window, &event);
+        if !matches!(event, WindowEvent::RedrawRequested) {
+            self.dirty = true;
+        }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::KeyboardInput {
@@ -555,8 +583,15 @@ impl ApplicationHandler for App {
         }
         let now = Instant::now();
         if now >= self.next_redraw {
-            if let Some(gfx) = &self.gfx {
-                gfx.window.request_redraw();
+            let moving = self.held.direction() != (0.0, 0.0) || self.drag.active;
+            let due = self.dirty || moving || self.worker.has_fresh() || now - self.last_redraw >= IDLE_REDRAW;
+            if let Some(size) = self.gfx.as_ref().map(|gfx| gfx.window.inner_size()) {
+                if due {
+                    self.gfx.as_ref().inspect(|gfx| gfx.window.request_redraw());
+                } else {
+                    // Nothing new to show: keep the renderer fed (the scene clock moves on).
+                    self.post_request(size.width, size.height, now);
+                }
             }
             // Keep the cadence, but never try to catch up on missed frames.
             self.next_redraw = (self.next_redraw + FRAME_INTERVAL).max(now + FRAME_INTERVAL / 2);

@@ -170,6 +170,11 @@ impl Worker {
         &self.front
     }
 
+    /// Whether the worker has finished a frame that [`Worker::latest`] has not yet taken.
+    pub fn has_fresh(&self) -> bool {
+        lock(&self.shared.outbox).fresh
+    }
+
     /// The frame returned by the last [`Worker::latest`].
     pub fn current(&self) -> &Finished {
         &self.front
