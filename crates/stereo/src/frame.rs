@@ -283,6 +283,7 @@ impl StereoFrame {
     /// single-sphere tests. In exact mode a pixel whose centre ray misses the named sphere
     /// is a silhouette the edge test did not catch: it is retraced and marked as an edge.
     fn fill(&mut self, tracer: &Tracer, rv: &EyeView, mode: Mode) -> (RayCounts, u64) {
+        debug_assert_ne!(mode, Mode::Full, "full mode does not reproject");
         let w = rv.width as usize;
         let (left, bins) = (&self.left, &self.right_bins);
         if mode == Mode::Copy {
@@ -307,37 +308,53 @@ impl StereoFrame {
             .map(|(j, ((rgb, mask), src))| {
                 let mut counts = RayCounts::default();
                 let mut tests = 0u64;
-                for i in 0..w {
-                    if mask[i] != PixelClass::Reprojected {
+                let j32 = j as u32;
+                if mode == Mode::Reshade {
+                    for i in 0..w {
+                        if mask[i] != PixelClass::Reprojected {
+                            continue;
+                        }
+                        let s = src[i] as usize;
+                        rgb[i] = if left.object[s] == NO_OBJECT {
+                            left.rgb[s]
+                        } else {
+                            let dir = rv.primary_ray(i as u32, j32).dir;
+                            tracer.reshade(dir, &left.surface(s), &mut counts)
+                        };
+                    }
+                    return (counts, tests);
+                }
+                // Exact: the single-sphere tests four pixels at a time.
+                for i0 in (0..w).step_by(4) {
+                    let n = (w - i0).min(4);
+                    let mut objects = [NO_OBJECT; 4];
+                    for (k, object) in objects.iter_mut().enumerate().take(n) {
+                        let i = i0 + k;
+                        if mask[i] == PixelClass::Reprojected {
+                            let s = src[i] as usize;
+                            *object = left.object[s];
+                            if *object == NO_OBJECT {
+                                rgb[i] = left.rgb[s];
+                            }
+                        }
+                    }
+                    if objects == [NO_OBJECT; 4] {
                         continue;
                     }
-                    let s = src[i] as usize;
-                    let object = left.object[s];
-                    let hit = object != NO_OBJECT;
-                    match mode {
-                        Mode::Full | Mode::Copy => unreachable!("full mode does not reproject; copy is above"),
-                        Mode::Reshade => {
-                            rgb[i] = if hit {
-                                let dir = rv.primary_ray(i as u32, j as u32).dir;
-                                tracer.reshade(dir, &left.surface(s), &mut counts)
-                            } else {
-                                left.rgb[s]
-                            };
+                    let hits = tracer.primary_hits_on(rv, i0 as u32, j32, objects);
+                    for (k, ((ray, t), object)) in hits.into_iter().zip(objects).enumerate().take(n) {
+                        if object == NO_OBJECT {
+                            continue;
                         }
-                        Mode::Exact => {
-                            rgb[i] = if hit {
-                                tests += 1;
-                                let ray = rv.primary_ray(i as u32, j as u32);
-                                if let Some(t) = tracer.intersect_object(&ray, object) {
-                                    tracer.shade_known_visibility(rv, &ray, t, object, left.lights[s], &mut counts).rgb
-                                } else {
-                                    mask[i] = PixelClass::RetracedEdge;
-                                    tracer.trace_primary(bins, i as u32, j as u32, &mut counts).rgb
-                                }
-                            } else {
-                                left.rgb[s]
-                            };
-                        }
+                        let i = i0 + k;
+                        tests += 1;
+                        rgb[i] = if let Some(t) = t {
+                            let lights = left.lights[src[i] as usize];
+                            tracer.shade_known_visibility(rv, &ray, t, object, lights, &mut counts).rgb
+                        } else {
+                            mask[i] = PixelClass::RetracedEdge;
+                            tracer.trace_primary(bins, i as u32, j32, &mut counts).rgb
+                        };
                     }
                 }
                 (counts, tests)

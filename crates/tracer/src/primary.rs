@@ -36,9 +36,10 @@ use glam::{DVec3, Vec3};
 use wide::f32x4;
 
 use crate::camera::EyeView;
+use crate::film::NO_OBJECT;
 use crate::ray::Ray;
 use crate::shade::Shaded;
-use crate::sphere::SphereFromOrigin;
+use crate::sphere::{hits_each, SphereFromOrigin};
 use crate::stats::RayCounts;
 use crate::world::Tracer;
 
@@ -249,6 +250,22 @@ impl Tracer {
         }
     }
 
+    /// The primary rays of pixels (i + k, j), k = 0..4, of `view`, each tested against the
+    /// one sphere `objects[k]` alone ([`crate::NO_OBJECT`] lanes are skipped): per lane the
+    /// ray and its hit parameter, if it hits. `stereo`'s exact mode, four pixels at a time:
+    /// the rays are bit-for-bit [`EyeView::primary_ray`]'s and the `t` that of
+    /// [`Tracer::intersect_object`].
+    #[must_use]
+    pub fn primary_hits_on(&self, view: &EyeView, i: u32, j: u32, objects: [u32; 4]) -> [(Ray, Option<f32>); 4] {
+        let dirs = view.primary_dirs4(i, j);
+        let spheres = objects.map(|k| (k != NO_OBJECT).then(|| (self.centers[k as usize], self.radii[k as usize])));
+        let t = hits_each(view.origin, spheres, dirs).to_array();
+        std::array::from_fn(|k| {
+            let dir = Vec3::new(dirs[0].as_array()[k], dirs[1].as_array()[k], dirs[2].as_array()[k]);
+            (Ray::new(view.origin, dir), t[k].is_finite().then_some(t[k]))
+        })
+    }
+
     /// Traces and shades pixels (i + k, j), k = 0..n (n ≤ 4), which lie in one tile, into
     /// `out(k, sample)`: the same samples as [`Tracer::trace_primary`] one by one.
     ///
@@ -313,6 +330,42 @@ mod tests {
             }
             assert_eq!(a, b);
         }
+    }
+
+    #[test]
+    fn four_single_sphere_tests_equal_one_at_a_time() {
+        let scene = scene("many.toml");
+        let tracer = Tracer::new(&scene, 0.0);
+        let view = scene.camera.view(Eye::Right, 96, 54);
+        let n = tracer.sphere_count() as u32;
+        let mut hits = 0;
+        for j in 0..54 {
+            for i in (0..96).step_by(4) {
+                let objects =
+                    [i % n, NO_OBJECT, (7 * j) % n, (i + j) % n].map(|k| if k == NO_OBJECT { k } else { (k * 13) % n });
+                for (k, (ray, t)) in tracer.primary_hits_on(&view, i, j, objects).into_iter().enumerate() {
+                    let one = view.primary_ray(i + k as u32, j);
+                    assert_eq!(ray, one);
+                    let want = (objects[k] != NO_OBJECT).then(|| tracer.intersect_object(&one, objects[k])).flatten();
+                    assert_eq!(t.map(f32::to_bits), want.map(f32::to_bits), "({i} + {k}, {j})");
+                    hits += usize::from(t.is_some());
+                }
+            }
+        }
+        // Aim some lanes at what the pixel actually sees, so hits are tested too.
+        for j in 0..54 {
+            for i in (0..96).step_by(4) {
+                let objects: [u32; 4] = std::array::from_fn(|k| {
+                    tracer.intersect(&view.primary_ray(i + k as u32, j), f32::INFINITY).map_or(NO_OBJECT, |h| h.1)
+                });
+                for (k, (ray, t)) in tracer.primary_hits_on(&view, i, j, objects).into_iter().enumerate() {
+                    let want = (objects[k] != NO_OBJECT).then(|| tracer.intersect_object(&ray, objects[k])).flatten();
+                    assert_eq!(t.map(f32::to_bits), want.map(f32::to_bits));
+                    hits += usize::from(t.is_some());
+                }
+            }
+        }
+        assert!(hits > 500, "{hits}");
     }
 
     #[test]
