@@ -151,7 +151,7 @@ impl EyeView {
     /// The camera ray through the centre of pixel (i, j).
     ///
     /// The pixel centre lies on the window at x = ((i + ½)/W − ½)·width,
-    /// y = (½ − (j + ½)/H)·height. Lane 0 of [`EyeView::primary_dirs4`], so a ray made one
+    /// y = (½ − (j + ½)/H)·height. Lane 0 of `EyeView::primary_dirs4`, so a ray made one
     /// at a time is bit-for-bit the one made four at a time.
     #[inline]
     #[must_use]

@@ -5,6 +5,12 @@
 //! (ambient + Lambert diffuse with hard shadows + Blinn–Phong highlights + mirror
 //! reflection; Whitted 1980), and the parallel renderer that fills a [`Film`].
 //!
+//! Rays are answered by the cheapest structure that is exact for them: primary rays by
+//! screen-space tile bins ([`PrimaryBins`], four rays per SIMD test), shadow rays by a cube
+//! map of sphere lists around each light, mirror rays in small scenes by direction cones
+//! between spheres, and anything else by a BVH with SIMD leaves. Each gives bit-for-bit the
+//! BVH's answer (tests compare them on every scene).
+//!
 //! Besides colour, the film keeps a per-pixel *visible-surface record*
 //! ([`Surface`]): hit point, normal, depth, object id, per-light visibility and the
 //! view-independent part of the light. The `stereo` crate reads that record to build the
