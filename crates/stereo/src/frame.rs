@@ -269,9 +269,17 @@ impl StereoFrame {
             .enumerate()
             .map(|(j, (rgb, mask))| {
                 let mut counts = RayCounts::default();
-                for (i, &class) in mask.iter().enumerate() {
-                    if class != PixelClass::Reprojected {
-                        rgb[i] = tracer.trace_primary(bins, i as u32, j as u32, &mut counts).rgb;
+                let j = j as u32;
+                for (i0, (rgb, mask)) in rgb.chunks_mut(4).zip(mask.chunks(4)).enumerate().map(|(q, c)| (4 * q, c)) {
+                    // Gaps come in strips: four in a row (one tile) are traced together.
+                    if mask.iter().all(|&c| c != PixelClass::Reprojected) {
+                        tracer.trace_primary4(bins, i0 as u32, j, mask.len(), &mut counts, |k, s| rgb[k] = s.rgb);
+                        continue;
+                    }
+                    for (k, &class) in mask.iter().enumerate() {
+                        if class != PixelClass::Reprojected {
+                            rgb[k] = tracer.trace_primary(bins, (i0 + k) as u32, j, &mut counts).rgb;
+                        }
                     }
                 }
                 counts

@@ -283,6 +283,12 @@ impl Tracer {
     ) {
         let view = bins.view.as_ref().expect("PrimaryBins::build before tracing");
         counts.primary += n as u64;
+        if bins.is_empty_at(i, j) {
+            for k in 0..n.min(4) {
+                out(k, self.miss_sample());
+            }
+            return;
+        }
         let dirs = view.primary_dirs4(i, j);
         let (t, ids) = bins.closest4(i, j, dirs);
         for k in 0..n.min(4) {

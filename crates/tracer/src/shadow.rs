@@ -154,8 +154,9 @@ impl ShadowBins {
         }
         let face = 2 * m + usize::from(major < 0.0);
         let (a, b) = ((m + 1) % 3, (m + 2) % 3);
-        let inv = 1.0 / f64::from(major.abs());
-        let (u, v) = (f64::from(w[a]) * inv, f64::from(w[b]) * inv);
+        // In f32: its rounding (~10⁻⁷) is far inside the bound's padding.
+        let inv = major.abs().recip();
+        let (u, v) = (f64::from(w[a] * inv), f64::from(w[b] * inv));
         let index = k * CELLS + face * (RES * RES) as usize + (cell(v) * RES + cell(u)) as usize;
         let packets = &self.packets[self.first[index] as usize..self.first[index + 1] as usize];
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
