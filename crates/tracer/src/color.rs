@@ -73,15 +73,21 @@ static TABLE: LazyLock<EncodeTable> = LazyLock::new(|| {
 #[inline]
 #[must_use]
 pub fn linear_to_srgb8(c: f32) -> u8 {
-    if c.is_nan() || c < MIN_LINEAR {
-        return 0;
+    TABLE.encode(c)
+}
+
+impl EncodeTable {
+    #[inline]
+    fn encode(&self, c: f32) -> u8 {
+        if c.is_nan() || c < MIN_LINEAR {
+            return 0;
+        }
+        if c >= 1.0 {
+            return 255;
+        }
+        let k = self.base[((c.to_bits() >> BUCKET_SHIFT) - FIRST_BUCKET) as usize];
+        k + u8::from(c >= self.thresholds[k as usize])
     }
-    if c >= 1.0 {
-        return 255;
-    }
-    let table = &*TABLE;
-    let k = table.base[((c.to_bits() >> BUCKET_SHIFT) - FIRST_BUCKET) as usize];
-    k + u8::from(c >= table.thresholds[k as usize])
 }
 
 /// Decodes one 8-bit sRGB value to linear light.
@@ -95,10 +101,12 @@ static DECODE: LazyLock<[f32; 256]> = LazyLock::new(|| std::array::from_fn(|v| d
 
 /// Packs linear radiance into a `0x00RRGGBB` sRGB pixel.
 #[must_use]
+#[inline]
 pub fn pack_rgb(c: Vec3) -> u32 {
-    let r = u32::from(linear_to_srgb8(c.x));
-    let g = u32::from(linear_to_srgb8(c.y));
-    let b = u32::from(linear_to_srgb8(c.z));
+    let table = &*TABLE;
+    let r = u32::from(table.encode(c.x));
+    let g = u32::from(table.encode(c.y));
+    let b = u32::from(table.encode(c.z));
     (r << 16) | (g << 8) | b
 }
 
