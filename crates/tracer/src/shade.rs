@@ -198,8 +198,7 @@ impl Tracer {
         let p = ray.at(t);
         // Normalised rather than divided by r: the hit lies on the sphere only to rounding.
         let n = (p - self.centers[k]).normalize();
-        let m = &self.materials[k];
-        let (diffuse, lights, dirs) = self.view_independent(p, n, m.color, m.diffuse, vis, counts);
+        let (diffuse, lights, dirs) = self.view_independent(object, p, n, vis, counts);
         let color = diffuse + self.view_dependent(p, n, ray.dir, object, lights, Some(&dirs), depth, counts);
         (color, Surface { point: p, normal: n, diffuse, object, lights })
     }
@@ -217,10 +216,9 @@ impl Tracer {
     /// directions to the first [`KEPT_LIGHTS`] lights for the highlights.
     fn view_independent(
         &self,
+        object: u32,
         p: Vec3,
         n: Vec3,
-        color: Vec3,
-        kd: f32,
         vis: Visibility,
         counts: &mut RayCounts,
     ) -> (Vec3, u32, LightDirs) {
@@ -239,7 +237,7 @@ impl Tracer {
             let visible = match vis {
                 Visibility::Trace => {
                     counts.shadow += 1;
-                    !self.shadowed(k, p, &spawn_ray(p, n, l), dist)
+                    !self.shadowed(k, object, p, n, &spawn_ray(p, n, l), dist)
                 }
                 Visibility::Known(known) => known & (1 << k) != 0,
             };
@@ -248,7 +246,8 @@ impl Tracer {
                 sum += ndl * light.color;
             }
         }
-        (color * (self.settings.ambient + kd * sum), bits, dirs)
+        let m = &self.materials[object as usize];
+        (m.color * (self.settings.ambient + m.diffuse * sum), bits, dirs)
     }
 
     /// Blinn–Phong highlights from the visible lights plus the mirror reflection.

@@ -135,10 +135,11 @@ impl ShadowBins {
     }
 
     /// Whether a sphere blocks `ray`, a shadow ray spawned from surface point `p` towards
-    /// light `k`, before `t_max`. `None` if the bins cannot answer (no bins for the light,
-    /// or `p` at the light).
+    /// light `k`, before `t_max`. A packet holding only sphere `own` (one the ray cannot
+    /// hit; `NO_OBJECT` for none) is skipped. `None` if the bins cannot answer (no bins for
+    /// the light, or `p` at the light).
     #[inline]
-    pub(crate) fn occluded(&self, k: usize, light: Vec3, p: Vec3, ray: &Ray, t_max: f32) -> Option<bool> {
+    pub(crate) fn occluded(&self, k: usize, light: Vec3, p: Vec3, ray: &Ray, t_max: f32, own: u32) -> Option<bool> {
         let w = p - light;
         let abs = w.abs();
         let m = if abs.x >= abs.y && abs.x >= abs.z {
@@ -160,7 +161,8 @@ impl ShadowBins {
         let index = k * CELLS + face * (RES * RES) as usize + (cell(v) * RES + cell(u)) as usize;
         let packets = &self.packets[self.first[index] as usize..self.first[index + 1] as usize];
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
-        Some(packets.iter().any(|p| p.hits(o, d, t_max).iter().any(|t| t.is_finite())))
+        let only_own = |p: &SpherePacket| p.ids[0] == own && p.ids[1] == u32::MAX;
+        Some(packets.iter().any(|p| !only_own(p) && p.hits(o, d, t_max).iter().any(|t| t.is_finite())))
     }
 }
 
@@ -200,7 +202,11 @@ mod tests {
                     let dist = to_light.length();
                     let ray = spawn_ray(p, n, to_light * dist.recip());
                     let want = tracer.occluded(&ray, dist);
-                    assert_eq!(tracer.shadowed(k, p, &ray, dist), want, "sphere {s}, point {i}, light {k}");
+                    assert_eq!(
+                        tracer.shadowed(k, s as u32, p, n, &ray, dist),
+                        want,
+                        "sphere {s}, point {i}, light {k}"
+                    );
                     blocked += usize::from(want);
                 }
             }

@@ -122,13 +122,18 @@ impl Tracer {
         }
     }
 
-    /// The shadow query: whether anything blocks `ray`, spawned from the surface point `p`
-    /// towards light `k` with `t_max` the distance to it. Answered from the light's cube
-    /// map of sphere lists, exactly as [`Tracer::occluded`] would.
+    /// The shadow query: whether anything blocks `ray`, spawned (by [`crate::spawn_ray`])
+    /// from the point `p` of sphere `from` (outward normal `n`) towards light `k`, with
+    /// `t_max` the distance to it. Answered from the light's cube map of sphere lists,
+    /// exactly as [`Tracer::occluded`] would; a cell that lists only `from` itself is
+    /// skipped when the ray leaves outwards, as it cannot meet its own sphere again.
     #[inline]
     #[must_use]
-    pub fn shadowed(&self, k: usize, p: Vec3, ray: &Ray, t_max: f32) -> bool {
-        self.shadows.occluded(k, self.lights[k].position, p, ray, t_max).unwrap_or_else(|| self.occluded(ray, t_max))
+    pub fn shadowed(&self, k: usize, from: u32, p: Vec3, n: Vec3, ray: &Ray, t_max: f32) -> bool {
+        let own = if ray.dir.dot(n) >= 0.0 { from } else { crate::NO_OBJECT };
+        self.shadows
+            .occluded(k, self.lights[k].position, p, ray, t_max, own)
+            .unwrap_or_else(|| self.occluded(ray, t_max))
     }
 
     /// Hit parameter of `ray` against the one sphere `object`, ignoring all others. Used by
