@@ -296,6 +296,8 @@ impl RowSink for Keyed<'_> {
         r.lights[j] = r.left_lights[i];
     }
 
+    /// [`Sources`]' loop with the keys copied in the same blocks. Kept fused on purpose: a
+    /// shared source loop followed by a separate key copy measured 10–20 % slower.
     #[inline]
     fn put_run(&mut self, j: usize, i: usize, targets: &[i32]) -> usize {
         let r = &mut self.row;

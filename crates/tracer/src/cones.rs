@@ -20,7 +20,7 @@ use glam::Vec3;
 use wide::f32x4;
 
 use crate::ray::Ray;
-use crate::sphere::{splat3, SpherePacket, LANES};
+use crate::sphere::{set_lane, splat3, SpherePacket, LANES};
 
 /// Largest scene for which the cones are built.
 pub(crate) const MAX_SPHERES: usize = 64;
@@ -75,15 +75,10 @@ impl Cones {
                 };
                 let p = self.packets.last_mut().expect("pushed above");
                 p.spheres.set(lane, j as u32, cj, rj);
-                let put = |v: &mut f32x4, x: f32| {
-                    let mut a = v.to_array();
-                    a[lane] = x;
-                    *v = f32x4::from(a);
-                };
-                put(&mut p.axis[0], axis.x);
-                put(&mut p.axis[1], axis.y);
-                put(&mut p.axis[2], axis.z);
-                put(&mut p.cos, cos);
+                set_lane(&mut p.axis[0], lane, axis.x);
+                set_lane(&mut p.axis[1], lane, axis.y);
+                set_lane(&mut p.axis[2], lane, axis.z);
+                set_lane(&mut p.cos, lane, cos);
                 lane += 1;
             }
         }

@@ -61,6 +61,13 @@ pub(crate) struct SpherePacket {
     pub(crate) ids: [u32; LANES],
 }
 
+/// Sets one lane of `v` to `x` (for building packets, not for hot loops).
+pub(crate) fn set_lane(v: &mut f32x4, lane: usize, x: f32) {
+    let mut a = v.to_array();
+    a[lane] = x;
+    *v = f32x4::from(a);
+}
+
 /// A vector splatted across four lanes, one `f32x4` per component.
 #[inline]
 pub(crate) fn splat3(v: Vec3) -> [f32x4; 3] {
@@ -79,15 +86,10 @@ impl SpherePacket {
 
     /// Puts sphere `id` in `lane`.
     pub(crate) fn set(&mut self, lane: usize, id: u32, center: Vec3, radius: f32) {
-        let put = |v: &mut f32x4, x: f32| {
-            let mut a = v.to_array();
-            a[lane] = x;
-            *v = f32x4::from(a);
-        };
-        put(&mut self.cx, center.x);
-        put(&mut self.cy, center.y);
-        put(&mut self.cz, center.z);
-        put(&mut self.r, radius);
+        set_lane(&mut self.cx, lane, center.x);
+        set_lane(&mut self.cy, lane, center.y);
+        set_lane(&mut self.cz, lane, center.z);
+        set_lane(&mut self.r, lane, radius);
         self.ids[lane] = id;
     }
 
