@@ -49,30 +49,24 @@ fn traversal_and_shading(c: &mut Criterion) {
             b.iter(|| bins.build(black_box(&tracer), &view));
         });
         c.bench_function(&format!("shade_binned_160x90_{name}"), |b| {
-            b.iter(|| {
-                let mut counts = RayCounts::default();
-                let mut sum = 0u32;
-                for j in 0..90 {
-                    for i in 0..160 {
-                        sum = sum.wrapping_add(tracer.trace_primary(&bins, i, j, &mut counts).rgb);
-                    }
-                }
-                (sum, counts)
-            });
+            b.iter(|| shade_all(|i, j, counts| tracer.trace_primary(&bins, i, j, counts).rgb));
         });
         c.bench_function(&format!("shade_160x90_{name}"), |b| {
-            b.iter(|| {
-                let mut counts = RayCounts::default();
-                let mut sum = 0u32;
-                for j in 0..90 {
-                    for i in 0..160 {
-                        sum = sum.wrapping_add(tracer.trace_pixel(&view, i, j, &mut counts).rgb);
-                    }
-                }
-                (sum, counts)
-            });
+            b.iter(|| shade_all(|i, j, counts| tracer.trace_pixel(&view, i, j, counts).rgb));
         });
     }
+}
+
+/// Every pixel of a 160×90 view through `trace`; the pixels' sum and the rays cast.
+fn shade_all(mut trace: impl FnMut(u32, u32, &mut RayCounts) -> u32) -> (u32, RayCounts) {
+    let mut counts = RayCounts::default();
+    let mut sum = 0u32;
+    for j in 0..90 {
+        for i in 0..160 {
+            sum = sum.wrapping_add(trace(i, j, &mut counts));
+        }
+    }
+    (sum, counts)
 }
 
 fn eye(c: &mut Criterion) {
