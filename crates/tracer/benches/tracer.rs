@@ -5,7 +5,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
-use tracer::{intersect_sphere, render_eye, Eye, Film, PrimaryBins, Ray, RayCounts, Scene, Tracer};
+use tracer::{intersect_sphere, reflect, render_eye, spawn_ray, Eye, Film, PrimaryBins, Ray, RayCounts, Scene, Tracer};
 
 fn scene(name: &str) -> Scene {
     let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -42,6 +42,19 @@ fn traversal_and_shading(c: &mut Criterion) {
             (0..90).flat_map(|j| (0..160).map(move |i| (i, j))).map(|(i, j)| view.primary_ray(i, j)).collect();
         c.bench_function(&format!("bvh_closest_hit_160x90_{name}"), |b| {
             b.iter(|| rays.iter().filter(|r| tracer.intersect(black_box(r), f32::INFINITY).is_some()).count());
+        });
+        // The mirror rays of the view's first hits: what the BVH answers most in big scenes.
+        let mirrors: Vec<Ray> = rays
+            .iter()
+            .filter_map(|r| {
+                let (t, k) = tracer.intersect(r, f32::INFINITY)?;
+                let p = r.at(t);
+                let n = s.sphere_at(k as usize, 0.0).normal_at(p);
+                Some(spawn_ray(p, n, reflect(r.dir, n)))
+            })
+            .collect();
+        c.bench_function(&format!("bvh_mirror_rays_160x90_{name}"), |b| {
+            b.iter(|| mirrors.iter().filter(|r| tracer.intersect(black_box(r), f32::INFINITY).is_some()).count());
         });
         let mut bins = PrimaryBins::new();
         bins.build(&tracer, &view);

@@ -1,16 +1,23 @@
-//! A bounding-volume hierarchy over the spheres, with 4-wide SIMD leaves.
+//! A 4-wide bounding-volume hierarchy over the spheres, with 4-wide SIMD leaves.
 //!
 //! Built from scratch each frame (a revolving sphere moves; for a thousand spheres the
-//! build takes well under a millisecond) into buffers reused from frame to frame. Interior
-//! nodes split by the binned surface-area heuristic (median split as a fallback);
-//! leaves hold up to eight spheres as two structure-of-arrays packets of four, each tested
-//! in SIMD lanes (`wide::f32x4`, portable: SSE2 on x86-64, NEON on aarch64, scalar
-//! elsewhere). A scene of eight spheres or fewer is one leaf: a flat SIMD loop.
+//! build takes well under a millisecond) into buffers reused from frame to frame. The tree
+//! is first split in two at every level by the binned surface-area heuristic (median split
+//! as a fallback), then collapsed into nodes of up to four children (Wald et al. 2008,
+//! "Getting rid of packets"; Dammertz et al. 2008, "Shallow bounding volume hierarchies"):
+//! a node keeps its children's boxes in structure-of-arrays lanes, so one ray meets all four
+//! boxes in one SIMD slab test (`wide::f32x4`, portable: SSE2 on x86-64, NEON on aarch64,
+//! scalar elsewhere), and a thousand spheres are ~4 levels deep instead of ~8. Leaves hold
+//! up to eight spheres as two packets of four, each tested in SIMD lanes. A scene of eight
+//! spheres or fewer is one leaf: a flat SIMD loop.
 //!
-//! Traversal visits the nearer child first and culls boxes beyond the closest hit so far.
-//! [`Bvh::intersect_one`] tests a single sphere through the same lane arithmetic, so the
-//! `t` it reports for a sphere is bit-for-bit the one the closest-hit query reports (what
-//! `stereo`'s exact mode relies on); both equal the scalar [`crate::intersect_sphere`].
+//! The closest-hit traversal visits the children a node's ray enters nearest first and
+//! drops any whose entry lies beyond the closest hit so far. [`Bvh::intersect_one`] tests a
+//! single sphere through the same lane arithmetic, so the `t` it reports for a sphere is
+//! bit-for-bit the one the closest-hit query reports (what `stereo`'s exact mode relies
+//! on); both equal the scalar [`crate::intersect_sphere`]. The collapse keeps the binary
+//! tree's boxes and only skips levels, so every sphere the binary traversal would reach is
+//! still reached: the answer is the same.
 
 use glam::Vec3;
 use wide::f32x4;
@@ -20,49 +27,119 @@ use crate::sphere::{splat3, SpherePacket, LANES};
 
 /// Most packets in one leaf.
 const LEAF_PACKETS: usize = 2;
-/// Traversal stack depth: a median split over `u32` items is at most ~32 levels deep.
-const STACK: usize = 64;
+/// Children per node.
+const WIDTH: usize = 4;
+/// Binary levels split by the surface-area heuristic; below them the median split takes
+/// over, which bounds the depth at `SAH_LEVELS` + log2(spheres) < 56 whatever the scene.
+const SAH_LEVELS: usize = 24;
+/// Traversal stack depth: a node pushes at most three entries besides the one visited
+/// next, and no path has more than 56 nodes.
+const STACK: usize = 3 * 56 + 1;
 
-/// A node: a box, and either two children (`count == 0`: `first` and `first + 1`) or a
-/// leaf of `count` packets starting at `packets[first]`.
+/// A node of the binary build tree: a box, and either two children (`count == 0`: `first`
+/// and `first + 1`) or a leaf of `count` packets starting at `packets[first]`.
 #[derive(Clone, Copy, Debug, Default)]
-struct Node {
+struct BinNode {
     min: Vec3,
     max: Vec3,
     first: u32,
     count: u32,
 }
 
+/// A node of the traversed tree: up to four children, their boxes in SIMD lanes.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    min: [f32x4; 3],
+    max: [f32x4; 3],
+    /// Per lane: the child, as a [`Link`].
+    child: [Link; WIDTH],
+    /// Bit k set when lane k holds a child.
+    lanes: u32,
+}
+
+impl Node {
+    const EMPTY: Self = Self { min: [f32x4::splat(0.0); 3], max: [f32x4::splat(0.0); 3], child: [0; WIDTH], lanes: 0 };
+}
+
+/// Where traversal starts.
+#[derive(Clone, Copy, Debug, Default)]
+enum Root {
+    /// No spheres.
+    #[default]
+    Empty,
+    /// The whole scene is one leaf of `count` packets from `packets[0]`.
+    Leaf { count: u32 },
+    /// `nodes[0]`.
+    Node,
+}
+
 /// The hierarchy. Empty until [`Bvh::build`].
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Bvh {
+    root: Root,
     nodes: Vec<Node>,
     packets: Vec<SpherePacket>,
     items: Vec<u32>,
     /// For each sphere id, its packet and lane.
     slots: Vec<(u32, u32)>,
+    /// Scratch: the binary build tree.
+    bin: Vec<BinNode>,
 }
 
-/// A ray prepared for box tests.
+/// A ray prepared for box tests, splatted across the four child lanes.
 struct BoxRay {
-    origin: Vec3,
-    inv_dir: Vec3,
+    origin: [f32x4; 3],
+    inv_dir: [f32x4; 3],
 }
 
 impl BoxRay {
     fn new(ray: &Ray) -> Self {
-        Self { origin: ray.origin, inv_dir: ray.dir.recip() }
+        // A zero direction component becomes ±10⁻³⁰: its slabs stay finite (±10³⁰·gap, or
+        // 0 for an origin on the plane) instead of ∞ and 0·∞ = NaN, so the plain SIMD
+        // min/max below need no NaN handling on any platform.
+        let safe = |x: f32| if x.abs() < 1e-30 { 1e-30f32.copysign(x) } else { x };
+        let dir = Vec3::new(safe(ray.dir.x), safe(ray.dir.y), safe(ray.dir.z));
+        Self { origin: splat3(ray.origin), inv_dir: splat3(dir.recip()) }
     }
 
-    /// Entry distance into the box if the ray meets it before `t_max`.
+    /// The slab test against a node's four child boxes: per lane the entry distance, and
+    /// the bits of the children the ray meets before `t_max`.
     #[inline]
-    fn enter(&self, node: &Node, t_max: f32) -> Option<f32> {
-        let t1 = (node.min - self.origin) * self.inv_dir;
-        let t2 = (node.max - self.origin) * self.inv_dir;
-        let near = t1.min(t2).max_element().max(0.0);
-        let far = t1.max(t2).min_element().min(t_max);
-        (near <= far).then_some(near)
+    fn enter(&self, node: &Node, t_max: f32) -> (f32x4, u32) {
+        let mut near = f32x4::splat(0.0);
+        let mut far = f32x4::splat(t_max);
+        // No slab distance is NaN (see `new`), so the plain SIMD min/max are exact.
+        for a in 0..3 {
+            let t1 = (node.min[a] - self.origin[a]) * self.inv_dir[a];
+            let t2 = (node.max[a] - self.origin[a]) * self.inv_dir[a];
+            near = t1.fast_min(t2).fast_max(near);
+            far = t1.fast_max(t2).fast_min(far);
+        }
+        (near, near.simd_le(far).to_bitmask() & node.lanes)
     }
+}
+
+/// A child of a node in one word: an interior node's index, or for a leaf [`LEAF`] | the
+/// packet count << [`COUNT_SHIFT`] | the first packet. Scenes stay far below the 2²⁹
+/// packets (2³¹ spheres) this leaves room for.
+type Link = u32;
+/// Marks a [`Link`] to a leaf.
+const LEAF: Link = 1 << 31;
+/// Where a leaf [`Link`] keeps its packet count (1 or 2).
+const COUNT_SHIFT: u32 = 29;
+
+/// A leaf link: `count` packets from `first`.
+fn leaf_link(first: u32, count: u32) -> Link {
+    debug_assert!(first < 1 << COUNT_SHIFT && (1..=LEAF_PACKETS as u32).contains(&count));
+    LEAF | count << COUNT_SHIFT | first
+}
+
+/// A traversal stack entry: a child and where the ray enters it. Eight bytes, so the
+/// stack a ray starts with is cheap to clear.
+#[derive(Clone, Copy, Debug, Default)]
+struct Entry {
+    link: Link,
+    near: f32,
 }
 
 /// Bins per axis for the surface-area heuristic.
@@ -138,19 +215,29 @@ impl Bvh {
         self.nodes.clear();
         self.packets.clear();
         self.items.clear();
+        self.bin.clear();
         self.items.extend(0..centers.len() as u32);
         self.slots.clear();
         self.slots.resize(centers.len(), (0, 0));
         if centers.is_empty() {
+            self.root = Root::Empty;
             return;
         }
-        self.nodes.push(Node::default());
+        self.bin.push(BinNode::default());
         let mut items = std::mem::take(&mut self.items);
-        self.build_node(0, &mut items, centers, radii);
+        self.build_node(0, 0, &mut items, centers, radii);
         self.items = items;
+        let root = self.bin[0];
+        if root.count > 0 {
+            self.root = Root::Leaf { count: root.count };
+        } else {
+            self.root = Root::Node;
+            self.collapse(0);
+        }
     }
 
-    fn build_node(&mut self, index: usize, items: &mut [u32], centers: &[Vec3], radii: &[f32]) {
+    /// Splits `items` into binary node `index`, at `level`, of the build tree.
+    fn build_node(&mut self, index: usize, level: usize, items: &mut [u32], centers: &[Vec3], radii: &[f32]) {
         let (mut min, mut max) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
         let (mut cmin, mut cmax) = (Vec3::INFINITY, Vec3::NEG_INFINITY);
         for &k in items.iter() {
@@ -170,10 +257,11 @@ impl Bvh {
                 }
                 self.packets.push(packet);
             }
-            self.nodes[index] = Node { min, max, first, count: self.packets.len() as u32 - first };
+            self.bin[index] = BinNode { min, max, first, count: self.packets.len() as u32 - first };
             return;
         }
-        let mid = match sah_split(items, centers, radii, cmin, cmax) {
+        let split = if level < SAH_LEVELS { sah_split(items, centers, radii, cmin, cmax) } else { None };
+        let mid = match split {
             Some((axis, plane)) => partition(items, |k| centers[k as usize][axis] < plane),
             None => 0,
         };
@@ -193,13 +281,61 @@ impl Bvh {
         } else {
             mid
         };
-        let first = self.nodes.len();
-        self.nodes[index] = Node { min, max, first: first as u32, count: 0 };
-        self.nodes.push(Node::default());
-        self.nodes.push(Node::default());
+        let first = self.bin.len();
+        self.bin[index] = BinNode { min, max, first: first as u32, count: 0 };
+        self.bin.push(BinNode::default());
+        self.bin.push(BinNode::default());
         let (left, right) = items.split_at_mut(mid);
-        self.build_node(first, left, centers, radii);
-        self.build_node(first + 1, right, centers, radii);
+        self.build_node(first, level + 1, left, centers, radii);
+        self.build_node(first + 1, level + 1, right, centers, radii);
+    }
+
+    /// Appends the 4-wide node for interior binary node `b` (and, depth first, its subtree);
+    /// returns its index. Its children are `b`'s grandchildren and deeper, found by opening
+    /// the interior child of largest surface area until there are four.
+    fn collapse(&mut self, b: usize) -> u32 {
+        let parent = self.bin[b];
+        let mut kids = [parent.first as usize, parent.first as usize + 1, 0, 0];
+        let mut n = 2;
+        while n < WIDTH {
+            let open = (0..n)
+                .filter(|&k| self.bin[kids[k]].count == 0)
+                .max_by(|&x, &y| self.area(kids[x]).total_cmp(&self.area(kids[y])));
+            let Some(k) = open else { break };
+            let first = self.bin[kids[k]].first as usize;
+            (kids[k], kids[n]) = (first, first + 1);
+            n += 1;
+        }
+        let index = self.nodes.len();
+        self.nodes.push(Node::EMPTY);
+        let mut node = Node::EMPTY;
+        for (lane, &k) in kids[..n].iter().enumerate() {
+            let child = self.bin[k];
+            for a in 0..3 {
+                crate::sphere::set_lane(&mut node.min[a], lane, child.min[a]);
+                crate::sphere::set_lane(&mut node.max[a], lane, child.max[a]);
+            }
+            node.lanes |= 1 << lane;
+            node.child[lane] = if child.count > 0 { leaf_link(child.first, child.count) } else { self.collapse(k) };
+        }
+        self.nodes[index] = node;
+        index as u32
+    }
+
+    /// Levels of the binary build tree below node `k` (1 for a leaf).
+    #[cfg(test)]
+    fn bin_depth(&self, k: usize) -> usize {
+        let node = self.bin[k];
+        if node.count > 0 {
+            1
+        } else {
+            1 + self.bin_depth(node.first as usize).max(self.bin_depth(node.first as usize + 1))
+        }
+    }
+
+    /// Surface area (half) of binary node `k`'s box.
+    fn area(&self, k: usize) -> f32 {
+        half_area(self.bin[k].min, self.bin[k].max)
     }
 
     /// Hit parameter in `(0, ∞)` of the ray against sphere `k` alone.
@@ -211,14 +347,22 @@ impl Bvh {
     }
 
     /// The packets of a leaf.
-    fn leaf(&self, node: &Node) -> &[SpherePacket] {
-        &self.packets[node.first as usize..(node.first + node.count) as usize]
+    #[inline]
+    fn leaf(&self, first: u32, count: u32) -> &[SpherePacket] {
+        &self.packets[first as usize..(first + count) as usize]
+    }
+
+    /// The packets of the leaf `link` points to.
+    #[inline]
+    fn leaf_at(&self, link: Link) -> &[SpherePacket] {
+        let first = link & ((1 << COUNT_SHIFT) - 1);
+        self.leaf(first, (link & !LEAF) >> COUNT_SHIFT)
     }
 
     /// Narrows `(t_best, best)` to the closest hit among a leaf's spheres.
     #[inline]
-    fn leaf_closest(&self, node: &Node, o: [f32x4; 3], d: [f32x4; 3], t_best: &mut f32, best: &mut Option<u32>) {
-        for p in self.leaf(node) {
+    fn leaf_closest(leaf: &[SpherePacket], o: [f32x4; 3], d: [f32x4; 3], t_best: &mut f32, best: &mut Option<u32>) {
+        for p in leaf {
             for (lane, t) in p.hits(o, d, *t_best).into_iter().enumerate() {
                 if t < *t_best {
                     (*t_best, *best) = (t, Some(p.ids[lane]));
@@ -229,44 +373,53 @@ impl Bvh {
 
     /// Whether any of a leaf's spheres is hit before `t_max`.
     #[inline]
-    fn leaf_blocks(&self, node: &Node, o: [f32x4; 3], d: [f32x4; 3], t_max: f32) -> bool {
-        self.leaf(node).iter().any(|p| p.hits(o, d, t_max).iter().any(|t| t.is_finite()))
+    fn leaf_blocks(leaf: &[SpherePacket], o: [f32x4; 3], d: [f32x4; 3], t_max: f32) -> bool {
+        leaf.iter().any(|p| p.hits(o, d, t_max).iter().any(|t| t.is_finite()))
     }
 
     /// Closest hit in `(0, t_max)`: `(t, sphere id)`.
     pub(crate) fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(f32, u32)> {
-        let root = self.nodes.first()?;
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         let (mut t_best, mut best) = (t_max, None);
-        if root.count > 0 {
-            // A small scene is one leaf: its packets are the whole test, no box needed.
-            self.leaf_closest(root, o, d, &mut t_best, &mut best);
-            return best.map(|k| (t_best, k));
+        match self.root {
+            Root::Empty => return None,
+            Root::Leaf { count } => {
+                // A small scene is one leaf: its packets are the whole test, no box needed.
+                Self::leaf_closest(self.leaf(0, count), o, d, &mut t_best, &mut best);
+                return best.map(|k| (t_best, k));
+            }
+            Root::Node => {}
         }
         let br = BoxRay::new(ray);
-        br.enter(root, t_max)?;
-        let mut stack = [0u32; STACK];
+        let mut stack = [Entry::default(); STACK];
         let mut sp = 1;
         while sp > 0 {
             sp -= 1;
-            let node = &self.nodes[stack[sp] as usize];
-            if node.count > 0 {
-                self.leaf_closest(node, o, d, &mut t_best, &mut best);
+            let e = stack[sp];
+            // Entered beyond a hit found since it was pushed: nothing in it is nearer.
+            if e.near > t_best {
                 continue;
             }
-            let (a, b) = (node.first, node.first + 1);
-            let ta = br.enter(&self.nodes[a as usize], t_best);
-            let tb = br.enter(&self.nodes[b as usize], t_best);
-            // Push the farther child first so the nearer one is visited next.
-            let (first, second) = match (ta, tb) {
-                (Some(x), Some(y)) if y < x => (Some(a), Some(b)),
-                (Some(_), Some(_)) => (Some(b), Some(a)),
-                (Some(_), None) => (None, Some(a)),
-                (None, Some(_)) => (None, Some(b)),
-                (None, None) => (None, None),
-            };
-            for child in [first, second].into_iter().flatten() {
-                stack[sp] = child;
+            if e.link & LEAF != 0 {
+                Self::leaf_closest(self.leaf_at(e.link), o, d, &mut t_best, &mut best);
+                continue;
+            }
+            let node = &self.nodes[e.link as usize];
+            let (near, mut hit) = br.enter(node, t_best);
+            let near = near.to_array();
+            // The children entered, sorted farthest first (insertion sort of ≤ 4) into the
+            // stack, so the nearest is visited next. Fixed-size copies: no memmove call.
+            let base = sp;
+            while hit != 0 {
+                let lane = hit.trailing_zeros() as usize;
+                hit &= hit - 1;
+                let entry = Entry { link: node.child[lane], near: near[lane] };
+                let mut k = sp;
+                while k > base && stack[k - 1].near < entry.near {
+                    stack[k] = stack[k - 1];
+                    k -= 1;
+                }
+                stack[k] = entry;
                 sp += 1;
             }
         }
@@ -275,29 +428,29 @@ impl Bvh {
 
     /// Whether any sphere blocks the ray before `t_max` (early exit).
     pub(crate) fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        let Some(root) = self.nodes.first() else { return false };
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
-        if root.count > 0 {
-            return self.leaf_blocks(root, o, d, t_max);
+        match self.root {
+            Root::Empty => return false,
+            Root::Leaf { count } => return Self::leaf_blocks(self.leaf(0, count), o, d, t_max),
+            Root::Node => {}
         }
         let br = BoxRay::new(ray);
-        if br.enter(root, t_max).is_none() {
-            return false;
-        }
         let mut stack = [0u32; STACK];
         let mut sp = 1;
         while sp > 0 {
             sp -= 1;
             let node = &self.nodes[stack[sp] as usize];
-            if node.count > 0 {
-                if self.leaf_blocks(node, o, d, t_max) {
-                    return true;
-                }
-                continue;
-            }
-            for child in [node.first, node.first + 1] {
-                if br.enter(&self.nodes[child as usize], t_max).is_some() {
-                    stack[sp] = child;
+            let (_, mut hit) = br.enter(node, t_max);
+            while hit != 0 {
+                let lane = hit.trailing_zeros() as usize;
+                hit &= hit - 1;
+                let link = node.child[lane];
+                if link & LEAF != 0 {
+                    if Self::leaf_blocks(self.leaf_at(link), o, d, t_max) {
+                        return true;
+                    }
+                } else {
+                    stack[sp] = link;
                     sp += 1;
                 }
             }
@@ -339,7 +492,7 @@ mod tests {
 
     #[test]
     fn matches_brute_force_bit_for_bit() {
-        for n in [1, 3, 4, 5, 8, 9, 17, 300] {
+        for n in [1, 3, 4, 5, 8, 9, 17, 33, 300, 1000] {
             let (centers, radii) = cloud(n);
             let mut bvh = Bvh::default();
             bvh.build(&centers, &radii);
@@ -357,6 +510,28 @@ mod tests {
                 }
                 assert_eq!(bvh.occluded(&ray, 30.0), brute(&ray, 30.0, &centers, &radii).is_some(), "n = {n}, ray {k}");
             }
+        }
+    }
+
+    #[test]
+    fn a_lopsided_scene_stays_within_the_stack() {
+        // Spheres at doubling distances along a line: each binned-SAH split peels off only
+        // the last few, so the heuristic alone would build a chain; the median split below
+        // `SAH_LEVELS` must cap the depth (which bounds the traversal stack).
+        let n = 120;
+        let centers: Vec<Vec3> = (0..n).map(|k| Vec3::new(2f32.powi(k), 0.0, 0.0)).collect();
+        let radii: Vec<f32> = (0..n).map(|k| 2f32.powi(k) * 0.01).collect();
+        let mut bvh = Bvh::default();
+        bvh.build(&centers, &radii);
+        let depth = bvh.bin_depth(0);
+        assert!(depth <= SAH_LEVELS + (n as f32).log2().ceil() as usize + 1, "depth {depth}");
+        for k in 0..200 {
+            let a = k as f32 * 1e-4;
+            let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, a.sin(), a.cos() * 1e-3).normalize());
+            let got = bvh.intersect(&ray, f32::INFINITY);
+            let want = brute(&ray, f32::INFINITY, &centers, &radii);
+            assert_eq!(got.map(|(t, k)| (t.to_bits(), k)), want.map(|(t, k)| (t.to_bits(), k)), "ray {k}");
+            assert_eq!(bvh.occluded(&ray, 1e30), want.is_some(), "ray {k}");
         }
     }
 
