@@ -228,14 +228,21 @@ impl StereoFrame {
 
             let t = Instant::now();
             self.right_bins.build(tracer, &rv);
-            let retraced = self.retrace(tracer, &rv);
+            // The paper's mode gathers its reprojected colours in the same pass over the
+            // image as the retrace: nothing is left for stage 5.
+            let copy = opts.mode == Mode::Copy;
+            let retraced = self.retrace(tracer, &rv, copy);
             stats.stages.retrace = ms_since(t);
 
-            let t = Instant::now();
-            let (filled, sphere_tests) = self.fill(tracer, &rv, opts.mode);
-            stats.stages.reshade = ms_since(t);
-            stats.right.rays = retraced + filled;
-            stats.sphere_tests = sphere_tests;
+            if !copy {
+                let t = Instant::now();
+                let (filled, sphere_tests) = self.fill(tracer, &rv, opts.mode);
+                stats.stages.reshade = ms_since(t);
+                stats.right.rays = retraced + filled;
+                stats.sphere_tests = sphere_tests;
+            } else {
+                stats.right.rays = retraced;
+            }
         }
         stats.right.ms = stats.stages.reproject + stats.stages.retrace + stats.stages.reshade;
         stats.pixels = PixelCounts::of(&self.mask);
@@ -258,19 +265,22 @@ impl StereoFrame {
         reproject_and_classify(&self.left, p, &mut self.src, &mut self.mask);
     }
 
-    /// Stage 4: full primary rays for every pixel not reprojected.
-    fn retrace(&mut self, tracer: &Tracer, rv: &EyeView) -> RayCounts {
+    /// Stage 4: full primary rays for every pixel not reprojected; with `copy`, also the
+    /// paper's stage 5 in the same pass: each reprojected pixel takes its source's colour.
+    fn retrace(&mut self, tracer: &Tracer, rv: &EyeView, copy: bool) -> RayCounts {
         let w = rv.width as usize;
-        let bins = &self.right_bins;
+        let (bins, left) = (&self.right_bins, &self.left.rgb);
         self.right
             .rgb
             .par_chunks_mut(w)
             .zip(self.mask.par_chunks(w))
+            .zip(self.src.par_chunks(w))
             .enumerate()
-            .map(|(j, (rgb, mask))| {
+            .map(|(j, ((rgb, mask), src))| {
                 let mut counts = RayCounts::default();
                 let j = j as u32;
-                for (i0, (rgb, mask)) in rgb.chunks_mut(4).zip(mask.chunks(4)).enumerate().map(|(q, c)| (4 * q, c)) {
+                let quads = rgb.chunks_mut(4).zip(mask.chunks(4)).zip(src.chunks(4)).enumerate();
+                for (i0, ((rgb, mask), src)) in quads.map(|(q, c)| (4 * q, c)) {
                     // Gaps come in strips: four in a row (one tile) are traced together.
                     if mask.iter().all(|&c| c != PixelClass::Reprojected) {
                         tracer.trace_primary4(bins, i0 as u32, j, mask.len(), &mut counts, |k, s| rgb[k] = s.rgb);
@@ -279,6 +289,8 @@ impl StereoFrame {
                     for (k, &class) in mask.iter().enumerate() {
                         if class != PixelClass::Reprojected {
                             rgb[k] = tracer.trace_primary(bins, (i0 + k) as u32, j, &mut counts).rgb;
+                        } else if copy {
+                            rgb[k] = left[src[k] as usize];
                         }
                     }
                 }
@@ -291,22 +303,9 @@ impl StereoFrame {
     /// single-sphere tests. In exact mode a pixel whose centre ray misses the named sphere
     /// is a silhouette the edge test did not catch: it is retraced and marked as an edge.
     fn fill(&mut self, tracer: &Tracer, rv: &EyeView, mode: Mode) -> (RayCounts, u64) {
-        debug_assert_ne!(mode, Mode::Full, "full mode does not reproject");
+        debug_assert!(!matches!(mode, Mode::Full | Mode::Copy), "full and copy modes have no stage 5");
         let w = rv.width as usize;
         let (left, bins) = (&self.left, &self.right_bins);
-        if mode == Mode::Copy {
-            // The paper's mode is a gather of finished colours: a loop of its own.
-            self.right.rgb.par_chunks_mut(w).zip(self.mask.par_chunks(w)).zip(self.src.par_chunks(w)).for_each(
-                |((rgb, mask), src)| {
-                    for ((px, &class), &s) in rgb.iter_mut().zip(mask).zip(src) {
-                        if class == PixelClass::Reprojected {
-                            *px = left.rgb[s as usize];
-                        }
-                    }
-                },
-            );
-            return (RayCounts::default(), 0);
-        }
         self.right
             .rgb
             .par_chunks_mut(w)
@@ -389,7 +388,7 @@ mod tests {
         frame.render(&tracer, &scene.camera, w, h, Options { mode: Mode::Copy, retrace_edges: false });
         frame.mask.fill(PixelClass::RetracedGap);
         let rv = scene.camera.view(Eye::Right, w, h);
-        let counts = frame.retrace(&tracer, &rv);
+        let counts = frame.retrace(&tracer, &rv, false);
         let mut full = Vec::new();
         let full_counts = render_rgb(&tracer, &rv, &mut PrimaryBins::new(), &mut full);
         assert_eq!(frame.right.rgb, full);
