@@ -234,14 +234,14 @@ impl StereoFrame {
             let retraced = self.retrace(tracer, &rv, copy);
             stats.stages.retrace = ms_since(t);
 
-            if !copy {
+            if copy {
+                stats.right.rays = retraced;
+            } else {
                 let t = Instant::now();
                 let (filled, sphere_tests) = self.fill(tracer, &rv, opts.mode);
                 stats.stages.reshade = ms_since(t);
                 stats.right.rays = retraced + filled;
                 stats.sphere_tests = sphere_tests;
-            } else {
-                stats.right.rays = retraced;
             }
         }
         stats.right.ms = stats.stages.reproject + stats.stages.retrace + stats.stages.reshade;
