@@ -229,5 +229,19 @@ fn table(scene: &str, w: u32, h: u32, frames: u32, threads: usize, mono_ms: f64,
         out,
         "ray % L/R: share of all rays spent per eye (the seed paper's §5.1: 87/13 for copy). st/mono: stereo frame time over a left-only frame."
     );
+    let _ = writeln!(out, "\nstages, ms (medians): the right eye is reproject + retrace + reshade");
+    let _ = writeln!(
+        out,
+        "{:<14} {:>10} {:>10} {:>10} {:>10} {:>10}",
+        "mode", "trace left", "reproject", "retrace", "reshade", "stereo"
+    );
+    for r in rows {
+        let st = &r.stats.stages;
+        let _ = writeln!(
+            out,
+            "{:<14} {:>10.2} {:>10.2} {:>10.2} {:>10.2} {:>10.2}",
+            r.name, st.trace_left, st.reproject, st.retrace, st.reshade, r.stereo_ms
+        );
+    }
     out
 }
