@@ -8,7 +8,8 @@
 //! Rays are answered by the cheapest structure that is exact for them: primary rays by
 //! screen-space tile bins ([`PrimaryBins`], four rays per SIMD test), shadow rays by a cube
 //! map of sphere lists around each light, mirror rays in small scenes by direction cones
-//! between spheres, and anything else by a BVH with SIMD leaves. Each gives bit-for-bit the
+//! between spheres, and anything else by a 4-wide BVH (four child boxes per SIMD slab test)
+//! with SIMD leaves. Each gives bit-for-bit the
 //! BVH's answer (tests compare them on every scene).
 //!
 //! Besides colour, the film keeps a per-pixel *visible-surface record*
