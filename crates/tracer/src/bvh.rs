@@ -11,8 +11,9 @@
 //! up to eight spheres as two packets of four, each tested in SIMD lanes. A scene of eight
 //! spheres or fewer is one leaf: a flat SIMD loop.
 //!
-//! The closest-hit traversal visits the children a node's ray enters nearest first and
-//! drops any whose entry lies beyond the closest hit so far. [`Bvh::intersect_one`] tests a
+//! The closest-hit traversal tests the leaves among the children a node's ray enters at
+//! once, visits the interior ones nearest first, and drops any whose entry lies beyond the
+//! closest hit so far. [`Bvh::intersect_one`] tests a
 //! single sphere through the same lane arithmetic, so the `t` it reports for a sphere is
 //! bit-for-bit the one the closest-hit query reports (what `stereo`'s exact mode relies
 //! on); both equal the scalar [`crate::intersect_sphere`]. The collapse keeps the binary
@@ -407,13 +408,18 @@ impl Bvh {
             let node = &self.nodes[e.link as usize];
             let (near, mut hit) = br.enter(node, t_best);
             let near = near.to_array();
-            // The children entered, sorted farthest first (insertion sort of ≤ 4) into the
-            // stack, so the nearest is visited next. Fixed-size copies: no memmove call.
+            // Leaves entered are tested at once (cheaper than a trip through the stack);
+            // interior children go on the stack sorted farthest first (insertion sort of
+            // ≤ 4), so the nearest is visited next.
             let base = sp;
             while hit != 0 {
                 let lane = hit.trailing_zeros() as usize;
                 hit &= hit - 1;
                 let entry = Entry { link: node.child[lane], near: near[lane] };
+                if entry.link & LEAF != 0 {
+                    Self::leaf_closest(self.leaf_at(entry.link), o, d, &mut t_best, &mut best);
+                    continue;
+                }
                 let mut k = sp;
                 while k > base && stack[k - 1].near < entry.near {
                     stack[k] = stack[k - 1];
