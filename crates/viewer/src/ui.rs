@@ -531,6 +531,77 @@ mod tests {
         assert_eq!(mega(1_234_567), "1.23 M");
     }
 
+    /// The panel driven as a user would, through its accessibility tree (egui_kittest):
+    /// widgets found by their labels, a slider moved with the keyboard, buttons clicked.
+    #[test]
+    fn panel_widgets_change_the_render_settings() {
+        use egui::accesskit::Role;
+        use egui_kittest::kittest::Queryable as _;
+        use egui_kittest::Harness;
+
+        struct State {
+            settings: Settings,
+            folder: String,
+            actions: Actions,
+        }
+        let scene = scene();
+        let history = FrameTimes::default();
+        let readout = Readout {
+            ui_fps: 60.0,
+            render_fps: 30.0,
+            frame: None,
+            time: 0.0,
+            animated: true,
+            history: &history,
+            saved: None,
+        };
+        let state = State {
+            settings: Settings::from_scene(&scene),
+            folder: "./screenshots".into(),
+            actions: Actions::default(),
+        };
+        let mut harness = Harness::builder().with_size(egui::vec2(1600.0, 900.0)).build_ui_state(
+            |ui, st: &mut State| {
+                setup_style(ui.ctx());
+                let actions = panel(ui.ctx(), &mut st.settings, &readout, &mut st.folder);
+                st.actions.reset |= actions.reset;
+                st.actions.save |= actions.save;
+            },
+            state,
+        );
+        harness.run();
+
+        // The IPD slider: focused and nudged up with the arrow key.
+        let ipd = harness.state().settings.ipd;
+        harness.get_by_role_and_label(Role::Slider, "IPD").focus();
+        harness.run();
+        harness.key_press(egui::Key::ArrowRight);
+        harness.run();
+        let after = harness.state().settings.ipd;
+        assert!(after > ipd, "IPD should grow: {ipd} -> {after}");
+        assert!(after <= 2.0, "within the slider's range: {after}");
+
+        // The mode buttons and the mask checkbox.
+        harness.get_by_label("copy").click();
+        harness.run();
+        assert_eq!(harness.state().settings.mode, Mode::Copy);
+        assert!(!harness.state().settings.show_mask);
+        harness.get_by_label("show mask (M)").click();
+        harness.run();
+        assert!(harness.state().settings.show_mask);
+
+        // Edge retracing applies to copy: its checkbox is enabled there.
+        harness.get_by_label("retrace edges").click();
+        harness.run();
+        assert!(harness.state().settings.options().retrace_edges);
+
+        // The buttons report their clicks to the app.
+        harness.get_by_label("save pair (S)").click();
+        harness.run();
+        assert!(harness.state().actions.save);
+        assert!(!harness.state().actions.reset);
+    }
+
     #[test]
     fn the_light_starts_where_the_scene_puts_it_even_beyond_the_sliders() {
         let src = "[[lights]]\nposition = [40.0, 2.0, -3.0]\n[[spheres]]\ncenter = [0.0, 0.0, 10.0]\nradius = 1.0\n";
