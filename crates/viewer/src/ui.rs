@@ -457,6 +457,11 @@ mod tests {
         Scene::from_toml(src, "s.toml").unwrap()
     }
 
+    /// What the panel shows before the first frame arrives.
+    fn idle_readout(history: &FrameTimes) -> Readout<'_> {
+        Readout { ui_fps: 60.0, render_fps: 30.0, frame: None, time: 0.0, animated: true, history, saved: None }
+    }
+
     #[test]
     fn reset_restores_the_scene_camera_within_the_slider_ranges() {
         let scene = scene();
@@ -494,15 +499,7 @@ mod tests {
         let mut s = Settings::from_scene(&scene());
         s.live_psnr = true;
         let history = FrameTimes::default();
-        let readout = Readout {
-            ui_fps: 60.0,
-            render_fps: 10.0,
-            frame: None,
-            time: 0.0,
-            animated: true,
-            history: &history,
-            saved: None,
-        };
+        let readout = idle_readout(&history);
         let mut folder = "./screenshots".to_owned();
         let mut panel_rect = |s: &mut Settings, height: f32| {
             for _ in 0..3 {
@@ -546,15 +543,7 @@ mod tests {
         }
         let scene = scene();
         let history = FrameTimes::default();
-        let readout = Readout {
-            ui_fps: 60.0,
-            render_fps: 30.0,
-            frame: None,
-            time: 0.0,
-            animated: true,
-            history: &history,
-            saved: None,
-        };
+        let readout = idle_readout(&history);
         let state = State {
             settings: Settings::from_scene(&scene),
             folder: "./screenshots".into(),
