@@ -13,7 +13,8 @@
 //! 3. classify (`classify.rs`): reprojected pixels on object edges or shadow boundaries are
 //!    sent to retrace, as the mode asks;
 //! 4. retrace the gaps, border, edges and shadow boundaries with full primary rays;
-//! 5. fill the reprojected pixels: copy the left colour, reshade, or shade exactly.
+//! 5. fill the reprojected pixels: copy the left colour, reshade, or shade exactly (copy
+//!    mode does this in stage 4's pass over the image, so the right image is swept once).
 
 mod classify;
 mod frame;

@@ -147,8 +147,8 @@ fn leaf_link(first: u32, count: u32) -> Link {
     LEAF | count << COUNT_SHIFT | first
 }
 
-/// A traversal stack entry: a child and where the ray enters it. Eight bytes, so the
-/// stack a ray starts with is cheap to clear.
+/// A closest-hit traversal stack entry: an interior node and where the ray enters it.
+/// Eight bytes, so the stack a ray starts with is cheap to clear.
 #[derive(Clone, Copy, Debug, Default)]
 struct Entry {
     link: Link,
@@ -413,10 +413,8 @@ impl Bvh {
             if e.near > t_best {
                 continue;
             }
-            if e.link & LEAF != 0 {
-                Self::leaf_closest(self.leaf_at(e.link), o, d, &mut t_best, &mut best);
-                continue;
-            }
+            // Only interior nodes are pushed (leaves are tested where they are met), the
+            // root first.
             let node = &self.nodes[e.link as usize];
             let (near, mut hit) = br.enter(node, t_best);
             let near = near.to_array();
