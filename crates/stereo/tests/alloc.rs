@@ -1,0 +1,100 @@
+//! A warm stereo frame allocates nothing of its own: the tracer's per-frame rebuild (BVH,
+//! screen bins, shadow cube maps, cones) and every mode's passes reuse their buffers, on
+//! every thread.
+//!
+//! Allocations are counted by a global allocator that forwards to the system's, so the
+//! count covers rayon's worker threads too. This file is its own test binary: nothing else
+//! runs while frames are counted. One allocation is rayon's, not ours: its queue for work
+//! handed in from outside the pool (crossbeam's `Injector`) takes a new 1.5 KB block every
+//! 63 jobs, and a frame hands in one job per parallel pass (~5). So the test allows fewer
+//! allocations than frames: anything allocated per frame, on any path, counts at least one
+//! per frame and fails it.
+
+// The counting allocator must implement `GlobalAlloc`, an unsafe trait; it only forwards to
+// `System` and bumps a counter.
+#![allow(unsafe_code)]
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use stereo::{Mode, Options, StereoFrame};
+use tracer::{Scene, Tracer};
+
+struct Counting;
+
+static ALLOCATIONS: AtomicU64 = AtomicU64::new(0);
+
+// SAFETY: every method forwards to `System` with the caller's arguments unchanged, so the
+// caller's obligations are passed on as they are.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        // SAFETY: as for the trait method.
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        // SAFETY: as for the trait method.
+        unsafe { System.alloc_zeroed(layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        // SAFETY: as for the trait method.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: as for the trait method.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+fn scene(name: &str) -> Scene {
+    let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+    Scene::load(path).expect("scene loads")
+}
+
+/// Allocations made by `f`.
+fn allocations(f: impl FnOnce()) -> u64 {
+    let before = ALLOCATIONS.load(Ordering::SeqCst);
+    f();
+    ALLOCATIONS.load(Ordering::SeqCst) - before
+}
+
+#[test]
+fn a_warm_frame_allocates_nothing() {
+    let all = [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact];
+    for name in ["seed.toml", "many.toml"] {
+        let scene = scene(name);
+        let (w, h) = (160, 90);
+        let mut tracer = Tracer::new(&scene, 0.0);
+        let mut frame = StereoFrame::new();
+        let variants: Vec<Options> =
+            all.iter().flat_map(|&mode| [false, true].map(|retrace_edges| Options { mode, retrace_edges })).collect();
+        // Warm up: the buffers grow to the frame's size, rayon starts its threads, and every
+        // worker's scratch grows (twice, as rayon may hand a band to either thread).
+        for k in 0..3 {
+            tracer.update(&scene, k as f32 / 30.0);
+            for &opts in &variants {
+                frame.render(&tracer, &scene.camera, w, h, opts);
+            }
+        }
+        // The orbiting sphere moves on: the structures are rebuilt, into the same buffers.
+        let mut frames = 0u64;
+        let n = allocations(|| {
+            for k in 3..6 {
+                tracer.update(&scene, k as f32 / 30.0);
+                for &opts in &variants {
+                    frame.render(&tracer, &scene.camera, w, h, opts);
+                    frames += 1;
+                }
+            }
+        });
+        assert!(n <= frames / 8, "{name}: {frames} warm frames allocated {n} times");
+    }
+}
