@@ -13,12 +13,12 @@
 //!
 //! The closest-hit traversal tests the leaves among the children a node's ray enters at
 //! once, visits the interior ones nearest first, and drops any whose entry lies beyond the
-//! closest hit so far. [`Bvh::intersect_one`] tests a
-//! single sphere through the same lane arithmetic, so the `t` it reports for a sphere is
-//! bit-for-bit the one the closest-hit query reports (what `stereo`'s exact mode relies
-//! on); both equal the scalar [`crate::intersect_sphere`]. The collapse keeps the binary
-//! tree's boxes and only skips levels, so every sphere the binary traversal would reach is
-//! still reached: the answer is the same.
+//! closest hit so far. [`Bvh::intersect_one`] tests a single sphere through the same lane
+//! arithmetic, so the `t` it reports for a sphere is bit-for-bit the one the closest-hit
+//! query reports (what `stereo`'s exact mode relies on); both equal the scalar
+//! [`crate::intersect_sphere`]. The collapse keeps the binary tree's boxes and only skips
+//! levels, so every sphere the binary traversal would reach is still reached: the answer
+//! is the same.
 
 use glam::Vec3;
 use wide::f32x4;
@@ -33,8 +33,8 @@ const WIDTH: usize = 4;
 /// Binary levels split by the surface-area heuristic; below them the median split takes
 /// over, which bounds the depth at `SAH_LEVELS` + log2(spheres) < 56 whatever the scene.
 const SAH_LEVELS: usize = 24;
-/// Traversal stack depth: a node pushes at most three entries besides the one visited
-/// next, and no path has more than 56 nodes.
+/// Traversal stack depth: a node pushes at most three interior children besides the one
+/// visited next (leaves are tested where they are met), and no path has more than 56 nodes.
 const STACK: usize = 3 * 56 + 1;
 
 /// A node of the binary build tree: a box, and either two children (`count == 0`: `first`
