@@ -24,7 +24,8 @@ use glam::Vec3;
 use wide::f32x4;
 
 use crate::ray::Ray;
-use crate::sphere::{splat3, SpherePacket, LANES};
+use crate::sphere::{set_lane, splat3, SpherePacket, LANES};
+use crate::surface::Hit;
 
 /// Most packets in one leaf.
 const LEAF_PACKETS: usize = 2;
@@ -143,7 +144,10 @@ const COUNT_SHIFT: u32 = 29;
 
 /// A leaf link: `count` packets from `first`.
 fn leaf_link(first: u32, count: u32) -> Link {
-    debug_assert!(first < 1 << COUNT_SHIFT && (1..=LEAF_PACKETS as u32).contains(&count));
+    debug_assert!(
+        first < 1 << COUNT_SHIFT && (1..=LEAF_PACKETS as u32).contains(&count),
+        "leaf of {count} packets from {first} does not fit a link"
+    );
     LEAF | count << COUNT_SHIFT | first
 }
 
@@ -325,8 +329,8 @@ impl Bvh {
         for (lane, &k) in kids[..n].iter().enumerate() {
             let child = self.bin[k];
             for a in 0..3 {
-                crate::sphere::set_lane(&mut node.bounds[0][a], lane, child.min[a]);
-                crate::sphere::set_lane(&mut node.bounds[1][a], lane, child.max[a]);
+                set_lane(&mut node.bounds[0][a], lane, child.min[a]);
+                set_lane(&mut node.bounds[1][a], lane, child.max[a]);
             }
             node.lanes |= 1 << lane;
             node.child[lane] = if child.count > 0 { leaf_link(child.first, child.count) } else { self.collapse(k) };
@@ -351,8 +355,8 @@ impl Bvh {
         half_area(self.bin[k].min, self.bin[k].max)
     }
 
-    /// Hit parameter in `(0, ∞)` of the ray against sphere `k` alone.
-    #[inline]
+    /// Hit parameter in `(0, ∞)` of the ray against sphere `k` alone (a test oracle).
+    #[cfg(test)]
     pub(crate) fn intersect_one(&self, ray: &Ray, k: u32) -> Option<f32> {
         let (packet, lane) = self.slots[k as usize];
         let t = self.packets[packet as usize].hits(splat3(ray.origin), splat3(ray.dir), f32::INFINITY)[lane as usize];
@@ -390,8 +394,8 @@ impl Bvh {
         leaf.iter().any(|p| p.hits(o, d, t_max).iter().any(|t| t.is_finite()))
     }
 
-    /// Closest hit in `(0, t_max)`: `(t, sphere id)`.
-    pub(crate) fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(f32, u32)> {
+    /// Closest hit in `(0, t_max)`.
+    pub(crate) fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         let (mut t_best, mut best) = (t_max, None);
         match self.root {
@@ -399,7 +403,7 @@ impl Bvh {
             Root::Leaf { count } => {
                 // A small scene is one leaf: its packets are the whole test, no box needed.
                 Self::leaf_closest(self.leaf(0, count), o, d, &mut t_best, &mut best);
-                return best.map(|k| (t_best, k));
+                return best.map(|object| Hit { t: t_best, object });
             }
             Root::Node => {}
         }
@@ -439,7 +443,7 @@ impl Bvh {
                 sp += 1;
             }
         }
-        best.map(|k| (t_best, k))
+        best.map(|object| Hit { t: t_best, object })
     }
 
     /// Whether any sphere blocks the ray before `t_max` (early exit).
@@ -495,12 +499,12 @@ mod tests {
         (centers, radii)
     }
 
-    fn brute(ray: &Ray, t_max: f32, centers: &[Vec3], radii: &[f32]) -> Option<(f32, u32)> {
+    fn brute(ray: &Ray, t_max: f32, centers: &[Vec3], radii: &[f32]) -> Option<Hit> {
         let mut best = None;
         let mut t_best = t_max;
         for (k, (&c, &r)) in centers.iter().zip(radii).enumerate() {
             if let Some(t) = intersect_sphere(ray, c, r, t_best) {
-                (t_best, best) = (t, Some((t, k as u32)));
+                (t_best, best) = (t, Some(Hit { t, object: k as u32 }));
             }
         }
         best
@@ -518,7 +522,11 @@ mod tests {
                 let ray = Ray::new(Vec3::new(0.0, 0.0, -2.0), dir);
                 let got = bvh.intersect(&ray, f32::INFINITY);
                 let want = brute(&ray, f32::INFINITY, &centers, &radii);
-                assert_eq!(got.map(|(t, k)| (t.to_bits(), k)), want.map(|(t, k)| (t.to_bits(), k)), "n = {n}, ray {k}");
+                assert_eq!(
+                    got.map(|h| (h.t.to_bits(), h.object)),
+                    want.map(|h| (h.t.to_bits(), h.object)),
+                    "n = {n}, ray {k}"
+                );
                 for s in 0..n as u32 {
                     let one = bvh.intersect_one(&ray, s).map(f32::to_bits);
                     let scalar = intersect_sphere(&ray, centers[s as usize], radii[s as usize], f32::INFINITY);
@@ -546,7 +554,7 @@ mod tests {
             let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, a.sin(), a.cos() * 1e-3).normalize());
             let got = bvh.intersect(&ray, f32::INFINITY);
             let want = brute(&ray, f32::INFINITY, &centers, &radii);
-            assert_eq!(got.map(|(t, k)| (t.to_bits(), k)), want.map(|(t, k)| (t.to_bits(), k)), "ray {k}");
+            assert_eq!(got.map(|h| (h.t.to_bits(), h.object)), want.map(|h| (h.t.to_bits(), h.object)), "ray {k}");
             assert_eq!(bvh.occluded(&ray, 1e30), want.is_some(), "ray {k}");
         }
     }
