@@ -11,7 +11,7 @@ use std::fmt::Write as _;
 use anyhow::Result;
 use serde_json::{json, Map, Value};
 use stereo::{FrameStats, Mode, Options, Quality, StereoFrame};
-use tracer::{render_eye, Eye, Film, RayCounts, Tracer};
+use tracer::{Eye, RayCounts, Renderer, Tracer};
 
 use crate::cli::BenchArgs;
 use crate::report;
@@ -40,7 +40,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let (w, h) = (args.frame.width, args.frame.height);
     let mut tracer = Tracer::new(&setup.scene, args.frame.time);
     let mut frame = StereoFrame::new();
-    let mut reference = Film::new(w, h);
+    let (mut reference, mut reference_renderer) = (Vec::new(), Renderer::new());
     let mut results: Vec<Measured> =
         VARIANTS.iter().map(|&(name, ..)| Measured { name, frames: Vec::new(), quality: Vec::new() }).collect();
 
@@ -50,11 +50,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     for k in 0..args.frames {
         let t = args.frame.time + k as f32 / 30.0;
         tracer.update(&setup.scene, t);
-        render_eye(&tracer, &setup.camera.view(Eye::Right, w, h), &mut reference);
+        reference_renderer.render_rgb(&tracer, &setup.camera.view(Eye::Right, w, h), &mut reference);
         for (m, &(_, mode, retrace_edges)) in results.iter_mut().zip(&VARIANTS) {
             let stats = frame.render(&tracer, &setup.camera, w, h, Options { mode, retrace_edges });
             m.frames.push(stats);
-            m.quality.push(Quality::compare(&frame.right().rgb, &reference.rgb));
+            m.quality.push(Quality::compare(&frame.right().rgb, &reference));
         }
     }
 

@@ -9,7 +9,7 @@ use std::time::Instant;
 use anyhow::{Context, Result};
 use serde_json::json;
 use stereo::{compose, mask_color, Options, Quality, StereoFrame};
-use tracer::{render_rgb, Eye, PrimaryBins, RayCounts, Tracer};
+use tracer::{Eye, RayCounts, Renderer, Tracer};
 
 use crate::cli::RenderArgs;
 use crate::png_out::{parent_dir, write_png};
@@ -55,7 +55,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     }
     if args.json {
         let mut reference = Vec::new();
-        render_rgb(&tracer, &setup.camera.view(Eye::Right, w, h), &mut PrimaryBins::new(), &mut reference);
+        Renderer::new().render_rgb(&tracer, &setup.camera.view(Eye::Right, w, h), &mut reference);
         let q = Quality::compare(&frame.right().rgb, &reference);
         let mut out = json!({
             "scene": setup.path.display().to_string(),

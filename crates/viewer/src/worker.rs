@@ -15,7 +15,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use stereo::{FrameStats, Options, PixelClass, Quality, StereoFrame};
-use tracer::{render_eye, Camera, Eye, Film, Scene, Tracer};
+use tracer::{Camera, Eye, Renderer, Scene, Tracer};
 
 /// Everything that determines one stereo frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -206,7 +206,7 @@ fn render_loop(mut scene: Scene, shared: &Shared) {
     let mut tracer = Tracer::new(&scene, 0.0);
     let scene_light = scene.lights.first().map(|l| l.position);
     let mut frame = StereoFrame::new();
-    let mut reference = Film::default();
+    let (mut reference, mut reference_renderer) = (Vec::new(), Renderer::new());
     let mut back = Finished::default();
     let mut seq = 0u64;
     loop {
@@ -231,8 +231,8 @@ fn render_loop(mut scene: Scene, shared: &Shared) {
         let (w, h) = (request.width, request.height);
         let stats = frame.render(&tracer, &request.camera, w, h, request.opts);
         let quality = request.psnr.then(|| {
-            render_eye(&tracer, &request.camera.view(Eye::Right, w, h), &mut reference);
-            Quality::compare(&frame.right().rgb, &reference.rgb)
+            reference_renderer.render_rgb(&tracer, &request.camera.view(Eye::Right, w, h), &mut reference);
+            Quality::compare(&frame.right().rgb, &reference)
         });
         seq += 1;
         back.fill_from(&frame, &FrameInfo { seq, request, stats, quality, wall_ms: 0.0 });
