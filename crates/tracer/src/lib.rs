@@ -31,7 +31,8 @@
 //! - `sphere` (ray): the ray–sphere test and its SIMD packets;
 //! - `camera` (ray): the stereo camera and each eye's view;
 //! - `scene` (camera, material, sphere), then `scene_file` (scene, material, camera, error);
-//! - `bvh`, `cones`, `shadow` (ray, sphere, surface, scene): the acceleration structures;
+//! - `bvh` (its child `bvh::build` makes the tree), `cones`, `shadow` (ray, sphere, surface,
+//!   scene): the acceleration structures;
 //! - `tracer` (the structures, scene, material, color, ray, surface): the scene at one
 //!   instant and its two queries, `intersect` and `occluded`;
 //! - `shade` (tracer, camera, ray, color, stats, surface): Whitted shading;
