@@ -67,6 +67,7 @@ mod sphere;
 mod stats;
 mod surface;
 mod tracer;
+mod wavefront;
 
 pub use camera::{Camera, Eye, EyeView};
 pub use color::{linear_to_srgb8, pack_rgb, srgb8_to_linear, unpack_rgb};
