@@ -66,6 +66,7 @@ mod shadow;
 mod sphere;
 mod stats;
 mod surface;
+mod simd;
 mod tracer;
 mod wavefront;
 
@@ -78,6 +79,7 @@ pub use ray::{reflect, spawn_ray, Ray};
 pub use render::Renderer;
 pub use scene::{Light, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
 pub use second_view::SecondView;
+pub use simd::{lane_width, LANES_VAR};
 pub use shade::Shaded;
 pub use sphere::{intersect_sphere, Sphere};
 pub use stats::RayCounts;

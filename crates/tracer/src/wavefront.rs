@@ -13,6 +13,7 @@
 //! The queues live in a [`Wavefront`] that each worker thread keeps from batch to batch, so
 //! a warm renderer allocates nothing.
 
+use fearless_simd::{dispatch, Simd};
 use glam::Vec3;
 
 use crate::color::pack_rgb;
@@ -20,6 +21,8 @@ use crate::ray::{reflect, spawn_ray, Ray};
 use crate::stats::RayCounts;
 use crate::surface::{Hit, Surface};
 use crate::tracer::Tracer;
+
+mod lanes;
 
 /// What a batch's samples start from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -179,6 +182,13 @@ impl Wavefront {
 
     /// Shades every sample of the batch, counting the shadow and mirror rays cast.
     pub(crate) fn shade(&mut self, tracer: &Tracer, start: Start, counts: &mut RayCounts) {
+        dispatch!(crate::simd::level(), simd => self.shade_in(simd, tracer, start, counts));
+    }
+
+    /// [`Wavefront::shade`] with the lanes of `simd`: each stage runs over whole vectors,
+    /// then the scalar stage takes the entries left over.
+    #[inline(always)]
+    fn shade_in<S: Simd>(&mut self, simd: S, tracer: &Tracer, start: Start, counts: &mut RayCounts) {
         let max_depth = tracer.settings.max_depth as usize;
         self.depth = 0;
         for k in 0.. {
@@ -194,33 +204,27 @@ impl Wavefront {
             self.depth = k + 1;
             level.size_outputs();
             if k > 0 || start == Start::Rays {
-                surfaces(tracer, level);
-                light(tracer, level, k == 0, counts);
+                let done = lanes::surfaces(simd, tracer, level);
+                surfaces(tracer, level, done);
+                let done = lanes::light(simd, tracer, level, k == 0, counts);
+                light(tracer, level, k == 0, counts, done);
             }
-            highlights(tracer, level);
+            let done = lanes::highlights(simd, tracer, level);
+            highlights(tracer, level, done);
             if k < max_depth {
-                mirrors(tracer, level, next, counts);
+                let done = lanes::mirrors(simd, tracer, level, next, counts);
+                mirrors(tracer, level, next, counts, done);
             }
         }
-        self.fold(tracer);
-    }
-
-    /// Folds radiance up each sample's chain, deepest level first.
-    fn fold(&mut self, tracer: &Tracer) {
+        // Radiance folds up each sample's chain, deepest level first.
         for k in (0..self.depth).rev() {
             let (upper, lower) = self.levels.split_at_mut(k);
             let level = &mut lower[0];
-            for e in 0..level.len() {
-                let (d, s) = (get3(&level.diffuse, e), get3(&level.spec, e));
-                let radiance = if level.reflects[e] {
-                    let kr = tracer.materials[level.object[e] as usize].reflectivity;
-                    d + (s + kr * get3(&level.mirror, e))
-                } else {
-                    d + s
-                };
-                set3(&mut level.radiance, e, radiance);
-                if let Some(above) = upper.last_mut() {
-                    set3(&mut above.mirror, level.parent[e] as usize, radiance);
+            let done = lanes::radiance(simd, tracer, level);
+            radiance(tracer, level, done);
+            if let Some(above) = upper.last_mut() {
+                for e in 0..level.len() {
+                    set3(&mut above.mirror, level.parent[e] as usize, get3(&level.radiance, e));
                 }
             }
         }
@@ -249,9 +253,10 @@ impl Wavefront {
     }
 }
 
-/// Stage 1: hit points and normals.
-fn surfaces(tracer: &Tracer, level: &mut Level) {
-    for e in 0..level.len() {
+/// Stage 1: hit points and normals, of the entries from `from` on (the scalar stages below
+/// are the lanes' reference and take what is left over from whole vectors).
+fn surfaces(tracer: &Tracer, level: &mut Level, from: usize) {
+    for e in from..level.len() {
         let p = get3(&level.o, e) + level.t[e] * get3(&level.d, e);
         // Normalised rather than divided by r: the hit lies on the sphere only to rounding.
         let n = (p - tracer.centers[level.object[e] as usize]).normalize();
@@ -262,8 +267,8 @@ fn surfaces(tracer: &Tracer, level: &mut Level) {
 
 /// Stage 2: the light bits (from shadow rays, or known at level 0) and the view-independent
 /// light.
-fn light(tracer: &Tracer, level: &mut Level, first: bool, counts: &mut RayCounts) {
-    for e in 0..level.len() {
+fn light(tracer: &Tracer, level: &mut Level, first: bool, counts: &mut RayCounts, from: usize) {
+    for e in from..level.len() {
         let known = first && level.known[e];
         let (p, n, object) = (get3(&level.p, e), get3(&level.n, e), level.object[e]);
         let mut sum = Vec3::ZERO;
@@ -292,8 +297,8 @@ fn light(tracer: &Tracer, level: &mut Level, first: bool, counts: &mut RayCounts
 }
 
 /// Stage 3: Blinn–Phong highlights from the lights the bits name, seen along the ray.
-fn highlights(tracer: &Tracer, level: &mut Level) {
-    for e in 0..level.len() {
+fn highlights(tracer: &Tracer, level: &mut Level, from: usize) {
+    for e in from..level.len() {
         let object = level.object[e] as usize;
         let (m, exponent) = (&tracer.materials[object], tracer.exponents[object]);
         let mut out = Vec3::ZERO;
@@ -315,8 +320,8 @@ fn highlights(tracer: &Tracer, level: &mut Level) {
 }
 
 /// Stage 4: the mirror rays of reflective hits; those that meet a sphere join `next`.
-fn mirrors(tracer: &Tracer, level: &mut Level, next: &mut Level, counts: &mut RayCounts) {
-    for e in 0..level.len() {
+fn mirrors(tracer: &Tracer, level: &mut Level, next: &mut Level, counts: &mut RayCounts, from: usize) {
+    for e in from..level.len() {
         let object = level.object[e];
         if tracer.materials[object as usize].reflectivity <= 0.0 {
             continue;
@@ -351,4 +356,18 @@ pub(crate) fn with_wavefront<R>(f: impl FnOnce(&mut Wavefront) -> R) -> R {
             f(&mut wavefront)
         }
     })
+}
+
+/// The fold: entry radiance `D + (S + kr·L_mirror)`, or `D + S` where no mirror ray was cast.
+fn radiance(tracer: &Tracer, level: &mut Level, from: usize) {
+    for e in from..level.len() {
+        let (d, s) = (get3(&level.diffuse, e), get3(&level.spec, e));
+        let radiance = if level.reflects[e] {
+            let kr = tracer.materials[level.object[e] as usize].reflectivity;
+            d + (s + kr * get3(&level.mirror, e))
+        } else {
+            d + s
+        };
+        set3(&mut level.radiance, e, radiance);
+    }
 }
