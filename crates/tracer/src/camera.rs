@@ -168,6 +168,25 @@ impl EyeView {
         [wx * recip, wy * recip, wz * recip]
     }
 
+    /// [`EyeView::primary_dirs4`] over the lanes of `simd`: pixels (i + l, j), l = 0..LEN,
+    /// the same operations lane by lane, so bit-for-bit the same directions.
+    #[inline(always)]
+    pub(crate) fn primary_dirs_lanes<S: fearless_simd::Simd>(&self, simd: S, i: u32, j: u32) -> [crate::simd::F<S>; 3] {
+        use crate::simd::F;
+        use fearless_simd::prelude::*;
+        let lane = F::<S>::from_fn(simd, |l| (i + l as u32) as f32);
+        let splat = |x: f32| F::<S>::splat(simd, x);
+        let x = ((lane + splat(0.5)) * splat(self.inv_width) - splat(0.5)) * splat(self.window_width);
+        let y = (0.5 - (j as f32 + 0.5) * self.inv_height) * self.window_height;
+        let (hx, hy, hz) = (x - splat(self.eye_x), splat(y), splat(self.distance));
+        let (a, b, c) = (self.world_from_head.x_axis, self.world_from_head.y_axis, self.world_from_head.z_axis);
+        let wx = (hx * splat(a.x) + hy * splat(b.x)) + hz * splat(c.x);
+        let wy = (hx * splat(a.y) + hy * splat(b.y)) + hz * splat(c.y);
+        let wz = (hx * splat(a.z) + hy * splat(b.z)) + hz * splat(c.z);
+        let recip = splat(1.0) / ((wx * wx + wy * wy) + wz * wz).sqrt();
+        [wx * recip, wy * recip, wz * recip]
+    }
+
     /// Head-space depth beyond the window (the paper's z) of a world point.
     #[inline]
     #[must_use]

@@ -32,13 +32,15 @@
 //! to a few 10⁻⁷ of it) and then widened by one pixel on each side; a test compares the
 //! two paths over the scenes.
 
+use fearless_simd::{prelude::*, Simd};
 use glam::{DVec3, Vec3};
 use wide::f32x4;
 
 use crate::camera::EyeView;
 use crate::ray::Ray;
+use crate::simd::{each3, nearest_root, F, U};
 use crate::sphere::SphereFromOrigin;
-use crate::surface::Hit;
+use crate::surface::{Hit, NO_OBJECT};
 use crate::tracer::Tracer;
 
 /// Tile edge in pixels.
@@ -175,7 +177,7 @@ impl PrimaryBins {
 
     /// The spheres of the tile holding pixel (i, j).
     #[inline]
-    fn spheres_at(&self, i: u32, j: u32) -> &[SphereFromOrigin] {
+    pub(crate) fn spheres_at(&self, i: u32, j: u32) -> &[SphereFromOrigin] {
         let t = ((j / TILE) * self.tiles_x + i / TILE) as usize;
         &self.spheres[self.first[t] as usize..self.first[t + 1] as usize]
     }
@@ -221,6 +223,25 @@ pub(crate) struct BinnedView<'a> {
 }
 
 impl BinnedView<'_> {
+    /// The first hits of the primary rays of pixels (i + l, j), l = 0..LEN, which lie in one
+    /// tile (and the image, where lanes are wanted): per lane the hit parameter (+∞ for
+    /// none), the sphere, and the ray's direction. Lane by lane the operations of
+    /// [`BinnedView::hits4`], so bit for bit its answers.
+    #[inline(always)]
+    pub(crate) fn hits_lanes<S: Simd>(&self, simd: S, i: u32, j: u32) -> (F<S>, U<S>, [F<S>; 3]) {
+        let d = self.view.primary_dirs_lanes(simd, i, j);
+        let mut t_best = F::<S>::splat(simd, f32::INFINITY);
+        let mut best = U::<S>::splat(simd, NO_OBJECT);
+        for s in self.bins.spheres_at(i, j) {
+            let oc = each3(|a| F::<S>::splat(simd, s.oc[a]));
+            let t = nearest_root(simd, oc, d, F::<S>::splat(simd, s.r2), F::<S>::splat(simd, s.c), t_best);
+            let nearer = t.simd_lt(t_best);
+            t_best = nearer.select(t, t_best);
+            best = nearer.select(U::<S>::splat(simd, s.id), best);
+        }
+        (t_best, best, d)
+    }
+
     /// The first hits of the primary rays of pixels (i + k, j), k = 0..n (n ≤ 4), which lie
     /// in one tile: per lane the ray and what it meets, `None` for a lane beyond `n` or a
     /// ray that meets nothing. The rays are [`EyeView::primary_ray`]'s and the hits

@@ -8,17 +8,21 @@
 
 use std::ops::Range;
 
+use fearless_simd::{dispatch, prelude::*, Simd};
+use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::camera::EyeView;
 use crate::film::Film;
 use crate::primary::{BinnedView, PrimaryBins, TILE};
+use crate::ray::Ray;
 use crate::second_view::SecondView;
 use crate::shade::Shaded;
+use crate::simd::F;
 use crate::stats::RayCounts;
-use crate::surface::{Shading, NO_OBJECT};
+use crate::surface::{Hit, Shading, NO_OBJECT};
 use crate::tracer::Tracer;
-use crate::wavefront::{with_wavefront, Start};
+use crate::wavefront::{with_wavefront, Start, Wavefront};
 
 /// Renders one eye's views, keeping its screen bins from frame to frame.
 #[derive(Clone, Debug, Default)]
@@ -85,36 +89,56 @@ impl RowSink for RgbRow<'_> {
 /// Traces row `j` of `eye`, `w` pixels wide, into `sink`; the rays cast.
 ///
 /// The row goes tile by tile: a tile whose bin is empty is background without a sphere
-/// test, the others find their first hits four pixels at a time. The hits are then shaded
-/// together, as one batch of this thread's wavefront.
-#[inline]
+/// test, the others find their first hits a vector of pixels at a time. The hits are then
+/// shaded together, as one batch of this thread's wavefront, in the same lanes.
 fn trace_row(eye: &BinnedView<'_>, j: u32, w: usize, sink: &mut impl RowSink) -> RayCounts {
+    with_wavefront(|wavefront| dispatch!(crate::simd::level(), simd => trace_row_in(simd, wavefront, eye, j, w, sink)))
+}
+
+/// [`trace_row`] with the lanes of `simd`.
+fn trace_row_in<S: Simd>(
+    simd: S,
+    wavefront: &mut Wavefront,
+    eye: &BinnedView<'_>,
+    j: u32,
+    w: usize,
+    sink: &mut impl RowSink,
+) -> RayCounts {
     let mut counts = RayCounts { primary: w as u64, ..RayCounts::default() };
-    let tile = TILE as usize;
+    let (tile, lanes) = (TILE as usize, F::<S>::LEN);
     let (tracer, view) = (eye.tracer, eye.view);
-    with_wavefront(|wavefront| {
-        for span in (0..w.div_ceil(tile)).map(|t| t * tile..((t + 1) * tile).min(w)) {
-            if eye.bins.is_empty_at(span.start as u32, j) {
-                sink.background(span, tracer.background_rgb);
-                continue;
+    let (mut t, mut ids, mut d) = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
+    for span in (0..w.div_ceil(tile)).map(|t| t * tile..((t + 1) * tile).min(w)) {
+        if eye.bins.is_empty_at(span.start as u32, j) {
+            sink.background(span, tracer.background_rgb);
+            continue;
+        }
+        for i0 in span.clone().step_by(lanes) {
+            let (tv, idv, dv) = simd.vectorize(
+                #[inline(always)]
+                || eye.hits_lanes(simd, i0 as u32, j),
+            );
+            tv.store_slice(&mut t[..lanes]);
+            idv.store_slice(&mut ids[..lanes]);
+            for a in 0..3 {
+                dv[a].store_slice(&mut d[a][..lanes]);
             }
-            for i0 in span.clone().step_by(4) {
-                let n = (span.end - i0).min(4);
-                for (k, first) in eye.hits4(i0 as u32, j, n).into_iter().enumerate().take(n) {
-                    match first {
-                        Some((ray, hit)) => wavefront.push_hit(&ray, hit, None, (i0 + k) as u32),
-                        None => sink.sample(i0 + k, &tracer.miss_sample()),
-                    }
+            for l in 0..(span.end - i0).min(lanes) {
+                if t[l].is_finite() {
+                    let ray = Ray::new(view.origin, Vec3::new(d[0][l], d[1][l], d[2][l]));
+                    wavefront.push_hit(&ray, Hit { t: t[l], object: ids[l] }, None, (i0 + l) as u32);
+                } else {
+                    sink.sample(i0 + l, &tracer.miss_sample());
                 }
             }
         }
-        wavefront.shade(tracer, Start::Rays, &mut counts);
-        for e in 0..wavefront.len() {
-            let surface = wavefront.surface(e);
-            let sample = Shaded { rgb: wavefront.rgb(e), z: view.head_z(surface.point), surface };
-            sink.sample(wavefront.tag(e) as usize, &sample);
-        }
-    });
+    }
+    wavefront.shade_in(simd, tracer, Start::Rays, &mut counts);
+    for e in 0..wavefront.len() {
+        let surface = wavefront.surface(e);
+        let sample = Shaded { rgb: wavefront.rgb(e), z: view.head_z(surface.point), surface };
+        sink.sample(wavefront.tag(e) as usize, &sample);
+    }
     counts
 }
 

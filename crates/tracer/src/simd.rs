@@ -1,4 +1,5 @@
-//! The one choice of instruction set for the lane kernels, made once per process.
+//! The one choice of instruction set for the lane kernels, made once per process, and the
+//! lane helpers every kernel shares.
 //!
 //! The shading kernels (`wavefront/lanes.rs`) are generic over `fearless_simd`'s [`Simd`]
 //! token and run at the [`Level`] chosen here: 8 lanes with AVX2 and FMA on x86-64 CPUs
@@ -14,7 +15,8 @@
 
 use std::sync::OnceLock;
 
-use fearless_simd::{Level, Simd};
+use fearless_simd::{prelude::*, Level, Simd};
+use glam::Vec3;
 
 /// The environment variable that forces the 4-lane fallback when set to `4`.
 pub const LANES_VAR: &str = "STEREOTRACE_LANES";
@@ -40,4 +42,104 @@ pub(crate) fn level() -> Level {
 #[must_use]
 pub fn lane_width() -> usize {
     chosen().1
+}
+
+pub(crate) type F<S> = <S as Simd>::f32s;
+pub(crate) type U<S> = <S as Simd>::u32s;
+pub(crate) type M<S> = <S as Simd>::mask32s;
+
+/// `[f(0), f(1), f(2)]`, kept inline (`array::map` may not be, and an out-of-line call
+/// loses the dispatched target features).
+#[inline(always)]
+pub(crate) fn each3<T>(f: impl Fn(usize) -> T) -> [T; 3] {
+    [f(0), f(1), f(2)]
+}
+
+/// Lanes `j..` of a column.
+#[inline(always)]
+pub(crate) fn load<S: Simd>(simd: S, column: &[f32], j: usize) -> F<S> {
+    F::<S>::from_slice(simd, &column[j..j + F::<S>::LEN])
+}
+
+/// Lanes `j..` of three columns.
+#[inline(always)]
+pub(crate) fn load3<S: Simd>(simd: S, c: &[Vec<f32>; 3], j: usize) -> [F<S>; 3] {
+    each3(|a| load(simd, &c[a], j))
+}
+
+/// Stores a vector of three into lanes `j..` of three columns.
+#[inline(always)]
+pub(crate) fn store3<S: Simd>(v: [F<S>; 3], c: &mut [Vec<f32>; 3], j: usize) {
+    for (a, x) in v.iter().enumerate() {
+        x.store_slice(&mut c[a][j..j + F::<S>::LEN]);
+    }
+}
+
+/// glam's `Vec3::dot`, lane by lane.
+#[inline(always)]
+pub(crate) fn dot<S: Simd>(a: [F<S>; 3], b: [F<S>; 3]) -> F<S> {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// A vector splatted across the lanes.
+#[inline(always)]
+pub(crate) fn splat3<S: Simd>(simd: S, v: Vec3) -> [F<S>; 3] {
+    [F::<S>::splat(simd, v.x), F::<S>::splat(simd, v.y), F::<S>::splat(simd, v.z)]
+}
+
+/// Lane `l` of a vector of three.
+#[inline(always)]
+pub(crate) fn lane3<S: Simd>(v: &[F<S>; 3], l: usize) -> Vec3 {
+    Vec3::new(v[0].as_slice()[l], v[1].as_slice()[l], v[2].as_slice()[l])
+}
+
+/// The direction to light `k` and its distance, as [`Tracer::to_light`] computes them.
+#[inline(always)]
+pub(crate) fn to_light<S: Simd>(simd: S, light: Vec3, p: [F<S>; 3]) -> ([F<S>; 3], F<S>) {
+    let light = splat3(simd, light);
+    let v = each3(|a| light[a] - p[a]);
+    let dist = dot::<S>(v, v).sqrt();
+    let recip = F::<S>::splat(simd, 1.0) / dist;
+    (each3(|a| v[a] * recip), dist)
+}
+
+/// A mask from bit l of `bits` for each lane l.
+#[inline(always)]
+pub(crate) fn mask_of<S: Simd>(simd: S, bits: u64) -> M<S> {
+    U::<S>::from_fn(simd, |l| u32::from(bits & (1 << l) != 0)).simd_eq(U::<S>::splat(simd, 1))
+}
+
+/// Each lane's ray (origin `o`, unit direction `d`) against the sphere (`center`, `radius`):
+/// its nearest `t` in `(0, t_max)`, +∞ where there is none. Lane by lane the operations of
+/// `sphere.rs`'s `SpherePacket::hits`, so bit-for-bit the `t` every other query reports.
+#[inline(always)]
+pub(crate) fn sphere_t<S: Simd>(simd: S, o: [F<S>; 3], d: [F<S>; 3], center: Vec3, radius: f32, t_max: F<S>) -> F<S> {
+    let c = splat3(simd, center);
+    let oc = each3(|a| o[a] - c[a]);
+    let r = F::<S>::splat(simd, radius);
+    let r2 = r * r;
+    let cc = dot::<S>(oc, oc) - r2;
+    nearest_root(simd, oc, d, r2, cc, t_max)
+}
+
+/// The lane-wise core of every ray–sphere test, `sphere.rs`'s `nearest_root` over these
+/// lanes: `oc` = origin − centre, `d` unit, `r2` = r², `cc` = |oc|² − r².
+#[inline(always)]
+pub(crate) fn nearest_root<S: Simd>(simd: S, oc: [F<S>; 3], d: [F<S>; 3], r2: F<S>, cc: F<S>, t_max: F<S>) -> F<S> {
+    let (zero, inf) = (F::<S>::splat(simd, 0.0), F::<S>::splat(simd, f32::INFINITY));
+    let b = dot::<S>(oc, d);
+    let p = each3(|a| oc[a] - b * d[a]);
+    let disc = r2 - dot::<S>(p, p);
+    let touched = disc.simd_ge(zero);
+    if !touched.any_true() {
+        return inf;
+    }
+    let sq = disc.sqrt();
+    let q = b.simd_gt(zero).select(-b - sq, -b + sq);
+    let t0 = cc / q;
+    let (near, far) = (t0.min_precise(q), t0.max_precise(q));
+    let near_ok = near.simd_gt(zero) & near.simd_lt(t_max);
+    let far_ok = far.simd_gt(zero) & far.simd_lt(t_max);
+    let t = near_ok.select(near, far_ok.select(far, inf));
+    touched.select(t, inf)
 }

@@ -113,11 +113,11 @@ impl SpherePacket {
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct SphereFromOrigin {
     /// origin − centre.
-    oc: [f32; 3],
+    pub(crate) oc: [f32; 3],
     /// radius².
-    r2: f32,
+    pub(crate) r2: f32,
     /// |oc|² − radius².
-    c: f32,
+    pub(crate) c: f32,
     /// The sphere's id.
     pub(crate) id: u32,
 }

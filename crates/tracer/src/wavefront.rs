@@ -185,10 +185,10 @@ impl Wavefront {
         dispatch!(crate::simd::level(), simd => self.shade_in(simd, tracer, start, counts));
     }
 
-    /// [`Wavefront::shade`] with the lanes of `simd`: each stage runs over whole vectors,
-    /// then the scalar stage takes the entries left over.
-    #[inline(always)]
-    fn shade_in<S: Simd>(&mut self, simd: S, tracer: &Tracer, start: Start, counts: &mut RayCounts) {
+    /// [`Wavefront::shade`] with the lanes of `simd`: each stage runs over whole vectors (in
+    /// a function of its own with `simd`'s target features), then the scalar stage takes the
+    /// entries left over.
+    pub(crate) fn shade_in<S: Simd>(&mut self, simd: S, tracer: &Tracer, start: Start, counts: &mut RayCounts) {
         let max_depth = tracer.settings.max_depth as usize;
         self.depth = 0;
         for k in 0.. {
@@ -204,15 +204,27 @@ impl Wavefront {
             self.depth = k + 1;
             level.size_outputs();
             if k > 0 || start == Start::Rays {
-                let done = lanes::surfaces(simd, tracer, level);
+                let done = simd.vectorize(
+                    #[inline(always)]
+                    || lanes::surfaces(simd, tracer, level),
+                );
                 surfaces(tracer, level, done);
-                let done = lanes::light(simd, tracer, level, k == 0, counts);
+                let done = simd.vectorize(
+                    #[inline(always)]
+                    || lanes::light(simd, tracer, level, k == 0, counts),
+                );
                 light(tracer, level, k == 0, counts, done);
             }
-            let done = lanes::highlights(simd, tracer, level);
+            let done = simd.vectorize(
+                #[inline(always)]
+                || lanes::highlights(simd, tracer, level),
+            );
             highlights(tracer, level, done);
             if k < max_depth {
-                let done = lanes::mirrors(simd, tracer, level, next, counts);
+                let done = simd.vectorize(
+                    #[inline(always)]
+                    || lanes::mirrors(simd, tracer, level, next, counts),
+                );
                 mirrors(tracer, level, next, counts, done);
             }
         }
@@ -220,7 +232,10 @@ impl Wavefront {
         for k in (0..self.depth).rev() {
             let (upper, lower) = self.levels.split_at_mut(k);
             let level = &mut lower[0];
-            let done = lanes::radiance(simd, tracer, level);
+            let done = simd.vectorize(
+                #[inline(always)]
+                || lanes::radiance(simd, tracer, level),
+            );
             radiance(tracer, level, done);
             if let Some(above) = upper.last_mut() {
                 for e in 0..level.len() {

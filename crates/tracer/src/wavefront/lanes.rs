@@ -11,63 +11,14 @@
 //! A batch's last entries, fewer than a vector, take the scalar stages.
 
 use fearless_simd::{prelude::*, Simd};
-use glam::Vec3;
 
-use super::{Column3, Level};
+use super::Level;
 use crate::material::Exponent;
 use crate::ray::{spawn_ray, Ray};
+use crate::simd::{dot, each3, lane3, load, load3, mask_of, sphere_t, splat3, store3, to_light, F, M, U};
 use crate::stats::RayCounts;
 use crate::surface::Hit;
 use crate::tracer::Tracer;
-
-type F<S> = <S as Simd>::f32s;
-type U<S> = <S as Simd>::u32s;
-type M<S> = <S as Simd>::mask32s;
-
-/// `[f(0), f(1), f(2)]`, kept inline (`array::map` may not be, and an out-of-line call
-/// loses the dispatched target features).
-#[inline(always)]
-fn each3<T>(f: impl Fn(usize) -> T) -> [T; 3] {
-    [f(0), f(1), f(2)]
-}
-
-/// Lanes `j..` of a column.
-#[inline(always)]
-fn load<S: Simd>(simd: S, column: &[f32], j: usize) -> F<S> {
-    F::<S>::from_slice(simd, &column[j..j + F::<S>::LEN])
-}
-
-/// Lanes `j..` of three columns.
-#[inline(always)]
-fn load3<S: Simd>(simd: S, c: &Column3, j: usize) -> [F<S>; 3] {
-    each3(|a| load(simd, &c[a], j))
-}
-
-/// Stores a vector of three into lanes `j..` of three columns.
-#[inline(always)]
-fn store3<S: Simd>(v: [F<S>; 3], c: &mut Column3, j: usize) {
-    for (a, x) in v.iter().enumerate() {
-        x.store_slice(&mut c[a][j..j + F::<S>::LEN]);
-    }
-}
-
-/// glam's `Vec3::dot`, lane by lane.
-#[inline(always)]
-fn dot<S: Simd>(a: [F<S>; 3], b: [F<S>; 3]) -> F<S> {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-/// A vector splatted across the lanes.
-#[inline(always)]
-fn splat3<S: Simd>(simd: S, v: Vec3) -> [F<S>; 3] {
-    [F::<S>::splat(simd, v.x), F::<S>::splat(simd, v.y), F::<S>::splat(simd, v.z)]
-}
-
-/// Lane `l` of a vector of three.
-#[inline(always)]
-fn lane3<S: Simd>(v: &[F<S>; 3], l: usize) -> Vec3 {
-    Vec3::new(v[0].as_slice()[l], v[1].as_slice()[l], v[2].as_slice()[l])
-}
 
 /// A per-entry value of the material of each lane's sphere.
 #[inline(always)]
@@ -75,55 +26,11 @@ fn material<S: Simd>(simd: S, tracer: &Tracer, objects: &[u32], f: impl Fn(&crat
     F::<S>::from_fn(simd, |l| f(&tracer.materials[objects[l] as usize]))
 }
 
-/// The direction to light `k` and its distance, as [`Tracer::to_light`] computes them.
-#[inline(always)]
-fn to_light<S: Simd>(simd: S, light: Vec3, p: [F<S>; 3]) -> ([F<S>; 3], F<S>) {
-    let light = splat3(simd, light);
-    let v = each3(|a| light[a] - p[a]);
-    let dist = dot::<S>(v, v).sqrt();
-    let recip = F::<S>::splat(simd, 1.0) / dist;
-    (each3(|a| v[a] * recip), dist)
-}
-
-/// A mask from bit l of `bits` for each lane l.
-#[inline(always)]
-fn mask_of<S: Simd>(simd: S, bits: u64) -> M<S> {
-    U::<S>::from_fn(simd, |l| u32::from(bits & (1 << l) != 0)).simd_eq(U::<S>::splat(simd, 1))
-}
-
 /// Scenes of up to this many spheres answer shadow and mirror rays by testing every sphere
 /// against a vector of rays at once, instead of one ray at a time through the cube maps
 /// and cones. Either way the answer is the same: each sphere's `t` is the same operations
 /// on the same values (`sphere.rs`'s `nearest_root`).
 pub(super) const ALL_SPHERES_MAX: usize = 16;
-
-/// Each lane's ray (origin `o`, unit direction `d`) against the sphere (`center`, `radius`):
-/// its nearest `t` in `(0, t_max)`, +∞ where there is none. Lane by lane the operations of
-/// `sphere.rs`'s `SpherePacket::hits`, so bit-for-bit the `t` every other query reports.
-#[inline(always)]
-fn sphere_t<S: Simd>(simd: S, o: [F<S>; 3], d: [F<S>; 3], center: Vec3, radius: f32, t_max: F<S>) -> F<S> {
-    let (zero, inf) = (F::<S>::splat(simd, 0.0), F::<S>::splat(simd, f32::INFINITY));
-    let c = splat3(simd, center);
-    let oc = each3(|a| o[a] - c[a]);
-    let r = F::<S>::splat(simd, radius);
-    let r2 = r * r;
-    let cc = dot::<S>(oc, oc) - r2;
-    let b = dot::<S>(oc, d);
-    let p = each3(|a| oc[a] - b * d[a]);
-    let disc = r2 - dot::<S>(p, p);
-    let touched = disc.simd_ge(zero);
-    if !touched.any_true() {
-        return inf;
-    }
-    let sq = disc.sqrt();
-    let q = b.simd_gt(zero).select(-b - sq, -b + sq);
-    let t0 = cc / q;
-    let (near, far) = (t0.min_precise(q), t0.max_precise(q));
-    let near_ok = near.simd_gt(zero) & near.simd_lt(t_max);
-    let far_ok = far.simd_gt(zero) & far.simd_lt(t_max);
-    let t = near_ok.select(near, far_ok.select(far, inf));
-    touched.select(t, inf)
-}
 
 /// The lanes whose object is sphere `s`.
 #[inline(always)]
@@ -158,7 +65,14 @@ fn blocked_all<S: Simd>(
 /// its own where it leaves that sphere outwards (as `Tracer::intersect_from` answers): the
 /// hit parameter (+∞ for none) and the sphere.
 #[inline(always)]
-fn closest_all<S: Simd>(simd: S, tracer: &Tracer, origin: [F<S>; 3], dir: [F<S>; 3], objects: U<S>, outwards: M<S>) -> (F<S>, U<S>) {
+fn closest_all<S: Simd>(
+    simd: S,
+    tracer: &Tracer,
+    origin: [F<S>; 3],
+    dir: [F<S>; 3],
+    objects: U<S>,
+    outwards: M<S>,
+) -> (F<S>, U<S>) {
     let mut t_best = F::<S>::splat(simd, f32::INFINITY);
     let mut best = U::<S>::splat(simd, crate::surface::NO_OBJECT);
     for (s, (&center, &radius)) in tracer.centers.iter().zip(&tracer.radii).enumerate() {
@@ -192,7 +106,13 @@ pub(super) fn surfaces<S: Simd>(simd: S, tracer: &Tracer, level: &mut Level) -> 
 /// Stage 2 over whole vectors: light bits (shadow rays per lane, or the known bits at level
 /// 0) and the view-independent light. Returns how many entries it did.
 #[inline(always)]
-pub(super) fn light<S: Simd>(simd: S, tracer: &Tracer, level: &mut Level, first: bool, counts: &mut RayCounts) -> usize {
+pub(super) fn light<S: Simd>(
+    simd: S,
+    tracer: &Tracer,
+    level: &mut Level,
+    first: bool,
+    counts: &mut RayCounts,
+) -> usize {
     let lanes = F::<S>::LEN;
     let whole = level.len() / lanes * lanes;
     let zero = F::<S>::splat(simd, 0.0);
@@ -365,7 +285,9 @@ pub(super) fn mirrors<S: Simd>(
             super::set3(&mut level.mirror, e, background);
             let ray = Ray::new(lane3::<S>(&origin, lane), lane3::<S>(&r, lane));
             let hit = match &found {
-                Some((t, best)) => (best[lane] != crate::surface::NO_OBJECT).then(|| Hit { t: t[lane], object: best[lane] }),
+                Some((t, best)) => {
+                    (best[lane] != crate::surface::NO_OBJECT).then(|| Hit { t: t[lane], object: best[lane] })
+                }
                 None => tracer.intersect_from(objects[lane], lane3::<S>(&n, lane), &ray),
             };
             if let Some(hit) = hit {
@@ -400,7 +322,8 @@ pub(super) fn radiance<S: Simd>(simd: S, tracer: &Tracer, level: &mut Level) -> 
         let objects = &level.object[j..j + lanes];
         let (d, s, m) = (load3(simd, &level.diffuse, j), load3(simd, &level.spec, j), load3(simd, &level.mirror, j));
         let kr = material(simd, tracer, objects, |m| m.reflectivity);
-        let reflects = mask_of(simd, level.reflects[j..j + lanes].iter().rev().fold(0u64, |b, &r| b << 1 | u64::from(r)));
+        let reflects =
+            mask_of(simd, level.reflects[j..j + lanes].iter().rev().fold(0u64, |b, &r| b << 1 | u64::from(r)));
         let l = each3(|a| reflects.select(d[a] + (s[a] + kr * m[a]), d[a] + s[a]));
         store3::<S>(l, &mut level.radiance, j);
     }
