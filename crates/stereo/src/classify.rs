@@ -86,7 +86,10 @@ fn class_of<const EDGES: bool, const SHADOWS: bool>(
 fn classify<const EDGES: bool, const SHADOWS: bool>(rows: KeyRows<'_>, out: &mut [PixelClass]) {
     let w = out.len();
     let ([ao, ro, bo], [al, rl, bl]) = (rows.object, rows.lights);
-    assert!([ao, ro, bo, al, rl, bl].iter().all(|p| p.len() == w));
+    debug_assert!(
+        [ao, ro, bo, al, rl, bl].iter().all(|p| p.len() == w),
+        "key rows differ in width from the row classified"
+    );
     let at = |i: usize, left: usize, right: usize| {
         let neighbours = [(ro[left], rl[left]), (ro[right], rl[right]), (ao[i], al[i]), (bo[i], bl[i])];
         class_of::<EDGES, SHADOWS>(ro[i], rl[i], neighbours)

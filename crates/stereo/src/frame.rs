@@ -3,7 +3,7 @@
 use std::time::Instant;
 
 use rayon::prelude::*;
-use tracer::{Camera, Eye, EyeView, Film, RayCounts, Renderer, SecondView, Tracer, NO_OBJECT};
+use tracer::{Camera, Disparity, Eye, EyeView, Film, RayCounts, Renderer, SecondView, Tracer, NO_OBJECT};
 
 use crate::classify::{classify_row, KeyRows, GAP_LIGHTS, GAP_OBJECT};
 use crate::mode::{Mode, Options};
@@ -45,7 +45,7 @@ pub struct StereoFrame {
 /// reprojection can only have put the farther surfaces the left eye did see. The strip is
 /// as wide as the largest such shift, from the nearest sphere point in the scene; a sphere
 /// reaching the eyes' plane makes it the whole row.
-fn right_border_strip(tracer: &Tracer, camera: &Camera, shift_scale: f32, w: usize) -> usize {
+fn right_border_strip(tracer: &Tracer, camera: &Camera, disparity: Disparity, w: usize) -> usize {
     let forward = camera.world_from_head() * glam::Vec3::Z;
     let Some(nearest) = tracer.nearest_depth(camera.position, forward) else { return 0 };
     if nearest <= 0.0 {
@@ -55,7 +55,7 @@ fn right_border_strip(tracer: &Tracer, camera: &Camera, shift_scale: f32, w: usi
     if z >= 0.0 {
         return 0;
     }
-    let shift = -shift_scale * (1.0 - camera.distance / (camera.distance + z));
+    let shift = -disparity.at(z);
     if shift <= 0.0 {
         return 0;
     }
@@ -95,10 +95,8 @@ thread_local! {
 /// How one frame is reprojected and classified (see [`reproject_and_classify`]).
 #[derive(Clone, Copy, Debug)]
 struct Reprojection {
-    /// e·W/w: the shift in pixels of a point at infinity.
-    shift_scale: f32,
-    /// d, the distance from the eyes to the window.
-    distance: f32,
+    /// The eyes' disparity in pixels.
+    disparity: Disparity,
     /// Width of the right border strip that is always retraced.
     strip: usize,
     /// Whether object edges (and pixels next to gaps) are retraced.
@@ -142,7 +140,7 @@ fn reproject_and_classify(left: &Film, p: Reprojection, src: &mut [u32], mask: &
                     object: &mut *object,
                     lights: &mut *lights,
                 };
-                reproject_row_keyed(&left.z[left_row], p.shift_scale, p.distance, (j * w) as u32, row, targets);
+                reproject_row_keyed(&left.z[left_row], p.disparity, (j * w) as u32, row, targets);
                 src[w - p.strip..].fill(NO_SOURCE);
                 object[w - p.strip..].fill(GAP_OBJECT);
                 lights[w - p.strip..].fill(GAP_LIGHTS);
@@ -256,15 +254,15 @@ impl StereoFrame {
     /// Stages 2 and 3: the source map and the class of every right pixel.
     fn reproject(&mut self, tracer: &Tracer, camera: &Camera, rv: &EyeView, opts: Options) {
         let w = rv.width as usize;
-        let shift_scale = camera.ipd * rv.pixels_per_unit();
-        let strip = right_border_strip(tracer, camera, shift_scale, w);
+        let disparity = Disparity::in_pixels(camera, rv);
+        let strip = right_border_strip(tracer, camera, disparity, w);
         // With IPD 0 every left pixel lands exactly on its own centre: the reprojection is
         // exact and no edge or shadow boundary needs a second look.
-        let exact_landing = shift_scale == 0.0;
+        let exact_landing = disparity.scale == 0.0;
         let (edges, shadows) = (opts.edges() && !exact_landing, opts.shadow_boundaries() && !exact_landing);
         // The object key plane marks gaps with a value no sphere index (below the count) takes.
         assert!(tracer.sphere_count() <= GAP_OBJECT as usize, "too many spheres for the gap marker");
-        let p = Reprojection { shift_scale, distance: camera.distance, strip, edges, shadows };
+        let p = Reprojection { disparity, strip, edges, shadows };
         reproject_and_classify(&self.left, p, &mut self.src, &mut self.mask);
     }
 }

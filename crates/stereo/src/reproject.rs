@@ -2,9 +2,10 @@
 //! seed paper's Algorithm 1).
 //!
 //! For the off-axis parallel camera a point at head-space depth z seen at window position
-//! x_l by the left eye is at x_r = x_l + e·z/(d+z) for the right eye, on the same scanline.
-//! In pixels, left pixel i's centre lands at the continuous position i + ½ + e·z/(d+z)·W/w
-//! (w the window width), i.e. in right pixel j = ⌊i + ½ + shift⌋.
+//! x_l by the left eye is at x_r = x_l + e·z/(d+z) for the right eye, on the same scanline
+//! ([`tracer::Disparity`]). In pixels, left pixel i's centre lands at the continuous
+//! position i + ½ + e·z/(d+z)·W/w (w the window width), i.e. in right pixel
+//! j = ⌊i + ½ + shift⌋.
 //!
 //! The scan goes left to right and keeps `oldx`, the previous target:
 //! - a write to j replaces whatever an earlier pixel wrote there: for a < b whose targets
@@ -38,6 +39,7 @@
 
 use std::ops::Range;
 
+use tracer::Disparity;
 use wide::{f32x4, i32x4, u32x4};
 
 use crate::classify::{GAP_LIGHTS, GAP_OBJECT};
@@ -47,20 +49,17 @@ pub const NO_SOURCE: u32 = u32::MAX;
 
 /// Reprojects one scanline.
 ///
-/// `z` holds the left row's head-space depths (+∞ for a miss); `shift_scale` is e·W/w, the
-/// shift in pixels of a point at infinity; `distance` is d. On return `src[j]` is
-/// `row_base + i` for the left pixel i that fills right pixel j, or [`NO_SOURCE`].
-/// `targets` is scratch space, reused across calls to avoid allocating per row.
-pub fn reproject_row(
-    z: &[f32],
-    shift_scale: f32,
-    distance: f32,
-    row_base: u32,
-    src: &mut [u32],
-    targets: &mut Vec<i32>,
-) {
-    assert_eq!(z.len(), src.len());
-    row_targets(z, shift_scale, distance, targets);
+/// `z` holds the left row's head-space depths (+∞ for a miss); `disparity` is the eyes'
+/// disparity in pixels ([`Disparity::in_pixels`]). On return `src[j]` is `row_base + i` for
+/// the left pixel i that fills right pixel j, or [`NO_SOURCE`]. `targets` is scratch space,
+/// reused across calls to avoid allocating per row.
+///
+/// # Panics
+///
+/// If `z` and `src` differ in length.
+pub fn reproject_row(z: &[f32], disparity: Disparity, row_base: u32, src: &mut [u32], targets: &mut Vec<i32>) {
+    assert_eq!(z.len(), src.len(), "a depth row and its source row differ in length");
+    row_targets(z, disparity, targets);
     scan(targets, &mut Sources { src, row_base });
 }
 
@@ -84,30 +83,32 @@ pub(crate) struct KeyedRow<'a> {
 /// ([`GAP_OBJECT`], [`GAP_LIGHTS`]) where it is [`NO_SOURCE`].
 pub(crate) fn reproject_row_keyed(
     z: &[f32],
-    shift_scale: f32,
-    distance: f32,
+    disparity: Disparity,
     row_base: u32,
     row: KeyedRow<'_>,
     targets: &mut Vec<i32>,
 ) {
     let w = z.len();
-    assert!([row.left_object.len(), row.left_lights.len(), row.src.len(), row.object.len(), row.lights.len()]
-        .iter()
-        .all(|&n| n == w));
-    row_targets(z, shift_scale, distance, targets);
+    debug_assert!(
+        [row.left_object.len(), row.left_lights.len(), row.src.len(), row.object.len(), row.lights.len()]
+            .iter()
+            .all(|&n| n == w),
+        "a keyed row's planes differ in length from its depth row"
+    );
+    row_targets(z, disparity, targets);
     scan(targets, &mut Keyed { row, row_base });
 }
 
 /// The target right pixel of every left pixel of a row, into `targets`.
-pub(crate) fn row_targets(z: &[f32], shift_scale: f32, distance: f32, targets: &mut Vec<i32>) {
+fn row_targets(z: &[f32], disparity: Disparity, targets: &mut Vec<i32>) {
     let w = z.len() as i32;
-    // A loop the compiler vectorises:
-    // x = i + ½ + e·(1 − d/(d+z)) (in pixels) = (i + ½ + e) − e·d/(d+z), written so that
-    // z = +∞ shifts by exactly e rather than ∞/∞; j = ⌊x⌋ clamped to [−1, W] (the paper's M
-    // for targets past the right edge; −1 for targets left of the image, which are dropped).
-    let (offset, scaled_distance) = (0.5 + shift_scale, shift_scale * distance);
+    // x = i + ½ + e·z/(d+z) (in pixels) = (i + ½ + e) − e·d/(d+z), the disparity's
+    // shortfall, which is 0 for z = +∞, so a miss shifts by exactly e rather than ∞/∞;
+    // j = ⌊x⌋ clamped to [−1, W] (the paper's M for targets past the right edge; −1 for
+    // targets left of the image, which are dropped).
+    let offset = 0.5 + disparity.scale;
     let target = |i: usize, zi: f32| {
-        let x = ((i as f32 + offset) - scaled_distance / (distance + zi)).clamp(-1.0, w as f32);
+        let x = ((i as f32 + offset) - disparity.shortfall(zi)).clamp(-1.0, w as f32);
         // ⌊x⌋ for x ≥ −1 is a truncation of x + 1, minus 1: no libm floorf.
         (x + 1.0) as i32 - 1
     };
@@ -118,13 +119,12 @@ pub(crate) fn row_targets(z: &[f32], shift_scale: f32, distance: f32, targets: &
     // exactly what `max` and `min` give, which only add a NaN test of the bound.
     let lane = f32x4::new([0.0, 1.0, 2.0, 3.0]);
     let (lo, hi) = (f32x4::splat(-1.0), f32x4::splat(w as f32));
-    let (offset4, sd4, d4, one) =
-        (f32x4::splat(offset), f32x4::splat(scaled_distance), f32x4::splat(distance), f32x4::splat(1.0));
+    let (offset4, one) = (f32x4::splat(offset), f32x4::splat(1.0));
     let whole = z.len() / 4 * 4;
     for (c, (zs, ts)) in z[..whole].chunks_exact(4).zip(targets[..whole].chunks_exact_mut(4)).enumerate() {
         let i = f32x4::splat((c * 4) as f32) + lane;
         let zv = f32x4::new([zs[0], zs[1], zs[2], zs[3]]);
-        let x = ((i + offset4) - sd4 / (d4 + zv)).fast_max(lo).fast_min(hi);
+        let x = ((i + offset4) - disparity.shortfall(zv)).fast_max(lo).fast_min(hi);
         let t = (x + one).fast_trunc_int() - i32x4::splat(1);
         ts.copy_from_slice(t.as_array());
     }
@@ -174,7 +174,7 @@ trait RowSink {
 /// make, in the same order.
 fn scan(targets: &[i32], sink: &mut impl RowSink) {
     let (n, w) = (targets.len(), sink.width() as i32);
-    debug_assert_eq!(n, sink.width());
+    debug_assert_eq!(n, sink.width(), "a row of targets and its sink differ in width");
     let mut oldx: i32 = -1;
     let mut i = 0;
     while i < n {
@@ -350,7 +350,7 @@ mod tests {
 
     fn run(z: &[f32], scale: f32) -> Vec<u32> {
         let mut src = vec![0; z.len()];
-        reproject_row(z, scale, D, 0, &mut src, &mut Vec::new());
+        reproject_row(z, Disparity { scale, distance: D }, 0, &mut src, &mut Vec::new());
         src
     }
 
@@ -395,7 +395,7 @@ mod tests {
         // shift = scale·(1 − d/(d+z)); choose z so the shifts are 0, 0, 0, 2, 2...
         let z2 = D * 2.0 / (8.0 - 2.0); // shift 2 with scale 8
         let z = [0.0, 0.0, 0.0, z2, z2, z2, z2, z2];
-        reproject_row(&z, 8.0, D, 100, &mut src, &mut Vec::new());
+        reproject_row(&z, Disparity { scale: 8.0, distance: D }, 100, &mut src, &mut Vec::new());
         let n = NO_SOURCE;
         assert_eq!(src, vec![100, 101, 102, n, n, 103, 104, 105]);
     }

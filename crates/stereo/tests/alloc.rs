@@ -10,9 +10,10 @@
 //! allocations than frames: anything allocated per frame, on any path, counts at least one
 //! per frame and fails it.
 
-// The counting allocator must implement `GlobalAlloc`, an unsafe trait; it only forwards to
-// `System` and bumps a counter.
-#![allow(unsafe_code)]
+#![expect(
+    unsafe_code,
+    reason = "the counting allocator implements `GlobalAlloc`, an unsafe trait; it only forwards to `System` and bumps a counter"
+)]
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -54,11 +55,6 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
-fn scene(name: &str) -> Scene {
-    let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-    Scene::load(path).expect("scene loads")
-}
-
 /// Allocations made by `f`.
 fn allocations(f: impl FnOnce()) -> u64 {
     let before = ALLOCATIONS.load(Ordering::SeqCst);
@@ -70,7 +66,8 @@ fn allocations(f: impl FnOnce()) -> u64 {
 fn a_warm_frame_allocates_nothing() {
     let all = [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact];
     for name in ["seed.toml", "many.toml"] {
-        let scene = scene(name);
+        let scene =
+            Scene::load(format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"))).expect("scene loads");
         let (w, h) = (160, 90);
         let mut tracer = Tracer::new(&scene, 0.0);
         let mut frame = StereoFrame::new();

@@ -3,7 +3,7 @@
 //! random left films built to have runs, stretches, overlaps, points in front of the window
 //! and clipped rows, and on every scene at several IPDs.
 
-use tracer::{Eye, Film, Scene, Tracer, NO_OBJECT};
+use tracer::{Disparity, Eye, Film, Scene, Tracer, NO_OBJECT};
 
 use super::{reproject_and_classify, right_border_strip, Reprojection, StereoFrame};
 use crate::mode::{Mode, Options};
@@ -15,25 +15,25 @@ use crate::stats::PixelClass;
 /// scan per row, then each right pixel's 64-bit key (object, lights) gathered by source
 /// index, then a branchy per-pixel classification over the whole image.
 mod reference {
-    use super::{Film, PixelClass, Reprojection, NO_SOURCE};
+    use super::{Disparity, Film, PixelClass, Reprojection, NO_SOURCE};
 
     /// Key of a pixel without a source.
     const GAP_KEY: u64 = u64::MAX;
 
-    /// The right pixel left pixel `i` at depth `z` lands in, clamped to [−1, `w`].
-    fn target(i: usize, z: f32, shift_scale: f32, distance: f32, w: usize) -> i32 {
-        let (offset, scaled_distance) = (0.5 + shift_scale, shift_scale * distance);
-        let x = ((i as f32 + offset) - scaled_distance / (distance + z)).clamp(-1.0, w as f32);
+    /// The right pixel left pixel `i` at depth `z` lands in: (i + ½ + e) − e·d/(d+z)
+    /// clamped to [−1, `w`], rounded down, one pixel at a time.
+    fn target(i: usize, z: f32, disparity: Disparity, w: usize) -> i32 {
+        let x = ((i as f32 + (0.5 + disparity.scale)) - disparity.shortfall(z)).clamp(-1.0, w as f32);
         (x + 1.0) as i32 - 1
     }
 
     /// The source map of one row.
-    pub(super) fn reproject_row(z: &[f32], shift_scale: f32, distance: f32, row_base: u32) -> Vec<u32> {
+    pub(super) fn reproject_row(z: &[f32], disparity: Disparity, row_base: u32) -> Vec<u32> {
         let w = z.len();
         let mut src = vec![NO_SOURCE; w];
         let mut oldx = -1;
         for (i, &zi) in z.iter().enumerate() {
-            let j = target(i, zi, shift_scale, distance, w);
+            let j = target(i, zi, disparity, w);
             if j - oldx > 1 {
                 for s in &mut src[(oldx + 1).max(0) as usize..j as usize] {
                     *s = NO_SOURCE;
@@ -57,7 +57,7 @@ mod reference {
         let (w, h) = (left.width() as usize, left.height() as usize);
         let mut src = Vec::with_capacity(w * h);
         for (j, z) in left.z.chunks(w).enumerate() {
-            let mut row = reproject_row(z, p.shift_scale, p.distance, (j * w) as u32);
+            let mut row = reproject_row(z, p.disparity, (j * w) as u32);
             row[w - p.strip..].fill(NO_SOURCE);
             src.extend(row);
         }
@@ -192,11 +192,12 @@ fn the_fast_pass_equals_the_reference_on_random_films() {
     for case in 0..300 {
         let (w, h) = (widths[rng.below(widths.len())], heights[rng.below(heights.len())]);
         let distance = rng.range(2.0, 30.0);
-        let shift_scale = [0.0, 0.3, 1.0, 2.5, 7.0, rng.range(0.0, 120.0)][rng.below(6)];
+        let scale = [0.0, 0.3, 1.0, 2.5, 7.0, rng.range(0.0, 120.0)][rng.below(6)];
+        let disparity = Disparity { scale, distance };
         let strip = [0, 0, 1, rng.below(w + 1), w][rng.below(5)];
         let left = random_film(&mut rng, w, h, distance);
         for (edges, shadows) in [(false, false), (true, false), (false, true), (true, true)] {
-            let p = Reprojection { shift_scale, distance, strip, edges, shadows };
+            let p = Reprojection { disparity, strip, edges, shadows };
             let expected = reference::reproject_and_classify(&left, p);
             let threads = 1 + case % 3;
             let (src, mask) = fast(&left, p, threads);
@@ -206,8 +207,8 @@ fn the_fast_pass_equals_the_reference_on_random_films() {
         // The public one-row function, without the border strip.
         for (j, z) in left.z.chunks(w).enumerate() {
             let mut src = vec![0; w];
-            reproject_row(z, shift_scale, distance, (j * w) as u32, &mut src, &mut Vec::new());
-            assert_eq!(src, reference::reproject_row(z, shift_scale, distance, (j * w) as u32), "case {case}, row {j}");
+            reproject_row(z, disparity, (j * w) as u32, &mut src, &mut Vec::new());
+            assert_eq!(src, reference::reproject_row(z, disparity, (j * w) as u32), "case {case}, row {j}");
         }
     }
 }
@@ -231,9 +232,9 @@ fn the_fast_pass_equals_the_reference_on_every_scene() {
                 let tracer = Tracer::new(&scene, t);
                 frame.render(&tracer, &camera, w, h, Options { mode: Mode::Copy, retrace_edges: false });
                 let rv = camera.view(Eye::Right, w, h);
-                let shift_scale = camera.ipd * rv.pixels_per_unit();
-                let strip = right_border_strip(&tracer, &camera, shift_scale, w as usize);
-                let p = |edges, shadows| Reprojection { shift_scale, distance: camera.distance, strip, edges, shadows };
+                let disparity = Disparity::in_pixels(&camera, &rv);
+                let strip = right_border_strip(&tracer, &camera, disparity, w as usize);
+                let p = |edges, shadows| Reprojection { disparity, strip, edges, shadows };
                 // Through the stage as the modes call it (edges and shadows off at IPD 0)…
                 for opts in [
                     Options { mode: Mode::Copy, retrace_edges: false },
