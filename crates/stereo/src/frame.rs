@@ -6,20 +6,10 @@ use rayon::prelude::*;
 use tracer::{Camera, Disparity, Eye, EyeView, Film, RayCounts, Renderer, SecondView, Tracer, NO_OBJECT};
 
 use crate::classify::{classify_row, KeyRows, GAP_LIGHTS, GAP_OBJECT};
+use crate::image::Image;
 use crate::mode::{Mode, Options};
 use crate::reproject::{reproject_row_keyed, KeyedRow, NO_SOURCE};
 use crate::stats::{FrameStats, PixelClass, PixelCounts};
-
-/// An image without a visible-surface record: the right eye.
-#[derive(Clone, Debug, Default)]
-pub struct Image {
-    /// Width in pixels.
-    pub width: u32,
-    /// Height in pixels.
-    pub height: u32,
-    /// sRGB pixels packed `0x00RRGGBB`, row-major.
-    pub rgb: Vec<u32>,
-}
 
 /// The buffers of one stereo pair, reused from frame to frame: a warm `StereoFrame` renders
 /// without allocating.

@@ -18,6 +18,7 @@
 
 mod classify;
 mod frame;
+mod image;
 mod layout;
 mod mask;
 mod metrics;
@@ -25,7 +26,8 @@ mod mode;
 mod reproject;
 mod stats;
 
-pub use frame::{Image, StereoFrame};
+pub use frame::StereoFrame;
+pub use image::Image;
 pub use layout::{anaglyph_pixel, compose, Layout};
 pub use mask::{mask_color, MASK_LEGEND};
 pub use metrics::Quality;
