@@ -3,12 +3,11 @@
 use std::time::Instant;
 
 use rayon::prelude::*;
-use tracer::{Camera, Disparity, Eye, EyeView, Film, RayCounts, Renderer, SecondView, Tracer, NO_OBJECT};
+use tracer::{Camera, Eye, Film, RayCounts, Renderer, SecondView, Tracer, NO_OBJECT};
 
-use crate::classify::{classify_row, KeyRows, GAP_LIGHTS, GAP_OBJECT};
 use crate::image::Image;
 use crate::mode::{Mode, Options};
-use crate::reproject::{reproject_row_keyed, KeyedRow, NO_SOURCE};
+use crate::reproject::{reproject_and_classify, Reprojection, NO_SOURCE};
 use crate::stats::{FrameStats, PixelClass, PixelCounts};
 
 /// The buffers of one stereo pair, reused from frame to frame: a warm `StereoFrame` renders
@@ -25,126 +24,6 @@ pub struct StereoFrame {
     src: Vec<u32>,
     mask: Vec<PixelClass>,
     stats: FrameStats,
-}
-
-/// Width in pixels of the strip at the right edge of the right image that must be retraced
-/// whatever lands there.
-///
-/// A point in front of the window (z < 0) shifts left by e·z/(d+z), so near things the
-/// left eye sees just past its right edge appear inside the right image, where the
-/// reprojection can only have put the farther surfaces the left eye did see. The strip is
-/// as wide as the largest such shift, from the nearest sphere point in the scene; a sphere
-/// reaching the eyes' plane makes it the whole row.
-fn right_border_strip(tracer: &Tracer, camera: &Camera, disparity: Disparity, w: usize) -> usize {
-    let forward = camera.world_from_head() * glam::Vec3::Z;
-    let Some(nearest) = tracer.nearest_depth(camera.position, forward) else { return 0 };
-    if nearest <= 0.0 {
-        return w;
-    }
-    let z = nearest - camera.distance;
-    if z >= 0.0 {
-        return 0;
-    }
-    let shift = -disparity.at(z);
-    if shift <= 0.0 {
-        return 0;
-    }
-    // One pixel of margin for where the left eye's last pixel centre lands.
-    (shift.ceil() as usize + 1).min(w)
-}
-
-/// Rows per band of the reprojection pass: each band reprojects two halo rows, but the
-/// band's keys stay in the core's L2 cache (16 measured faster than 8 or 32 at 1280×720).
-const BAND: usize = 16;
-
-/// Per-thread scratch of the reprojection pass, kept across frames: rayon's
-/// `for_each_init` would allocate afresh for every split of the work, every frame.
-struct BandScratch {
-    /// Targets of the row being reprojected.
-    targets: Vec<i32>,
-    /// Object key plane of a band and its halo rows.
-    object: Vec<u32>,
-    /// Lights key plane of a band and its halo rows.
-    lights: Vec<u32>,
-    /// Source map of a halo row; a band's own rows are written straight into the output.
-    halo_src: Vec<u32>,
-}
-
-thread_local! {
-    /// This thread's [`BandScratch`].
-    static BAND_SCRATCH: std::cell::RefCell<BandScratch> = const {
-        std::cell::RefCell::new(BandScratch {
-            targets: Vec::new(),
-            object: Vec::new(),
-            lights: Vec::new(),
-            halo_src: Vec::new(),
-        })
-    };
-}
-
-/// How one frame is reprojected and classified (see [`reproject_and_classify`]).
-#[derive(Clone, Copy, Debug)]
-struct Reprojection {
-    /// The eyes' disparity in pixels.
-    disparity: Disparity,
-    /// Width of the right border strip that is always retraced.
-    strip: usize,
-    /// Whether object edges (and pixels next to gaps) are retraced.
-    edges: bool,
-    /// Whether shadow boundaries are retraced.
-    shadows: bool,
-}
-
-/// Stages 2 and 3 over the whole image: the source map `src` and the class `mask` of every
-/// right pixel, from the left film's `z`, `object` and `lights` planes.
-///
-/// The rows go in bands, each reprojected with one halo row above and below into per-thread
-/// scratch and classified at once while its keys are in cache: one pass over the left planes
-/// instead of a reprojection pass and a classification pass. A band's own source rows go
-/// straight into `src`; of a halo row only the keys are kept. The bands are independent, so
-/// the result does not depend on the number of threads.
-fn reproject_and_classify(left: &Film, p: Reprojection, src: &mut [u32], mask: &mut [PixelClass]) {
-    let w = left.width() as usize;
-    let h = src.len() / w;
-    let bands = src.par_chunks_mut(w * BAND).zip(mask.par_chunks_mut(w * BAND));
-    bands.enumerate().for_each(|(b, (src_band, mask_band))| {
-        BAND_SCRATCH.with_borrow_mut(|scratch| {
-            let BandScratch { targets, object, lights, halo_src } = scratch;
-            let (j0, rows) = (b * BAND, src_band.len() / w);
-            let (lo, hi) = (j0.saturating_sub(1), (j0 + rows + 1).min(h));
-            object.resize((hi - lo) * w, GAP_OBJECT);
-            lights.resize((hi - lo) * w, GAP_LIGHTS);
-            halo_src.resize(w, NO_SOURCE);
-            let key_rows = object.chunks_exact_mut(w).zip(lights.chunks_exact_mut(w));
-            for (j, (object, lights)) in (lo..hi).zip(key_rows) {
-                let src = if (j0..j0 + rows).contains(&j) {
-                    &mut src_band[(j - j0) * w..(j - j0 + 1) * w]
-                } else {
-                    &mut halo_src[..]
-                };
-                let left_row = j * w..(j + 1) * w;
-                let row = KeyedRow {
-                    left_object: &left.object[left_row.clone()],
-                    left_lights: &left.lights[left_row.clone()],
-                    src: &mut *src,
-                    object: &mut *object,
-                    lights: &mut *lights,
-                };
-                reproject_row_keyed(&left.z[left_row], p.disparity, (j * w) as u32, row, targets);
-                src[w - p.strip..].fill(NO_SOURCE);
-                object[w - p.strip..].fill(GAP_OBJECT);
-                lights[w - p.strip..].fill(GAP_LIGHTS);
-            }
-            let last = hi - lo - 1;
-            for (r, out) in mask_band.chunks_mut(w).enumerate() {
-                // This row's index in the scratch, and its neighbours' (itself at the edges).
-                let k = j0 - lo + r;
-                let at = [k.saturating_sub(1), k, (k + 1).min(last)].map(|k| k * w..(k + 1) * w);
-                let rows = KeyRows { object: at.clone().map(|r| &object[r]), lights: at.map(|r| &lights[r]) };
-                classify_row(rows, p.edges, p.shadows, out);
-            }
-        });
-    });
 }
 
 fn ms_since(t: Instant) -> f64 {
@@ -213,7 +92,8 @@ impl StereoFrame {
             stats.stages.retrace = ms_since(t);
         } else {
             let t = Instant::now();
-            self.reproject(tracer, camera, &rv, opts);
+            let p = Reprojection::new(tracer, camera, &rv, opts);
+            reproject_and_classify(&self.left, p, &mut self.src, &mut self.mask);
             stats.stages.reproject = ms_since(t);
 
             let t = Instant::now();
@@ -239,21 +119,6 @@ impl StereoFrame {
         stats.pixels = PixelCounts::of(&self.mask);
         self.stats = stats;
         stats
-    }
-
-    /// Stages 2 and 3: the source map and the class of every right pixel.
-    fn reproject(&mut self, tracer: &Tracer, camera: &Camera, rv: &EyeView, opts: Options) {
-        let w = rv.width as usize;
-        let disparity = Disparity::in_pixels(camera, rv);
-        let strip = right_border_strip(tracer, camera, disparity, w);
-        // With IPD 0 every left pixel lands exactly on its own centre: the reprojection is
-        // exact and no edge or shadow boundary needs a second look.
-        let exact_landing = disparity.scale == 0.0;
-        let (edges, shadows) = (opts.edges() && !exact_landing, opts.shadow_boundaries() && !exact_landing);
-        // The object key plane marks gaps with a value no sphere index (below the count) takes.
-        assert!(tracer.sphere_count() <= GAP_OBJECT as usize, "too many spheres for the gap marker");
-        let p = Reprojection { disparity, strip, edges, shadows };
-        reproject_and_classify(&self.left, p, &mut self.src, &mut self.mask);
     }
 }
 
@@ -346,9 +211,6 @@ fn fill(
         })
         .reduce(|| (RayCounts::default(), 0), |a, b| (a.0 + b.0, a.1 + b.1))
 }
-
-#[cfg(test)]
-mod equivalence;
 
 #[cfg(test)]
 mod tests {

@@ -3,15 +3,14 @@
 //! random left films built to have runs, stretches, overlaps, points in front of the window
 //! and clipped rows, and on every scene at several IPDs.
 
-use tracer::{Disparity, Eye, Film, Scene, Tracer, NO_OBJECT};
+use tracer::{Disparity, Eye, Film, Renderer, Scene, Tracer, NO_OBJECT};
 
-use super::{reproject_and_classify, right_border_strip, Reprojection, StereoFrame};
+use super::{reproject_and_classify, reproject_row, right_border_strip, Reprojection, NO_SOURCE};
 use crate::mode::{Mode, Options};
-use crate::reproject::{reproject_row, NO_SOURCE};
 use crate::stats::PixelClass;
 
 /// The reprojection and classification one pixel at a time, as the per-pixel rules in
-/// `reproject.rs` and `classify.rs` state them and as they were first written: a scalar
+/// `reproject/scanline.rs` and `classify.rs` state them and as they were first written: a scalar
 /// scan per row, then each right pixel's 64-bit key (object, lights) gathered by source
 /// index, then a branchy per-pixel classification over the whole image.
 mod reference {
@@ -223,38 +222,40 @@ fn the_fast_pass_equals_the_reference_on_every_scene() {
     ];
     // Not multiples of the band height or of the scan's block.
     let (w, h) = (203, 115);
-    let mut frame = StereoFrame::new();
+    let (mut left, mut renderer) = (Film::default(), Renderer::new());
     for (name, text) in scenes {
         let scene = Scene::from_toml(text, name).unwrap();
         for ipd in [0.0, 0.05, scene.camera.ipd, 1.7] {
             for t in [0.0, 2.7] {
                 let camera = tracer::Camera { ipd, ..scene.camera };
                 let tracer = Tracer::new(&scene, t);
-                frame.render(&tracer, &camera, w, h, Options { mode: Mode::Copy, retrace_edges: false });
+                renderer.render(&tracer, &camera.view(Eye::Left, w, h), &mut left);
                 let rv = camera.view(Eye::Right, w, h);
                 let disparity = Disparity::in_pixels(&camera, &rv);
                 let strip = right_border_strip(&tracer, &camera, disparity, w as usize);
                 let p = |edges, shadows| Reprojection { disparity, strip, edges, shadows };
-                // Through the stage as the modes call it (edges and shadows off at IPD 0)…
+                // Through the stage as the frame calls it (edges and shadows off at IPD 0)…
                 for opts in [
                     Options { mode: Mode::Copy, retrace_edges: false },
                     Options { mode: Mode::Reshade, retrace_edges: true },
                     Options { mode: Mode::Exact, retrace_edges: false },
                 ] {
-                    frame.reproject(&tracer, &camera, &rv, opts);
+                    let n = (w * h) as usize;
+                    let (mut src, mut mask) = (vec![0; n], vec![PixelClass::Traced; n]);
+                    reproject_and_classify(&left, Reprojection::new(&tracer, &camera, &rv, opts), &mut src, &mut mask);
                     let moved = ipd != 0.0;
                     let expected = reference::reproject_and_classify(
-                        &frame.left,
+                        &left,
                         p(opts.edges() && moved, opts.shadow_boundaries() && moved),
                     );
                     let at = format!("{name}, IPD {ipd}, t = {t}, {opts:?}");
-                    assert!(frame.src == expected.0, "{at}: source maps differ");
-                    assert!(frame.mask == expected.1, "{at}: classes differ");
+                    assert!(src == expected.0, "{at}: source maps differ");
+                    assert!(mask == expected.1, "{at}: classes differ");
                 }
                 // …and every option pair directly.
                 for (edges, shadows) in [(false, false), (true, false), (false, true), (true, true)] {
-                    let expected = reference::reproject_and_classify(&frame.left, p(edges, shadows));
-                    let got = fast(&frame.left, p(edges, shadows), 2);
+                    let expected = reference::reproject_and_classify(&left, p(edges, shadows));
+                    let got = fast(&left, p(edges, shadows), 2);
                     assert!(got == expected, "{name}, IPD {ipd}, t = {t}, edges {edges}, shadows {shadows}: differ");
                 }
             }
