@@ -8,6 +8,7 @@ use tracer::{Camera, Eye, Film, RayCounts, Renderer, SecondView, Tracer, NO_OBJE
 use crate::image::Image;
 use crate::mode::{Mode, Options};
 use crate::reproject::{reproject_and_classify, Reprojection, NO_SOURCE};
+use crate::retrace::retrace;
 use crate::stats::{FrameStats, PixelClass, PixelCounts};
 
 /// The buffers of one stereo pair, reused from frame to frame: a warm `StereoFrame` renders
@@ -101,7 +102,8 @@ impl StereoFrame {
             // The paper's mode gathers its reprojected colours in the same pass over the
             // image as the retrace: nothing is left for stage 5.
             let copy = opts.mode == Mode::Copy;
-            let retraced = retrace(right, &self.left, &mut self.right, &self.mask, &self.src, copy);
+            let copy_from = copy.then_some(&self.left.rgb[..]);
+            let retraced = retrace(right, &self.mask, &self.src, copy_from, &mut self.right);
             stats.stages.retrace = ms_since(t);
 
             if copy {
@@ -120,39 +122,6 @@ impl StereoFrame {
         self.stats = stats;
         stats
     }
-}
-
-/// Stage 4: full primary rays for every pixel not reprojected; with `copy`, also the
-/// paper's stage 5 in the same pass: each reprojected pixel takes its source's colour.
-fn retrace(
-    right: SecondView<'_>,
-    left: &Film,
-    out: &mut Image,
-    mask: &[PixelClass],
-    src: &[u32],
-    copy: bool,
-) -> RayCounts {
-    let w = out.width as usize;
-    let left = &left.rgb;
-    out.rgb
-        .par_chunks_mut(w)
-        .zip(mask.par_chunks(w))
-        .zip(src.par_chunks(w))
-        .enumerate()
-        .map(|(j, ((rgb, mask), src))| {
-            let mut counts = RayCounts::default();
-            if copy {
-                for i in 0..w {
-                    if mask[i] == PixelClass::Reprojected {
-                        rgb[i] = left[src[i] as usize];
-                    }
-                }
-            }
-            let traced = (0..w as u32).filter(|&i| mask[i as usize] != PixelClass::Reprojected);
-            right.trace_pixels(j as u32, traced, &mut counts, |i, c| rgb[i as usize] = c);
-            counts
-        })
-        .sum()
 }
 
 /// Stage 5: the reprojected pixels, per mode. Returns the rays cast and the number of
@@ -210,29 +179,4 @@ fn fill(
             (counts, named)
         })
         .reduce(|| (RayCounts::default(), 0), |a, b| (a.0 + b.0, a.1 + b.1))
-}
-
-#[cfg(test)]
-mod tests {
-    use tracer::Scene;
-
-    use super::*;
-
-    #[test]
-    fn retracing_every_pixel_reproduces_the_full_trace() {
-        let scene = Scene::from_toml(include_str!("../../../assets/scenes/window.toml"), "window.toml").unwrap();
-        let tracer = Tracer::new(&scene, 0.7);
-        let (w, h) = (120, 68);
-        let mut frame = StereoFrame::new();
-        frame.render(&tracer, &scene.camera, w, h, Options { mode: Mode::Copy, retrace_edges: false });
-        frame.mask.fill(PixelClass::RetracedGap);
-        let rv = scene.camera.view(Eye::Right, w, h);
-        let mut renderer = Renderer::new();
-        let right = renderer.second_view(&tracer, &rv);
-        let counts = retrace(right, &frame.left, &mut frame.right, &frame.mask, &frame.src, false);
-        let mut full = Vec::new();
-        let full_counts = Renderer::new().render_rgb(&tracer, &rv, &mut full);
-        assert_eq!(frame.right.rgb, full);
-        assert_eq!(counts, full_counts);
-    }
 }

@@ -24,6 +24,7 @@ mod mask;
 mod metrics;
 mod mode;
 mod reproject;
+mod retrace;
 mod stats;
 
 pub use frame::StereoFrame;
