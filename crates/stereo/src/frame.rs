@@ -1,10 +1,14 @@
-//! A stereo frame: the left eye traced, the right eye made per [`Mode`], with statistics.
+//! A stereo frame: the stages of the crate's pipeline in order, each timed, into buffers
+//! kept from frame to frame. The left eye is traced in full (stage 1, by the tracer's
+//! [`Renderer`]); the right eye is traced in full too in [`Mode::Full`], and otherwise
+//! reprojected and classified (stages 2 and 3, `reproject.rs`), retraced where it must be
+//! (stage 4, `retrace.rs`) and filled as the mode says (stage 5, `fill.rs`).
 
 use std::time::Instant;
 
-use rayon::prelude::*;
-use tracer::{Camera, Eye, Film, RayCounts, Renderer, SecondView, Tracer, NO_OBJECT};
+use tracer::{Camera, Eye, Film, Renderer, Tracer};
 
+use crate::fill::{fill, Fill};
 use crate::image::Image;
 use crate::mode::{Mode, Options};
 use crate::reproject::{reproject_and_classify, Reprojection, NO_SOURCE};
@@ -27,6 +31,15 @@ pub struct StereoFrame {
     stats: FrameStats,
 }
 
+/// Pixels per eye of a `width` × `height` frame, which must be fewer than `u32::MAX`: the
+/// source map names a left pixel by a `u32`, and [`NO_SOURCE`] is `u32::MAX`.
+fn pixel_count(width: u32, height: u32) -> usize {
+    let n = u64::from(width) * u64::from(height);
+    assert!(n < u64::from(NO_SOURCE), "{width}×{height} pixels per eye: a pixel's index must be below u32::MAX");
+    n as usize
+}
+
+/// Milliseconds since `t`.
 fn ms_since(t: Instant) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
@@ -70,12 +83,17 @@ impl StereoFrame {
     }
 
     /// Renders one stereo pair of `width` × `height` per eye.
+    ///
+    /// # Panics
+    ///
+    /// If an eye has `u32::MAX` pixels or more: the source map names a left pixel by a
+    /// `u32`. (Such a frame would need hundreds of gigabytes.)
     pub fn render(&mut self, tracer: &Tracer, camera: &Camera, width: u32, height: u32, opts: Options) -> FrameStats {
-        let n = width as usize * height as usize;
-        let lv = camera.view(Eye::Left, width, height);
-        let rv = camera.view(Eye::Right, width, height);
+        let n = pixel_count(width, height);
+        let (lv, rv) = (camera.view(Eye::Left, width, height), camera.view(Eye::Right, width, height));
         let mut stats = FrameStats::default();
 
+        // Stage 1: the left eye, with its visible-surface record.
         let t = Instant::now();
         stats.left.rays = self.left_renderer.render(tracer, &lv, &mut self.left);
         stats.stages.trace_left = ms_since(t);
@@ -86,35 +104,34 @@ impl StereoFrame {
         (self.right.width, self.right.height) = (width, height);
         self.right.rgb.resize(n, 0);
         if n == 0 {
+            // Nothing to make.
         } else if opts.mode == Mode::Full {
             let t = Instant::now();
             stats.right.rays = self.right_renderer.render_rgb(tracer, &rv, &mut self.right.rgb);
             self.mask.fill(PixelClass::Traced);
             stats.stages.retrace = ms_since(t);
         } else {
+            // Stages 2 and 3: the source map and the class of every right pixel.
             let t = Instant::now();
-            let p = Reprojection::new(tracer, camera, &rv, opts);
-            reproject_and_classify(&self.left, p, &mut self.src, &mut self.mask);
+            let plan = Reprojection::new(tracer, camera, &rv, opts);
+            reproject_and_classify(&self.left, plan, &mut self.src, &mut self.mask);
             stats.stages.reproject = ms_since(t);
 
+            // Stage 4. The paper's mode gathers its reprojected colours in the same pass
+            // over the image: it has no stage 5.
             let t = Instant::now();
             let right = self.right_renderer.second_view(tracer, &rv);
-            // The paper's mode gathers its reprojected colours in the same pass over the
-            // image as the retrace: nothing is left for stage 5.
-            let copy = opts.mode == Mode::Copy;
-            let copy_from = copy.then_some(&self.left.rgb[..]);
-            let retraced = retrace(right, &self.mask, &self.src, copy_from, &mut self.right);
+            let copy_from = (opts.mode == Mode::Copy).then_some(&self.left.rgb[..]);
+            stats.right.rays = retrace(right, &self.mask, &self.src, copy_from, &mut self.right);
             stats.stages.retrace = ms_since(t);
 
-            if copy {
-                stats.right.rays = retraced;
-            } else {
+            // Stage 5.
+            if let Some(how) = Fill::of(opts.mode) {
                 let t = Instant::now();
-                let (filled, sphere_tests) =
-                    fill(right, &self.left, &mut self.right, &mut self.mask, &self.src, opts.mode);
+                let filled = fill(right, &self.left, how, &mut self.mask, &self.src, &mut self.right);
                 stats.stages.reshade = ms_since(t);
-                stats.right.rays = retraced + filled;
-                stats.sphere_tests = sphere_tests;
+                stats.right.rays += filled.rays;
+                stats.sphere_tests = filled.sphere_tests;
             }
         }
         stats.right.ms = stats.stages.reproject + stats.stages.retrace + stats.stages.reshade;
@@ -124,59 +141,20 @@ impl StereoFrame {
     }
 }
 
-/// Stage 5: the reprojected pixels, per mode. Returns the rays cast and the number of
-/// single-sphere tests. In exact mode a pixel whose centre ray misses the named sphere
-/// is a silhouette the edge test did not catch: it is retraced and marked as an edge.
-fn fill(
-    right: SecondView<'_>,
-    left: &Film,
-    out: &mut Image,
-    mask: &mut [PixelClass],
-    src: &[u32],
-    mode: Mode,
-) -> (RayCounts, u64) {
-    debug_assert!(!matches!(mode, Mode::Full | Mode::Copy), "full and copy modes have no stage 5");
-    let w = out.width as usize;
-    out.rgb
-        .par_chunks_mut(w)
-        .zip(mask.par_chunks_mut(w))
-        .zip(src.par_chunks(w))
-        .enumerate()
-        .map(|(j, ((rgb, mask), src))| {
-            let mut counts = RayCounts::default();
-            let j = j as u32;
-            // Reprojected pixels whose source saw background keep its colour; the rest are
-            // shaded as one list.
-            let mut named = 0u64;
-            for i in 0..w {
-                if mask[i] == PixelClass::Reprojected {
-                    let s = src[i] as usize;
-                    if left.object[s] == NO_OBJECT {
-                        rgb[i] = left.rgb[s];
-                    } else {
-                        named += 1;
-                    }
-                }
-            }
-            let mask = std::cell::Cell::from_mut(mask).as_slice_of_cells();
-            let sources = (0..w as u32).filter_map(|i| {
-                let s = src[i as usize] as usize;
-                (mask[i as usize].get() == PixelClass::Reprojected && left.object[s] != NO_OBJECT).then_some((i, s))
-            });
-            if mode == Mode::Reshade {
-                let items = sources.map(|(i, s)| (i, left.surface(s)));
-                right.reshade(j, items, &mut counts, |i, c| rgb[i as usize] = c);
-                return (counts, 0);
-            }
-            // Exact: each pixel's own ray against the sphere its source saw.
-            let items = sources.map(|(i, s)| (i, left.object[s], left.lights[s]));
-            right.shade_on(j, items, &mut counts, |i, c, retraced| {
-                rgb[i as usize] = c;
-                if retraced {
-                    mask[i as usize].set(PixelClass::RetracedEdge);
-                }
-            });
-            (counts, named)
-        })
-        .reduce(|| (RayCounts::default(), 0), |a, b| (a.0 + b.0, a.1 + b.1))
+#[cfg(test)]
+mod tests {
+    use super::pixel_count;
+
+    #[test]
+    fn an_eye_just_below_u32_max_pixels_is_accepted() {
+        assert_eq!(pixel_count(65_535, 65_536), 65_535 * 65_536);
+        assert_eq!(pixel_count(0, 7), 0);
+    }
+
+    #[test]
+    #[should_panic(expected = "must be below u32::MAX")]
+    fn an_eye_of_u32_max_pixels_is_refused() {
+        // 65 535 × 65 537 = 2³² − 1 = u32::MAX, the value that marks "no source".
+        pixel_count(65_535, 65_537);
+    }
 }

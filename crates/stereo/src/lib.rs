@@ -17,6 +17,7 @@
 //!    mode does this in stage 4's pass over the image, so the right image is swept once).
 
 mod classify;
+mod fill;
 mod frame;
 mod image;
 mod layout;
