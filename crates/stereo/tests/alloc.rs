@@ -9,6 +9,13 @@
 //! 63 jobs, and a frame hands in one job per parallel pass (~5). So the test allows fewer
 //! allocations than frames: anything allocated per frame, on any path, counts at least one
 //! per frame and fails it.
+//!
+//! The frames are counted in rounds, and the round that allocated least is judged: what is
+//! allocated per frame is allocated in every round, while a buffer that grows once
+//! allocates in one round only. That buffer is typically a rayon worker's scratch for the
+//! reprojection pass (`reproject.rs`): a worker that a busy machine kept from the warm-up
+//! gets its first band later, and its scratch grows then (seen here in about one run in
+//! ten, on main before this test counted in rounds).
 
 #![expect(
     unsafe_code,
@@ -82,16 +89,20 @@ fn a_warm_frame_allocates_nothing() {
             }
         }
         // The orbiting sphere moves on: the structures are rebuilt, into the same buffers.
-        let mut frames = 0u64;
-        let n = allocations(|| {
-            for k in 3..6 {
-                tracer.update(&scene, k as f32 / 30.0);
-                for &opts in &variants {
-                    frame.render(&tracer, &scene.camera, w, h, opts);
-                    frames += 1;
-                }
-            }
-        });
-        assert!(n <= frames / 8, "{name}: {frames} warm frames allocated {n} times");
+        let frames = 3 * variants.len() as u64;
+        let rounds: Vec<u64> = (1..4)
+            .map(|round| {
+                allocations(|| {
+                    for k in 3 * round..3 * round + 3 {
+                        tracer.update(&scene, k as f32 / 30.0);
+                        for &opts in &variants {
+                            frame.render(&tracer, &scene.camera, w, h, opts);
+                        }
+                    }
+                })
+            })
+            .collect();
+        let fewest = rounds.iter().copied().min().unwrap_or(0);
+        assert!(fewest <= frames / 8, "{name}: rounds of {frames} warm frames allocated {rounds:?} times");
     }
 }
