@@ -37,7 +37,7 @@
 //! its target, into the right row's key planes for the classification (`classify.rs`), so
 //! no second pass gathers them by source index.
 
-use std::ops::Range;
+use std::ops::{Add, Div, Range, Sub};
 
 use tracer::Disparity;
 use wide::{f32x4, i32x4, u32x4};
@@ -99,16 +99,25 @@ pub(super) fn reproject_row_keyed(
     scan(targets, &mut Keyed { row, row_base });
 }
 
-/// The target right pixel of every left pixel of a row, into `targets`.
+/// Where the centre of left pixel `i` at depth `z` lands in the right row, in pixels, in
+/// one lane (`f32`) or in SIMD lanes (`f32x4`) with the same operations in the same order:
+/// x = i + ½ + e·z/(d+z) = (i + ½ + e) − e·d/(d+z), the disparity's shortfall, which is 0
+/// for z = +∞, so a miss shifts by exactly e rather than ∞/∞.
+#[inline]
+fn landing<T>(i: T, z: T, disparity: Disparity) -> T
+where
+    T: From<f32> + Add<Output = T> + Sub<Output = T> + Div<Output = T>,
+{
+    (i + T::from(0.5 + disparity.scale)) - disparity.shortfall(z)
+}
+
+/// The target right pixel of every left pixel of a row, into `targets`: j = ⌊x⌋ of its
+/// [`landing`] x, clamped to [−1, W] (the paper's M for targets past the right edge; −1
+/// for targets left of the image, which are dropped).
 fn row_targets(z: &[f32], disparity: Disparity, targets: &mut Vec<i32>) {
     let w = z.len() as i32;
-    // x = i + ½ + e·z/(d+z) (in pixels) = (i + ½ + e) − e·d/(d+z), the disparity's
-    // shortfall, which is 0 for z = +∞, so a miss shifts by exactly e rather than ∞/∞;
-    // j = ⌊x⌋ clamped to [−1, W] (the paper's M for targets past the right edge; −1 for
-    // targets left of the image, which are dropped).
-    let offset = 0.5 + disparity.scale;
     let target = |i: usize, zi: f32| {
-        let x = ((i as f32 + offset) - disparity.shortfall(zi)).clamp(-1.0, w as f32);
+        let x = landing(i as f32, zi, disparity).clamp(-1.0, w as f32);
         // ⌊x⌋ for x ≥ −1 is a truncation of x + 1, minus 1: no libm floorf.
         (x + 1.0) as i32 - 1
     };
@@ -119,12 +128,12 @@ fn row_targets(z: &[f32], disparity: Disparity, targets: &mut Vec<i32>) {
     // exactly what `max` and `min` give, which only add a NaN test of the bound.
     let lane = f32x4::new([0.0, 1.0, 2.0, 3.0]);
     let (lo, hi) = (f32x4::splat(-1.0), f32x4::splat(w as f32));
-    let (offset4, one) = (f32x4::splat(offset), f32x4::splat(1.0));
+    let one = f32x4::splat(1.0);
     let whole = z.len() / 4 * 4;
     for (c, (zs, ts)) in z[..whole].chunks_exact(4).zip(targets[..whole].chunks_exact_mut(4)).enumerate() {
         let i = f32x4::splat((c * 4) as f32) + lane;
         let zv = f32x4::new([zs[0], zs[1], zs[2], zs[3]]);
-        let x = ((i + offset4) - disparity.shortfall(zv)).fast_max(lo).fast_min(hi);
+        let x = landing(i, zv, disparity).fast_max(lo).fast_min(hi);
         let t = (x + one).fast_trunc_int() - i32x4::splat(1);
         ts.copy_from_slice(t.as_array());
     }
