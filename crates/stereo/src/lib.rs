@@ -11,20 +11,20 @@
 //! [`StereoFrame::render`] (`frame.rs`) runs the stages in order, each parallel over rows
 //! and each timed:
 //! 1. trace the left eye fully (colour + visible-surface record), by the tracer's
-//!    `render_eye`;
+//!    [`Renderer`](tracer::Renderer);
 //! 2. reproject (`reproject.rs` over the image, `reproject/scanline.rs` per scanline): left
 //!    pixel i lands at right pixel ⌊i + ½ + e·z/(d+z) · W/window⌋ ([`tracer::Disparity`]),
 //!    later writes win, stretched spans are gaps;
 //! 3. classify (`classify.rs`, in the same banded pass as stage 2): reprojected pixels on
 //!    object edges or shadow boundaries are sent to retrace, as the mode asks;
 //! 4. retrace (`retrace.rs`) the gaps, border, edges and shadow boundaries with full
-//!    primary rays;
-//! 5. fill (`fill.rs`) the reprojected pixels: reshade, or shade exactly. Copy mode copies
-//!    the left colour in stage 4's pass over the image instead, so the right image is
-//!    swept once.
+//!    primary rays, through the tracer's [`SecondView`](tracer::SecondView);
+//! 5. fill (`fill.rs`) the reprojected pixels, through the same view: reshade, or shade
+//!    exactly. Copy mode copies the left colour in stage 4's pass over the image instead,
+//!    so the right image is swept once.
 //!
-//! [`Mode::Full`] traces the right eye as it traces the left (`retrace.rs`'s `trace_all`),
-//! without stages 2, 3 and 5.
+//! [`Mode::Full`] traces the whole right eye as it traces the left, with a renderer of its
+//! own, and times it as stage 4.
 //!
 //! ## Modules
 //!
@@ -33,8 +33,8 @@
 //! - `classify` (stats): one right row's classes from its key planes;
 //! - `reproject/scanline` (classify): Algorithm 1 for one scanline;
 //! - `reproject` (reproject/scanline, classify, mode, stats): stages 2 and 3 over the image;
-//! - `retrace` (stats): stage 4, and full mode's right eye;
-//! - `fill` (retrace, mode, stats): stage 5;
+//! - `retrace` (image, stats): stage 4;
+//! - `fill` (image, mode, stats): stage 5;
 //! - `frame` (reproject, retrace, fill, image, mode, stats): the stages in order;
 //! - `mask` (stats), `layout`: how a frame is shown, beside the pipeline.
 //!
