@@ -1,11 +1,12 @@
 //! Criterion benchmarks of the stereo passes on the seed scene at 1280×720 per eye.
-#![allow(missing_docs)] // criterion_group! and criterion_main! generate undocumented items.
+#![expect(missing_docs, reason = "criterion_group! and criterion_main! generate undocumented items")]
+#![expect(clippy::expect_used, reason = "a benchmark whose scene does not load has nothing to measure")]
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use stereo::{reproject_row, Mode, Options, StereoFrame};
-use tracer::{Eye, Film, Renderer, Scene, Tracer};
+use tracer::{Disparity, Eye, Film, Renderer, Scene, Tracer};
 
 const W: u32 = 1280;
 const H: u32 = 720;
@@ -20,13 +21,13 @@ fn reprojection(c: &mut Criterion) {
     let (scene, tracer) = seed();
     let mut left = Film::new(W, H);
     Renderer::new().render(&tracer, &scene.camera.view(Eye::Left, W, H), &mut left);
-    let scale = scene.camera.ipd * scene.camera.view(Eye::Right, W, H).pixels_per_unit();
+    let disparity = Disparity::in_pixels(&scene.camera, &scene.camera.view(Eye::Right, W, H));
     let mut src = vec![0u32; (W * H) as usize];
     let mut targets = Vec::new();
     c.bench_function("reproject_rows_1280x720_one_thread", |b| {
         b.iter(|| {
             for (j, (z, s)) in left.z.chunks(W as usize).zip(src.chunks_mut(W as usize)).enumerate() {
-                reproject_row(black_box(z), scale, scene.camera.distance, j as u32 * W, s, &mut targets);
+                reproject_row(black_box(z), disparity, j as u32 * W, s, &mut targets);
             }
         });
     });

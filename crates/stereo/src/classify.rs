@@ -11,19 +11,21 @@
 //! amount than the background behind it).
 //!
 //! The pass reads two compact 32-bit planes per right pixel, the object id and the light
-//! bits of its source, carried along by the reprojection scan (`reproject.rs`), never the left
-//! eye's full records. A gap is marked in the object plane alone, by [`GAP_OBJECT`], which
-//! no sample has: a miss is [`tracer::NO_OBJECT`] (`u32::MAX`) and a hit is a sphere index,
-//! below the scene's sphere count (checked against `GAP_OBJECT` when a frame is
-//! reprojected). So "object differs from a neighbour's" already covers "neighbour is a gap",
-//! and a row is classified with SSE2's 32-bit lane compares and masks, without a branch per
-//! pixel: two 32-bit planes rather than one 64-bit key, which SSE2 cannot compare.
+//! bits of its source, carried along by the reprojection scan (`reproject/scanline.rs`),
+//! never the left eye's full records. A gap is marked in the object plane alone, by
+//! [`GAP_OBJECT`], which no sample has: a miss is [`tracer::NO_OBJECT`] (`u32::MAX`) and a
+//! hit is a sphere index, below the scene's sphere count. So "object differs from a
+//! neighbour's" already covers "neighbour is a gap", and a row is classified with SSE2's
+//! 32-bit lane compares and masks, without a branch per pixel: two 32-bit planes rather
+//! than one 64-bit key, which SSE2 cannot compare.
 
 use crate::stats::PixelClass;
 
 /// Object plane of a right pixel that no left pixel fills: one below
 /// [`tracer::NO_OBJECT`], so it is no sphere index in any scene of fewer than
-/// `u32::MAX - 1` spheres (such a scene would not fit in memory).
+/// `u32::MAX - 1` spheres. That is not checked, as no user can reach it: such a scene would
+/// not fit in memory (over 4·10⁹ spheres), and even then a sphere of that index would only
+/// be taken for a gap, so retraced: right, only slower.
 pub(crate) const GAP_OBJECT: u32 = tracer::NO_OBJECT - 1;
 
 /// Lights plane of a right pixel that no left pixel fills. Never decisive: a gap is itself
@@ -86,7 +88,10 @@ fn class_of<const EDGES: bool, const SHADOWS: bool>(
 fn classify<const EDGES: bool, const SHADOWS: bool>(rows: KeyRows<'_>, out: &mut [PixelClass]) {
     let w = out.len();
     let ([ao, ro, bo], [al, rl, bl]) = (rows.object, rows.lights);
-    assert!([ao, ro, bo, al, rl, bl].iter().all(|p| p.len() == w));
+    debug_assert!(
+        [ao, ro, bo, al, rl, bl].iter().all(|p| p.len() == w),
+        "key rows differ in width from the row classified"
+    );
     let at = |i: usize, left: usize, right: usize| {
         let neighbours = [(ro[left], rl[left]), (ro[right], rl[right]), (ao[i], al[i]), (bo[i], bl[i])];
         class_of::<EDGES, SHADOWS>(ro[i], rl[i], neighbours)

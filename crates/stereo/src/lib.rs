@@ -6,26 +6,65 @@
 //! retraced and why, fills the right image in one of four [`Mode`]s, and measures the result
 //! ([`FrameStats`], [`Quality`]).
 //!
-//! The stages, each parallel over rows and each timed:
-//! 1. trace the left eye fully (colour + visible-surface record);
-//! 2. reproject (`reproject.rs`): per scanline, left pixel i lands at right pixel
-//!    ⌊i + ½ + e·z/(d+z) · W/window⌋, later writes win, stretched spans are gaps;
-//! 3. classify (`classify.rs`): reprojected pixels on object edges or shadow boundaries are
-//!    sent to retrace, as the mode asks;
-//! 4. retrace the gaps, border, edges and shadow boundaries with full primary rays;
-//! 5. fill the reprojected pixels: copy the left colour, reshade, or shade exactly (copy
-//!    mode does this in stage 4's pass over the image, so the right image is swept once).
+//! ## The pipeline
+//!
+//! [`StereoFrame::render`] (`frame.rs`) runs the stages in order, each parallel over rows
+//! and each timed:
+//! 1. trace the left eye fully (colour + visible-surface record), by the tracer's
+//!    [`Renderer`](tracer::Renderer);
+//! 2. reproject (`reproject.rs` over the image, `reproject/scanline.rs` per scanline): left
+//!    pixel i lands at right pixel ⌊i + ½ + e·z/(d+z) · W/window⌋ ([`tracer::Disparity`]),
+//!    later writes win, stretched spans are gaps;
+//! 3. classify (`classify.rs`, in the same banded pass as stage 2): reprojected pixels on
+//!    object edges or shadow boundaries are sent to retrace, as the mode asks;
+//! 4. retrace (`retrace.rs`) the gaps, border, edges and shadow boundaries with full
+//!    primary rays, through the tracer's [`SecondView`](tracer::SecondView);
+//! 5. fill (`fill.rs`) the reprojected pixels, through the same view: reshade, or shade
+//!    exactly. Copy mode copies the left colour in stage 4's pass over the image instead,
+//!    so the right image is swept once.
+//!
+//! [`Mode::Full`] traces the whole right eye as it traces the left, with a renderer of its
+//! own, and times it as stage 4.
+//!
+//! ## Modules
+//!
+//! Each uses only modules listed above it (in brackets), so there is no cycle:
+//! - `stats`, `mode`, `image`, `metrics`: the crate's plain types and measures;
+//! - `classify` (stats): one right row's classes from its key planes;
+//! - `reproject/scanline` (classify): Algorithm 1 for one scanline;
+//! - `reproject` (reproject/scanline, classify, mode, stats): stages 2 and 3 over the image;
+//! - `retrace` (image, stats): stage 4;
+//! - `fill` (image, mode, stats): stage 5;
+//! - `frame` (reproject, retrace, fill, image, mode, stats): the stages in order;
+//! - `mask` (stats), `layout`: how a frame is shown, beside the pipeline.
+//!
+//! ## Errors
+//!
+//! Nothing here returns an error: rendering cannot fail. Every scene the tracer accepts
+//! renders, at every size below `u32::MAX` pixels per eye (0 × 0 included). The one thing
+//! a user can get wrong is a name: [`Mode`]'s and [`Layout`]'s `FromStr` give the message
+//! to show, a `String` that names the value and the choices. A caller's bug is checked as
+//! one: a public function `assert!`s, with a message, what its arguments must satisfy
+//! where breaking it would give a wrong answer rather than a panic ([`reproject_row`]'s
+//! rows of one width, [`Quality::compare`]'s images of one size, [`StereoFrame::render`]'s
+//! pixel count); the preconditions of the functions inside the crate are `debug_assert!`s
+//! with messages. One limit is not checked, as no input reaches it and passing it changes
+//! no pixel: fewer than `u32::MAX - 1` spheres (see `classify.rs`).
 
 mod classify;
+mod fill;
 mod frame;
+mod image;
 mod layout;
 mod mask;
 mod metrics;
 mod mode;
 mod reproject;
+mod retrace;
 mod stats;
 
-pub use frame::{Image, StereoFrame};
+pub use frame::StereoFrame;
+pub use image::Image;
 pub use layout::{anaglyph_pixel, compose, Layout};
 pub use mask::{mask_color, MASK_LEGEND};
 pub use metrics::Quality;

@@ -1,433 +1,162 @@
-//! Per-scanline reprojection of the left eye into the right (Adelson & Hodges 1993, the
-//! seed paper's Algorithm 1).
+//! Stages 2 and 3 over the whole right image: where every left pixel lands (Adelson &
+//! Hodges 1993, the seed paper's Algorithm 1, one scanline at a time in
+//! `reproject/scanline.rs`) and which right pixels must still be retraced
+//! (`classify.rs`).
 //!
-//! For the off-axis parallel camera a point at head-space depth z seen at window position
-//! x_l by the left eye is at x_r = x_l + e·z/(d+z) for the right eye, on the same scanline.
-//! In pixels, left pixel i's centre lands at the continuous position i + ½ + e·z/(d+z)·W/w
-//! (w the window width), i.e. in right pixel j = ⌊i + ½ + shift⌋.
-//!
-//! The scan goes left to right and keeps `oldx`, the previous target:
-//! - a write to j replaces whatever an earlier pixel wrote there: for a < b whose targets
-//!   cross, b is the nearer surface (nearer points shift less), so "later wins" resolves
-//!   occlusion without a z-buffer;
-//! - when j − oldx > 1, every right pixel strictly between them is marked for retracing,
-//!   even if an earlier (farther, further-left) write landed there: the surface stretched in
-//!   the right view, or a surface the left eye never saw is disoccluded;
-//! - pixels no left pixel lands on (the border strip the left eye never saw) stay unmarked
-//!   and are retraced too, and so is the span after the last target: it lies beyond the
-//!   left eye's window edge (a near object cut by the right edge of the left image is seen
-//!   further in by the right eye), so any earlier write there is a farther surface;
-//! - a miss is a point at infinity and shifts by exactly e·W/w, like any other pixel.
-//!
-//! Where this differs from the printed Algorithm 1, and why:
-//! - the printed `let oldx = j` sits after the pixel loop; it must be inside it, once per
-//!   pixel, or the gap test compares against the previous scanline;
-//! - the printed lines 8 and 15 say "left image" where they mean the right image's pixel j;
-//! - targets beyond the right edge are clamped to W (the paper's `M`) so the span up to the
-//!   edge is still gap-tested, and targets left of 0 are dropped without a write;
-//! - the paper reprojects the left *colour*; here a reprojected pixel only names its source
-//!   left pixel, and the mode decides what to reuse from its visible-surface record.
-//!
-//! How it runs, per row: first every target at once, four lanes at a time (the division is
-//! most of the arithmetic); then the scan, which writes runs of targets that go up one by
-//! one a block of four pixels at a time and takes the rules above pixel by pixel only where
-//! a run breaks (see `scan` for why that changes nothing). For the frame's pass the scan
-//! also carries each source's object id and light bits, read in scanline order alongside
-//! its target, into the right row's key planes for the classification (`classify.rs`), so
-//! no second pass gathers them by source index.
+//! [`Reprojection::new`] decides, from the scene, the camera and the mode, how the frame is
+//! reprojected: the eyes' disparity in pixels, the width of the right border strip that is
+//! retraced whatever lands there, and whether edges and shadow boundaries are retraced.
+//! [`reproject_and_classify`] then makes the source map and the class of every right pixel
+//! in one pass over the left film's planes.
 
-use std::ops::Range;
-
-use wide::{f32x4, i32x4, u32x4};
-
-use crate::classify::{GAP_LIGHTS, GAP_OBJECT};
-
-/// "No left pixel fills this right pixel": it must be retraced.
-pub const NO_SOURCE: u32 = u32::MAX;
-
-/// Reprojects one scanline.
-///
-/// `z` holds the left row's head-space depths (+∞ for a miss); `shift_scale` is e·W/w, the
-/// shift in pixels of a point at infinity; `distance` is d. On return `src[j]` is
-/// `row_base + i` for the left pixel i that fills right pixel j, or [`NO_SOURCE`].
-/// `targets` is scratch space, reused across calls to avoid allocating per row.
-pub fn reproject_row(
-    z: &[f32],
-    shift_scale: f32,
-    distance: f32,
-    row_base: u32,
-    src: &mut [u32],
-    targets: &mut Vec<i32>,
-) {
-    assert_eq!(z.len(), src.len());
-    row_targets(z, shift_scale, distance, targets);
-    scan(targets, &mut Sources { src, row_base });
-}
-
-/// The left row's keys (see `classify.rs`) and the right row's planes they are carried to.
-pub(crate) struct KeyedRow<'a> {
-    /// The left row's object ids.
-    pub left_object: &'a [u32],
-    /// The left row's light bits.
-    pub left_lights: &'a [u32],
-    /// Source map of the right row, as [`reproject_row`] writes it.
-    pub src: &'a mut [u32],
-    /// Object id of each right pixel's source, or [`GAP_OBJECT`].
-    pub object: &'a mut [u32],
-    /// Light bits of each right pixel's source, or [`GAP_LIGHTS`].
-    pub lights: &'a mut [u32],
-}
-
-/// [`reproject_row`] that also carries each source's classification key, read in scanline
-/// order along with its target rather than gathered afterwards by source index: on return
-/// `row.object[j]` and `row.lights[j]` are the left pixel's that `row.src[j]` names, or
-/// ([`GAP_OBJECT`], [`GAP_LIGHTS`]) where it is [`NO_SOURCE`].
-pub(crate) fn reproject_row_keyed(
-    z: &[f32],
-    shift_scale: f32,
-    distance: f32,
-    row_base: u32,
-    row: KeyedRow<'_>,
-    targets: &mut Vec<i32>,
-) {
-    let w = z.len();
-    assert!([row.left_object.len(), row.left_lights.len(), row.src.len(), row.object.len(), row.lights.len()]
-        .iter()
-        .all(|&n| n == w));
-    row_targets(z, shift_scale, distance, targets);
-    scan(targets, &mut Keyed { row, row_base });
-}
-
-/// The target right pixel of every left pixel of a row, into `targets`.
-pub(crate) fn row_targets(z: &[f32], shift_scale: f32, distance: f32, targets: &mut Vec<i32>) {
-    let w = z.len() as i32;
-    // A loop the compiler vectorises:
-    // x = i + ½ + e·(1 − d/(d+z)) (in pixels) = (i + ½ + e) − e·d/(d+z), written so that
-    // z = +∞ shifts by exactly e rather than ∞/∞; j = ⌊x⌋ clamped to [−1, W] (the paper's M
-    // for targets past the right edge; −1 for targets left of the image, which are dropped).
-    let (offset, scaled_distance) = (0.5 + shift_scale, shift_scale * distance);
-    let target = |i: usize, zi: f32| {
-        let x = ((i as f32 + offset) - scaled_distance / (distance + zi)).clamp(-1.0, w as f32);
-        // ⌊x⌋ for x ≥ −1 is a truncation of x + 1, minus 1: no libm floorf.
-        (x + 1.0) as i32 - 1
-    };
-    // Every entry is overwritten: no need to clear.
-    targets.resize(z.len(), 0);
-    // Four at a time in SIMD lanes (the same operations in the same order as `target`). The
-    // clamp's bounds are never NaN, so `fast_max` and `fast_min` (SSE's maxps and minps) give
-    // exactly what `max` and `min` give, which only add a NaN test of the bound.
-    let lane = f32x4::new([0.0, 1.0, 2.0, 3.0]);
-    let (lo, hi) = (f32x4::splat(-1.0), f32x4::splat(w as f32));
-    let (offset4, sd4, d4, one) =
-        (f32x4::splat(offset), f32x4::splat(scaled_distance), f32x4::splat(distance), f32x4::splat(1.0));
-    let whole = z.len() / 4 * 4;
-    for (c, (zs, ts)) in z[..whole].chunks_exact(4).zip(targets[..whole].chunks_exact_mut(4)).enumerate() {
-        let i = f32x4::splat((c * 4) as f32) + lane;
-        let zv = f32x4::new([zs[0], zs[1], zs[2], zs[3]]);
-        let x = ((i + offset4) - sd4 / (d4 + zv)).fast_max(lo).fast_min(hi);
-        let t = (x + one).fast_trunc_int() - i32x4::splat(1);
-        ts.copy_from_slice(t.as_array());
-    }
-    for i in whole..z.len() {
-        targets[i] = target(i, z[i]);
-    }
-}
-
-/// Pixels per block of the scan's fast path: one SSE2 vector of 32-bit lanes.
-const BLOCK: usize = 4;
-
-/// Where the scan writes: the source map alone, or the source map and the keys. `j` is a
-/// right pixel, `i` a left pixel, both in the row.
-trait RowSink {
-    /// Width of the row.
-    fn width(&self) -> usize;
-    /// Right pixel `j` is filled by left pixel `i`.
-    fn put(&mut self, j: usize, i: usize);
-    /// Writes the run of left pixels from `i` (whose target is `j`) in whole blocks of
-    /// [`BLOCK`] pixels, while whole blocks fit in the row and the `targets` continue the run.
-    /// Returns how many pixels continue it (0 when no whole block fits); the rest of the
-    /// last block written is provisional (see [`scan`]).
-    fn put_run(&mut self, j: usize, i: usize, targets: &[i32]) -> usize;
-    /// Right pixels `range` are not filled.
-    fn gap(&mut self, range: Range<usize>);
-    /// Right pixels `j..j + BLOCK` are not filled.
-    fn gap_block(&mut self, j: usize);
-}
-
-/// The scan in scanline order over the row's `targets`, writing into `sink`.
-///
-/// It applies the per-pixel rules, with two shortcuts that leave the result unchanged:
-/// - Most of a row is runs: left pixels whose targets go up by exactly one (a surface
-///   shifted by a constant whole number of pixels, typically tens of pixels long). Inside a
-///   run every target is `oldx + 1`, so there is no gap and each target is written in turn.
-///   A run is written a block of [`BLOCK`] pixels at a time, before the block's targets are
-///   checked: the run goes on to the first target that breaks it.
-/// - A short gap is filled as one whole block.
-///
-/// Both may write past what they stand for: a run's last block past the end of the run, a
-/// gap's block past the target j that ends the gap. Such writes are provisional: once the
-/// step that made them is done, each is either overwritten already or lies past the new
-/// `oldx`. And after any step, every right pixel p > `oldx` is written again by a later
-/// step as the per-pixel rules say: if some later target reaches p, the first one that does
-/// lands on p or jumps over it from below (a gap fill over p); if none does, the scanline's
-/// closing fill covers p. So the last write to every pixel is the one the per-pixel rules
-/// make, in the same order.
-fn scan(targets: &[i32], sink: &mut impl RowSink) {
-    let (n, w) = (targets.len(), sink.width() as i32);
-    debug_assert_eq!(n, sink.width());
-    let mut oldx: i32 = -1;
-    let mut i = 0;
-    while i < n {
-        let j = targets[i];
-        if j - oldx > 1 {
-            // A gap: j > oldx + 1 ≥ 0. A short one is filled as a block ending at most
-            // BLOCK − 1 pixels after j, which are provisional.
-            let lo = (oldx + 1).max(0);
-            if j - lo <= BLOCK as i32 && lo + BLOCK as i32 <= w {
-                sink.gap_block(lo as usize);
-            } else {
-                sink.gap(lo as usize..j as usize);
-            }
-        }
-        let run = if j >= 0 { sink.put_run(j as usize, i, targets) } else { 0 };
-        if run > 0 {
-            i += run;
-            oldx = j + run as i32 - 1;
-            continue;
-        }
-        // One pixel, near an edge of the image.
-        if (0..w).contains(&j) {
-            sink.put(j as usize, i);
-        }
-        oldx = j;
-        i += 1;
-    }
-    // The right border: what lies after the last target came from beyond the left eye's
-    // window edge, so only earlier, farther writes can be there. Close the scanline with a
-    // target at W, as the paper's `M` does for pixels that leave the image.
-    if oldx + 1 < w {
-        sink.gap((oldx + 1).max(0) as usize..w as usize);
-    }
-}
-
-/// Lane offsets of a block's targets.
-const LANES: [i32; BLOCK] = [0, 1, 2, 3];
-
-/// Lane offsets of a block's sources.
-const SOURCE_LANES: [u32; BLOCK] = [0, 1, 2, 3];
-
-/// How many of a block's `targets` (from the first) equal `expected`'s lanes.
-#[inline]
-fn continuing(targets: &[i32], expected: i32x4) -> usize {
-    let t = i32x4::new([targets[0], targets[1], targets[2], targets[3]]);
-    (!t.simd_eq(expected).to_bitmask()).trailing_zeros().min(BLOCK as u32) as usize
-}
-
-/// The length in whole blocks of the longest run from left pixel `i` to right pixel `j`
-/// that fits in a row of `targets.len()` pixels.
-#[inline]
-fn whole_blocks(targets: &[i32], j: usize, i: usize) -> usize {
-    let n = targets.len();
-    (n - j).min(n - i) / BLOCK * BLOCK
-}
-
-/// Writes the source map only.
-struct Sources<'a> {
-    src: &'a mut [u32],
-    row_base: u32,
-}
-
-impl RowSink for Sources<'_> {
-    fn width(&self) -> usize {
-        self.src.len()
-    }
-
-    #[inline]
-    fn put(&mut self, j: usize, i: usize) {
-        self.src[j] = self.row_base + i as u32;
-    }
-
-    #[inline]
-    fn put_run(&mut self, j: usize, i: usize, targets: &[i32]) -> usize {
-        let len = whole_blocks(targets, j, i);
-        let mut expected = i32x4::splat(j as i32) + i32x4::new(LANES);
-        let mut source = u32x4::splat(self.row_base + i as u32) + u32x4::new(SOURCE_LANES);
-        let mut run = 0;
-        for (t, src) in targets[i..i + len].chunks_exact(BLOCK).zip(self.src[j..j + len].chunks_exact_mut(BLOCK)) {
-            src.copy_from_slice(source.as_array());
-            let k = continuing(t, expected);
-            run += k;
-            if k < BLOCK {
-                break;
-            }
-            expected += i32x4::splat(BLOCK as i32);
-            source += u32x4::splat(BLOCK as u32);
-        }
-        run
-    }
-
-    #[inline]
-    fn gap(&mut self, range: Range<usize>) {
-        self.src[range].fill(NO_SOURCE);
-    }
-
-    #[inline]
-    fn gap_block(&mut self, j: usize) {
-        self.src[j..j + BLOCK].copy_from_slice(&[NO_SOURCE; BLOCK]);
-    }
-}
-
-/// Writes the source map and carries the keys.
-struct Keyed<'a> {
-    row: KeyedRow<'a>,
-    row_base: u32,
-}
-
-impl RowSink for Keyed<'_> {
-    fn width(&self) -> usize {
-        self.row.src.len()
-    }
-
-    #[inline]
-    fn put(&mut self, j: usize, i: usize) {
-        let r = &mut self.row;
-        r.src[j] = self.row_base + i as u32;
-        r.object[j] = r.left_object[i];
-        r.lights[j] = r.left_lights[i];
-    }
-
-    /// [`Sources`]' loop with the keys copied in the same blocks. Kept fused on purpose: a
-    /// shared source loop followed by a separate key copy measured 10–20 % slower.
-    #[inline]
-    fn put_run(&mut self, j: usize, i: usize, targets: &[i32]) -> usize {
-        let r = &mut self.row;
-        let len = whole_blocks(targets, j, i);
-        let mut expected = i32x4::splat(j as i32) + i32x4::new(LANES);
-        let mut source = u32x4::splat(self.row_base + i as u32) + u32x4::new(SOURCE_LANES);
-        let mut run = 0;
-        let blocks = targets[i..i + len]
-            .chunks_exact(BLOCK)
-            .zip(r.src[j..j + len].chunks_exact_mut(BLOCK))
-            .zip(r.object[j..j + len].chunks_exact_mut(BLOCK).zip(r.lights[j..j + len].chunks_exact_mut(BLOCK)))
-            .zip(r.left_object[i..i + len].chunks_exact(BLOCK).zip(r.left_lights[i..i + len].chunks_exact(BLOCK)));
-        for (((t, src), (object, lights)), (left_object, left_lights)) in blocks {
-            src.copy_from_slice(source.as_array());
-            object.copy_from_slice(left_object);
-            lights.copy_from_slice(left_lights);
-            let k = continuing(t, expected);
-            run += k;
-            if k < BLOCK {
-                break;
-            }
-            expected += i32x4::splat(BLOCK as i32);
-            source += u32x4::splat(BLOCK as u32);
-        }
-        run
-    }
-
-    #[inline]
-    fn gap(&mut self, range: Range<usize>) {
-        let r = &mut self.row;
-        r.src[range.clone()].fill(NO_SOURCE);
-        r.object[range.clone()].fill(GAP_OBJECT);
-        r.lights[range].fill(GAP_LIGHTS);
-    }
-
-    #[inline]
-    fn gap_block(&mut self, j: usize) {
-        let r = &mut self.row;
-        r.src[j..j + BLOCK].copy_from_slice(&[NO_SOURCE; BLOCK]);
-        r.object[j..j + BLOCK].copy_from_slice(&[GAP_OBJECT; BLOCK]);
-        r.lights[j..j + BLOCK].copy_from_slice(&[GAP_LIGHTS; BLOCK]);
-    }
-}
+mod scanline;
 
 #[cfg(test)]
-mod tests {
-    use super::*;
+mod equivalence;
 
-    const D: f32 = 12.0;
+use rayon::prelude::*;
+use tracer::{Camera, Disparity, EyeView, Film, Tracer};
 
-    fn run(z: &[f32], scale: f32) -> Vec<u32> {
-        let mut src = vec![0; z.len()];
-        reproject_row(z, scale, D, 0, &mut src, &mut Vec::new());
-        src
+use crate::classify::{classify_row, KeyRows, GAP_LIGHTS, GAP_OBJECT};
+use crate::mode::Options;
+use crate::stats::PixelClass;
+pub use scanline::{reproject_row, NO_SOURCE};
+use scanline::{reproject_row_keyed, KeyedRow};
+
+/// How one frame is reprojected and classified (see [`reproject_and_classify`]).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Reprojection {
+    /// The eyes' disparity in pixels.
+    pub disparity: Disparity,
+    /// Width of the right border strip that is always retraced.
+    pub strip: usize,
+    /// Whether object edges (and pixels next to gaps) are retraced.
+    pub edges: bool,
+    /// Whether shadow boundaries are retraced.
+    pub shadows: bool,
+}
+
+impl Reprojection {
+    /// How the right eye of view `rv` is reprojected from the left, for `tracer`'s scene
+    /// seen by `camera`, with the options of the frame.
+    pub fn new(tracer: &Tracer, camera: &Camera, rv: &EyeView, opts: Options) -> Self {
+        let disparity = Disparity::in_pixels(camera, rv);
+        let strip = right_border_strip(tracer, camera, disparity, rv.width as usize);
+        // With IPD 0 every left pixel lands exactly on its own centre: the reprojection is
+        // exact and no edge or shadow boundary needs a second look.
+        let exact_landing = disparity.scale == 0.0;
+        let (edges, shadows) = (opts.edges() && !exact_landing, opts.shadow_boundaries() && !exact_landing);
+        Self { disparity, strip, edges, shadows }
     }
+}
 
-    #[test]
-    fn zero_ipd_is_the_identity() {
-        let z = [f32::INFINITY, 3.0, -2.0, 0.0, 40.0];
-        assert_eq!(run(&z, 0.0), vec![0, 1, 2, 3, 4]);
+/// Width in pixels of the strip at the right edge of the right image that must be retraced
+/// whatever lands there.
+///
+/// A point in front of the window (z < 0) shifts left by e·z/(d+z), so near things the
+/// left eye sees just past its right edge appear inside the right image, where the
+/// reprojection can only have put the farther surfaces the left eye did see. The strip is
+/// as wide as the largest such shift, from the nearest sphere point in the scene; a sphere
+/// reaching the eyes' plane makes it the whole row.
+fn right_border_strip(tracer: &Tracer, camera: &Camera, disparity: Disparity, w: usize) -> usize {
+    let forward = camera.world_from_head() * glam::Vec3::Z;
+    let Some(nearest) = tracer.nearest_depth(camera.position, forward) else { return 0 };
+    if nearest <= 0.0 {
+        return w;
     }
+    let z = nearest - camera.distance;
+    if z >= 0.0 {
+        return 0;
+    }
+    let shift = -disparity.at(z);
+    if shift <= 0.0 {
+        return 0;
+    }
+    // One pixel of margin for where the left eye's last pixel centre lands.
+    (shift.ceil() as usize + 1).min(w)
+}
 
-    #[test]
-    fn background_shifts_by_e_and_leaves_a_border() {
-        // Every pixel at infinity, shift 3: right pixels 0..3 are the unseen border.
-        let z = [f32::INFINITY; 8];
-        let n = NO_SOURCE;
-        assert_eq!(run(&z, 3.0), vec![n, n, n, 0, 1, 2, 3, 4]);
-    }
+/// Rows per band of the reprojection pass: each band reprojects two halo rows, but the
+/// band's keys stay in the core's L2 cache (16 measured faster than 8 or 32 at 1280×720).
+const BAND: usize = 16;
 
-    #[test]
-    fn window_plane_does_not_move() {
-        // z = 0 is the zero-parallax plane: no shift whatever the IPD.
-        let z = [0.0; 6];
-        assert_eq!(run(&z, 7.0), vec![0, 1, 2, 3, 4, 5]);
-    }
+/// Per-thread scratch of the reprojection pass, kept across frames: rayon's
+/// `for_each_init` would allocate afresh for every split of the work, every frame.
+struct BandScratch {
+    /// Targets of the row being reprojected.
+    targets: Vec<i32>,
+    /// Object key plane of a band and its halo rows.
+    object: Vec<u32>,
+    /// Lights key plane of a band and its halo rows.
+    lights: Vec<u32>,
+    /// Source map of a halo row; a band's own rows are written straight into the output.
+    halo_src: Vec<u32>,
+}
 
-    #[test]
-    fn nearer_surface_wins_and_disocclusion_is_a_gap() {
-        // Background (shift 4) then a near surface on the window (shift 0) from pixel 6 on.
-        let inf = f32::INFINITY;
-        let z = [inf, inf, inf, inf, inf, inf, 0.0, 0.0, 0.0, inf, inf, inf, inf, inf, inf, inf];
-        let src = run(&z, 4.0);
-        let n = NO_SOURCE;
-        // Background 0..6 lands on 4..10; the near surface 6..9 overwrites 6..9 in place;
-        // background 9.. lands on 13.., leaving 9..13 (was background 5 at 9) as a gap.
-        assert_eq!(src, vec![n, n, n, n, 0, 1, 6, 7, 8, n, n, n, n, 9, 10, 11]);
-    }
+thread_local! {
+    /// This thread's [`BandScratch`].
+    static BAND_SCRATCH: std::cell::RefCell<BandScratch> = const {
+        std::cell::RefCell::new(BandScratch {
+            targets: Vec::new(),
+            object: Vec::new(),
+            lights: Vec::new(),
+            halo_src: Vec::new(),
+        })
+    };
+}
 
-    #[test]
-    fn stretched_span_is_retraced_even_over_an_earlier_write() {
-        // Targets 0, 1, 2 then 5: pixels 3 and 4 are between consecutive targets.
-        // An earlier pixel could have landed on 3, but the gap rule clears it.
-        let mut src = vec![0; 8];
-        // shift = scale·(1 − d/(d+z)); choose z so the shifts are 0, 0, 0, 2, 2...
-        let z2 = D * 2.0 / (8.0 - 2.0); // shift 2 with scale 8
-        let z = [0.0, 0.0, 0.0, z2, z2, z2, z2, z2];
-        reproject_row(&z, 8.0, D, 100, &mut src, &mut Vec::new());
-        let n = NO_SOURCE;
-        assert_eq!(src, vec![100, 101, 102, n, n, 103, 104, 105]);
-    }
-
-    #[test]
-    fn pixels_in_front_of_the_window_shift_left_and_off_the_edge() {
-        // z = −d/2: shift = scale · (1 − 2) = −scale.
-        let z = [-D / 2.0; 6];
-        let n = NO_SOURCE;
-        assert_eq!(run(&z, 2.0), vec![2, 3, 4, 5, n, n]);
-    }
-
-    #[test]
-    fn the_span_after_the_last_target_is_retraced() {
-        // Background (shift 3) then, at the right edge, a surface in front of the window
-        // (shift −2): it lands left of where the background wrote, and the background
-        // writes after it are hidden behind the part of it the left eye cannot see.
-        let inf = f32::INFINITY;
-        let near = -D / 2.0; // shift = 3 · (1 − 12/6) = −3
-        let z = [inf, inf, inf, inf, inf, near, near, near, near];
-        let n = NO_SOURCE;
-        // Background 0..5 lands on 3..8; near 5..9 lands on 2..6, over the background;
-        // the background left at 6 and 7 is hidden behind the near surface's unseen part.
-        assert_eq!(run(&z, 3.0), vec![n, n, 5, 6, 7, 8, n, n, n]);
-    }
-
-    #[test]
-    fn a_gap_that_starts_left_of_the_image_is_clipped() {
-        // Pixel 0 in front of the window lands at −3, then background lands far right:
-        // the span between is clipped to the image and nothing panics.
-        let n = NO_SOURCE;
-        let z = [-D / 2.0, f32::INFINITY, f32::INFINITY, f32::INFINITY, f32::INFINITY];
-        assert_eq!(run(&z, 3.0), vec![n, n, n, n, 1]);
-    }
+/// Stages 2 and 3 over the whole image: the source map `src` and the class `mask` of every
+/// right pixel, from the left film's `z`, `object` and `lights` planes.
+///
+/// The rows go in bands, each reprojected with one halo row above and below into per-thread
+/// scratch and classified at once while its keys are in cache: one pass over the left planes
+/// instead of a reprojection pass and a classification pass. A band's own source rows go
+/// straight into `src`; of a halo row only the keys are kept. The bands are independent, so
+/// the result does not depend on the number of threads.
+pub(crate) fn reproject_and_classify(left: &Film, p: Reprojection, src: &mut [u32], mask: &mut [PixelClass]) {
+    let w = left.width() as usize;
+    debug_assert!(
+        src.len() == left.z.len() && mask.len() == left.z.len(),
+        "the source map and the mask must have the left film's size"
+    );
+    let h = src.len() / w;
+    let bands = src.par_chunks_mut(w * BAND).zip(mask.par_chunks_mut(w * BAND));
+    bands.enumerate().for_each(|(b, (src_band, mask_band))| {
+        BAND_SCRATCH.with_borrow_mut(|scratch| {
+            let BandScratch { targets, object, lights, halo_src } = scratch;
+            let (j0, rows) = (b * BAND, src_band.len() / w);
+            let (lo, hi) = (j0.saturating_sub(1), (j0 + rows + 1).min(h));
+            object.resize((hi - lo) * w, GAP_OBJECT);
+            lights.resize((hi - lo) * w, GAP_LIGHTS);
+            halo_src.resize(w, NO_SOURCE);
+            let key_rows = object.chunks_exact_mut(w).zip(lights.chunks_exact_mut(w));
+            for (j, (object, lights)) in (lo..hi).zip(key_rows) {
+                let src = if (j0..j0 + rows).contains(&j) {
+                    &mut src_band[(j - j0) * w..(j - j0 + 1) * w]
+                } else {
+                    &mut halo_src[..]
+                };
+                let left_row = j * w..(j + 1) * w;
+                let row = KeyedRow {
+                    left_object: &left.object[left_row.clone()],
+                    left_lights: &left.lights[left_row.clone()],
+                    src: &mut *src,
+                    object: &mut *object,
+                    lights: &mut *lights,
+                };
+                reproject_row_keyed(&left.z[left_row], p.disparity, (j * w) as u32, row, targets);
+                src[w - p.strip..].fill(NO_SOURCE);
+                object[w - p.strip..].fill(GAP_OBJECT);
+                lights[w - p.strip..].fill(GAP_LIGHTS);
+            }
+            let last = hi - lo - 1;
+            for (r, out) in mask_band.chunks_mut(w).enumerate() {
+                // This row's index in the scratch, and its neighbours' (itself at the edges).
+                let k = j0 - lo + r;
+                let at = [k.saturating_sub(1), k, (k + 1).min(last)].map(|k| k * w..(k + 1) * w);
+                let rows = KeyRows { object: at.clone().map(|r| &object[r]), lights: at.map(|r| &lights[r]) };
+                classify_row(rows, p.edges, p.shadows, out);
+            }
+        });
+    });
 }

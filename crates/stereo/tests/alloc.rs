@@ -9,10 +9,18 @@
 //! 63 jobs, and a frame hands in one job per parallel pass (~5). So the test allows fewer
 //! allocations than frames: anything allocated per frame, on any path, counts at least one
 //! per frame and fails it.
+//!
+//! The frames are counted in rounds, and the round that allocated least is judged: what is
+//! allocated per frame is allocated in every round, while a buffer that grows once
+//! allocates in one round only. That buffer is typically a rayon worker's scratch for the
+//! reprojection pass (`reproject.rs`): a worker that a busy machine kept from the warm-up
+//! gets its first band later, and its scratch grows then (seen here in about one run in
+//! ten, on main before this test counted in rounds).
 
-// The counting allocator must implement `GlobalAlloc`, an unsafe trait; it only forwards to
-// `System` and bumps a counter.
-#![allow(unsafe_code)]
+#![expect(
+    unsafe_code,
+    reason = "the counting allocator implements `GlobalAlloc`, an unsafe trait; it only forwards to `System` and bumps a counter"
+)]
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -54,11 +62,6 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
-fn scene(name: &str) -> Scene {
-    let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-    Scene::load(path).expect("scene loads")
-}
-
 /// Allocations made by `f`.
 fn allocations(f: impl FnOnce()) -> u64 {
     let before = ALLOCATIONS.load(Ordering::SeqCst);
@@ -70,7 +73,8 @@ fn allocations(f: impl FnOnce()) -> u64 {
 fn a_warm_frame_allocates_nothing() {
     let all = [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact];
     for name in ["seed.toml", "many.toml"] {
-        let scene = scene(name);
+        let scene =
+            Scene::load(format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"))).expect("scene loads");
         let (w, h) = (160, 90);
         let mut tracer = Tracer::new(&scene, 0.0);
         let mut frame = StereoFrame::new();
@@ -85,16 +89,20 @@ fn a_warm_frame_allocates_nothing() {
             }
         }
         // The orbiting sphere moves on: the structures are rebuilt, into the same buffers.
-        let mut frames = 0u64;
-        let n = allocations(|| {
-            for k in 3..6 {
-                tracer.update(&scene, k as f32 / 30.0);
-                for &opts in &variants {
-                    frame.render(&tracer, &scene.camera, w, h, opts);
-                    frames += 1;
-                }
-            }
-        });
-        assert!(n <= frames / 8, "{name}: {frames} warm frames allocated {n} times");
+        let frames = 3 * variants.len() as u64;
+        let rounds: Vec<u64> = (1..4)
+            .map(|round| {
+                allocations(|| {
+                    for k in 3 * round..3 * round + 3 {
+                        tracer.update(&scene, k as f32 / 30.0);
+                        for &opts in &variants {
+                            frame.render(&tracer, &scene.camera, w, h, opts);
+                        }
+                    }
+                })
+            })
+            .collect();
+        let fewest = rounds.iter().copied().min().unwrap_or(0);
+        assert!(fewest <= frames / 8, "{name}: rounds of {frames} warm frames allocated {rounds:?} times");
     }
 }

@@ -3,8 +3,11 @@
 use glam::Vec3;
 use proptest::prelude::*;
 use stereo::{reproject_row, Mode, Options, PixelClass, Quality, StereoFrame, NO_SOURCE};
-use tracer::{Camera, Eye, Film, Light, Material, Motion, RenderSettings, Renderer, Scene, SceneSphere, Tracer};
+use tracer::{
+    Camera, Disparity, Eye, Film, Light, Material, Motion, RenderSettings, Renderer, Scene, SceneSphere, Tracer,
+};
 
+#[expect(clippy::unwrap_used, reason = "a test helper: a bundled scene that does not load fails the test")]
 fn seed() -> Scene {
     Scene::from_toml(include_str!("../../../assets/scenes/seed.toml"), "seed.toml").unwrap()
 }
@@ -38,7 +41,7 @@ fn a_point_at_known_depth_lands_where_the_right_camera_sees_it() {
     let camera = Camera { ipd: 0.65, distance: 12.0, fov_deg: 45.0, ..Camera::default() };
     let (w, h) = (640u32, 360u32);
     let (lv, rv) = (camera.view(Eye::Left, w, h), camera.view(Eye::Right, w, h));
-    let scale = camera.ipd * rv.pixels_per_unit();
+    let disparity = Disparity::in_pixels(&camera, &rv);
     // Behind the window, on it, and in front of it.
     for z in [25.0f32, 3.0, 0.0, -4.0, -9.0] {
         for i in [40u32, 200, 320, 500] {
@@ -50,7 +53,7 @@ fn a_point_at_known_depth_lands_where_the_right_camera_sees_it() {
             let mut zs = vec![f32::INFINITY; w as usize];
             zs[i as usize] = lv.head_z(p);
             let mut src = vec![0; w as usize];
-            reproject_row(&zs, scale, camera.distance, 0, &mut src, &mut Vec::new());
+            reproject_row(&zs, disparity, 0, &mut src, &mut Vec::new());
             let landed = src.iter().position(|&s| s == i);
             let Some(j) = landed else {
                 assert!(!(0.0..w as f32).contains(&expected), "z = {z}, i = {i}: dropped but visible at {expected}");

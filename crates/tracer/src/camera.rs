@@ -7,6 +7,8 @@
 //! eyes, plus yaw and pitch) places head space in the world:
 //! `world = position + R · (head + (0, 0, d))`, R = R_y(yaw) · R_x(−pitch).
 
+use std::ops::{Add, Div};
+
 use glam::{Mat3, Vec2, Vec3};
 use wide::f32x4;
 
@@ -75,12 +77,11 @@ impl Camera {
     }
 
     /// Horizontal shift, in window units, from the left eye's window position of a point at
-    /// head-space depth `z` to the right eye's: e·z/(d+z). A point at infinity (a miss) shifts
-    /// by exactly e.
+    /// head-space depth `z` to the right eye's: e·z/(d+z) ([`Disparity::at`]). A point at
+    /// infinity (a miss) shifts by exactly e.
     #[must_use]
     pub fn disparity(&self, z: f32) -> f32 {
-        // Written as e·(1 − d/(d+z)) so that z = +∞ gives e rather than ∞/∞.
-        self.ipd * (1.0 - self.distance / (self.distance + z))
+        Disparity { scale: self.ipd, distance: self.distance }.at(z)
     }
 
     /// The view of one eye for a `width` × `height` image.
@@ -104,6 +105,54 @@ impl Camera {
             head_from_world: rot.transpose(),
             head_position: self.position,
         }
+    }
+}
+
+/// The stereo pair's horizontal disparity (Adelson & Hodges 1993): a point at head-space
+/// depth z seen at window position x by the left eye is at x + e·z/(d+z) for the right eye,
+/// on the same scanline. `scale` is e in the unit x is measured in: window units, or pixels
+/// (e·W/w, [`Disparity::in_pixels`]).
+///
+/// The formula is written once, in [`Disparity::shortfall`]: e·z/(d+z) = e − e·d/(d+z), and
+/// e·d/(d+z) is how much less than a point at infinity (which shifts by exactly e) a point
+/// at depth z shifts. Its users combine it in their own order, each the order it has always
+/// had, so that every image stays bit for bit the same: the reprojection computes a left
+/// pixel centre's landing place as (i + ½ + e) − e·d/(d+z), four lanes at a time, and
+/// [`Disparity::at`] gives e·(1 − d/(d+z)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Disparity {
+    /// e in the caller's unit: the shift of a point at infinity.
+    pub scale: f32,
+    /// d, the distance from the eyes to the zero-parallax window.
+    pub distance: f32,
+}
+
+impl Disparity {
+    /// The disparity between `camera`'s eyes in pixels of `view`: scale e·W/w.
+    #[must_use]
+    pub fn in_pixels(camera: &Camera, view: &EyeView) -> Self {
+        Self { scale: camera.ipd * view.pixels_per_unit(), distance: camera.distance }
+    }
+
+    /// e·z/(d+z), the shift of a point at depth `z`, as e·(1 − d/(d+z)) so that z = +∞
+    /// gives exactly e rather than ∞/∞. d/(d+z) is the shortfall of the unit disparity
+    /// (1·d is d exactly).
+    #[inline]
+    #[must_use]
+    pub fn at(self, z: f32) -> f32 {
+        self.scale * (1.0 - Self { scale: 1.0, ..self }.shortfall(z))
+    }
+
+    /// e·d/(d+z): how much less than a point at infinity a point at depth `z` shifts (0 for
+    /// z = +∞), in one lane (`f32`) or in SIMD lanes (`f32x4`), with the same operations in
+    /// the same order, so that a lane gives bit for bit the scalar answer.
+    #[inline]
+    #[must_use]
+    pub fn shortfall<T>(self, z: T) -> T
+    where
+        T: From<f32> + Add<Output = T> + Div<Output = T>,
+    {
+        T::from(self.scale * self.distance) / (T::from(self.distance) + z)
     }
 }
 

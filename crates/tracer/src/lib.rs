@@ -70,7 +70,7 @@ mod surface;
 mod tracer;
 mod wavefront;
 
-pub use camera::{Camera, Eye, EyeView};
+pub use camera::{Camera, Disparity, Eye, EyeView};
 pub use color::{linear_to_srgb8, pack_rgb, srgb8_to_linear, unpack_rgb};
 pub use error::SceneError;
 pub use film::Film;

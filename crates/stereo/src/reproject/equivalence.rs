@@ -3,37 +3,36 @@
 //! random left films built to have runs, stretches, overlaps, points in front of the window
 //! and clipped rows, and on every scene at several IPDs.
 
-use tracer::{Eye, Film, Scene, Tracer, NO_OBJECT};
+use tracer::{Disparity, Eye, Film, Renderer, Scene, Tracer, NO_OBJECT};
 
-use super::{reproject_and_classify, right_border_strip, Reprojection, StereoFrame};
+use super::{reproject_and_classify, reproject_row, right_border_strip, Reprojection, NO_SOURCE};
 use crate::mode::{Mode, Options};
-use crate::reproject::{reproject_row, NO_SOURCE};
 use crate::stats::PixelClass;
 
 /// The reprojection and classification one pixel at a time, as the per-pixel rules in
-/// `reproject.rs` and `classify.rs` state them and as they were first written: a scalar
+/// `reproject/scanline.rs` and `classify.rs` state them and as they were first written: a scalar
 /// scan per row, then each right pixel's 64-bit key (object, lights) gathered by source
 /// index, then a branchy per-pixel classification over the whole image.
 mod reference {
-    use super::{Film, PixelClass, Reprojection, NO_SOURCE};
+    use super::{Disparity, Film, PixelClass, Reprojection, NO_SOURCE};
 
     /// Key of a pixel without a source.
     const GAP_KEY: u64 = u64::MAX;
 
-    /// The right pixel left pixel `i` at depth `z` lands in, clamped to [−1, `w`].
-    fn target(i: usize, z: f32, shift_scale: f32, distance: f32, w: usize) -> i32 {
-        let (offset, scaled_distance) = (0.5 + shift_scale, shift_scale * distance);
-        let x = ((i as f32 + offset) - scaled_distance / (distance + z)).clamp(-1.0, w as f32);
+    /// The right pixel left pixel `i` at depth `z` lands in: (i + ½ + e) − e·d/(d+z)
+    /// clamped to [−1, `w`], rounded down, one pixel at a time.
+    fn target(i: usize, z: f32, disparity: Disparity, w: usize) -> i32 {
+        let x = ((i as f32 + (0.5 + disparity.scale)) - disparity.shortfall(z)).clamp(-1.0, w as f32);
         (x + 1.0) as i32 - 1
     }
 
     /// The source map of one row.
-    pub(super) fn reproject_row(z: &[f32], shift_scale: f32, distance: f32, row_base: u32) -> Vec<u32> {
+    pub(super) fn reproject_row(z: &[f32], disparity: Disparity, row_base: u32) -> Vec<u32> {
         let w = z.len();
         let mut src = vec![NO_SOURCE; w];
         let mut oldx = -1;
         for (i, &zi) in z.iter().enumerate() {
-            let j = target(i, zi, shift_scale, distance, w);
+            let j = target(i, zi, disparity, w);
             if j - oldx > 1 {
                 for s in &mut src[(oldx + 1).max(0) as usize..j as usize] {
                     *s = NO_SOURCE;
@@ -57,7 +56,7 @@ mod reference {
         let (w, h) = (left.width() as usize, left.height() as usize);
         let mut src = Vec::with_capacity(w * h);
         for (j, z) in left.z.chunks(w).enumerate() {
-            let mut row = reproject_row(z, p.shift_scale, p.distance, (j * w) as u32);
+            let mut row = reproject_row(z, p.disparity, (j * w) as u32);
             row[w - p.strip..].fill(NO_SOURCE);
             src.extend(row);
         }
@@ -192,11 +191,12 @@ fn the_fast_pass_equals_the_reference_on_random_films() {
     for case in 0..300 {
         let (w, h) = (widths[rng.below(widths.len())], heights[rng.below(heights.len())]);
         let distance = rng.range(2.0, 30.0);
-        let shift_scale = [0.0, 0.3, 1.0, 2.5, 7.0, rng.range(0.0, 120.0)][rng.below(6)];
+        let scale = [0.0, 0.3, 1.0, 2.5, 7.0, rng.range(0.0, 120.0)][rng.below(6)];
+        let disparity = Disparity { scale, distance };
         let strip = [0, 0, 1, rng.below(w + 1), w][rng.below(5)];
         let left = random_film(&mut rng, w, h, distance);
         for (edges, shadows) in [(false, false), (true, false), (false, true), (true, true)] {
-            let p = Reprojection { shift_scale, distance, strip, edges, shadows };
+            let p = Reprojection { disparity, strip, edges, shadows };
             let expected = reference::reproject_and_classify(&left, p);
             let threads = 1 + case % 3;
             let (src, mask) = fast(&left, p, threads);
@@ -206,8 +206,8 @@ fn the_fast_pass_equals_the_reference_on_random_films() {
         // The public one-row function, without the border strip.
         for (j, z) in left.z.chunks(w).enumerate() {
             let mut src = vec![0; w];
-            reproject_row(z, shift_scale, distance, (j * w) as u32, &mut src, &mut Vec::new());
-            assert_eq!(src, reference::reproject_row(z, shift_scale, distance, (j * w) as u32), "case {case}, row {j}");
+            reproject_row(z, disparity, (j * w) as u32, &mut src, &mut Vec::new());
+            assert_eq!(src, reference::reproject_row(z, disparity, (j * w) as u32), "case {case}, row {j}");
         }
     }
 }
@@ -222,38 +222,40 @@ fn the_fast_pass_equals_the_reference_on_every_scene() {
     ];
     // Not multiples of the band height or of the scan's block.
     let (w, h) = (203, 115);
-    let mut frame = StereoFrame::new();
+    let (mut left, mut renderer) = (Film::default(), Renderer::new());
     for (name, text) in scenes {
         let scene = Scene::from_toml(text, name).unwrap();
         for ipd in [0.0, 0.05, scene.camera.ipd, 1.7] {
             for t in [0.0, 2.7] {
                 let camera = tracer::Camera { ipd, ..scene.camera };
                 let tracer = Tracer::new(&scene, t);
-                frame.render(&tracer, &camera, w, h, Options { mode: Mode::Copy, retrace_edges: false });
+                renderer.render(&tracer, &camera.view(Eye::Left, w, h), &mut left);
                 let rv = camera.view(Eye::Right, w, h);
-                let shift_scale = camera.ipd * rv.pixels_per_unit();
-                let strip = right_border_strip(&tracer, &camera, shift_scale, w as usize);
-                let p = |edges, shadows| Reprojection { shift_scale, distance: camera.distance, strip, edges, shadows };
-                // Through the stage as the modes call it (edges and shadows off at IPD 0)…
+                let disparity = Disparity::in_pixels(&camera, &rv);
+                let strip = right_border_strip(&tracer, &camera, disparity, w as usize);
+                let p = |edges, shadows| Reprojection { disparity, strip, edges, shadows };
+                // Through the stage as the frame calls it (edges and shadows off at IPD 0)…
                 for opts in [
                     Options { mode: Mode::Copy, retrace_edges: false },
                     Options { mode: Mode::Reshade, retrace_edges: true },
                     Options { mode: Mode::Exact, retrace_edges: false },
                 ] {
-                    frame.reproject(&tracer, &camera, &rv, opts);
+                    let n = (w * h) as usize;
+                    let (mut src, mut mask) = (vec![0; n], vec![PixelClass::Traced; n]);
+                    reproject_and_classify(&left, Reprojection::new(&tracer, &camera, &rv, opts), &mut src, &mut mask);
                     let moved = ipd != 0.0;
                     let expected = reference::reproject_and_classify(
-                        &frame.left,
+                        &left,
                         p(opts.edges() && moved, opts.shadow_boundaries() && moved),
                     );
                     let at = format!("{name}, IPD {ipd}, t = {t}, {opts:?}");
-                    assert!(frame.src == expected.0, "{at}: source maps differ");
-                    assert!(frame.mask == expected.1, "{at}: classes differ");
+                    assert!(src == expected.0, "{at}: source maps differ");
+                    assert!(mask == expected.1, "{at}: classes differ");
                 }
                 // …and every option pair directly.
                 for (edges, shadows) in [(false, false), (true, false), (false, true), (true, true)] {
-                    let expected = reference::reproject_and_classify(&frame.left, p(edges, shadows));
-                    let got = fast(&frame.left, p(edges, shadows), 2);
+                    let expected = reference::reproject_and_classify(&left, p(edges, shadows));
+                    let got = fast(&left, p(edges, shadows), 2);
                     assert!(got == expected, "{name}, IPD {ipd}, t = {t}, edges {edges}, shadows {shadows}: differ");
                 }
             }

@@ -1,0 +1,157 @@
+//! Stage 5: the colours of the reprojected right pixels, from what the left eye saw at
+//! their sources (its visible-surface record, `tracer::Surface`), in one of two ways:
+//! - reshade: reuse the left hit and recompute only the view-dependent light (highlight
+//!   and reflection) for the right pixel-centre ray's direction;
+//! - exact: intersect the right pixel-centre ray with the one sphere the reprojection
+//!   names, and shade that hit with the left hit's light visibility. A ray that misses the
+//!   sphere is on a silhouette the edge test did not catch: the pixel is retraced and
+//!   marked an edge.
+//!
+//! A reprojected miss keeps the left eye's background colour either way. Copy mode fills
+//! its reprojected pixels in stage 4's pass (`retrace.rs`), so it has no stage 5.
+
+use std::cell::Cell;
+use std::ops::Add;
+
+use rayon::prelude::*;
+use tracer::{Film, RayCounts, SecondView, NO_OBJECT};
+
+use crate::image::Image;
+use crate::mode::Mode;
+use crate::stats::PixelClass;
+
+/// How stage 5 fills a reprojected pixel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Fill {
+    /// Reuse the left hit, re-shade its view-dependent light ([`Mode::Reshade`]).
+    Reshade,
+    /// Intersect the named sphere, shade with the reused visibility ([`Mode::Exact`]).
+    Exact,
+}
+
+impl Fill {
+    /// Stage 5 of `mode`, if it has one.
+    pub fn of(mode: Mode) -> Option<Self> {
+        match mode {
+            Mode::Full | Mode::Copy => None,
+            Mode::Reshade => Some(Self::Reshade),
+            Mode::Exact => Some(Self::Exact),
+        }
+    }
+}
+
+/// What stage 5 cost.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Filled {
+    /// Scene rays cast (shading, and the retraced silhouettes' primary rays).
+    pub rays: RayCounts,
+    /// Single-sphere tests of exact mode (not scene rays).
+    pub sphere_tests: u64,
+}
+
+impl Add for Filled {
+    type Output = Self;
+    fn add(self, other: Self) -> Self {
+        Self { rays: self.rays + other.rays, sphere_tests: self.sphere_tests + other.sphere_tests }
+    }
+}
+
+/// One right row as stage 5 reads and writes it.
+struct Row<'a> {
+    /// The row's index.
+    j: u32,
+    /// Its colours.
+    rgb: &'a mut [u32],
+    /// Its classes; exact mode marks the silhouettes it retraces.
+    mask: &'a mut [PixelClass],
+    /// Its source map.
+    src: &'a [u32],
+}
+
+/// Stage 5 over the image: every right pixel that `mask` marks [`PixelClass::Reprojected`]
+/// is filled into `out` from its source in `src` on the `left` film, as `how` says, by
+/// `right`, the right eye's view.
+pub(crate) fn fill(
+    right: SecondView<'_>,
+    left: &Film,
+    how: Fill,
+    mask: &mut [PixelClass],
+    src: &[u32],
+    out: &mut Image,
+) -> Filled {
+    let w = out.width as usize;
+    debug_assert!(
+        mask.len() == out.rgb.len() && src.len() == out.rgb.len() && out.rgb.len() == w * out.height as usize,
+        "the mask, the source map and the image must have one size"
+    );
+    out.rgb
+        .par_chunks_mut(w)
+        .zip(mask.par_chunks_mut(w))
+        .zip(src.par_chunks(w))
+        .enumerate()
+        .map(|(j, ((rgb, mask), src))| {
+            let row = Row { j: j as u32, rgb, mask, src };
+            match how {
+                Fill::Reshade => reshade_row(right, left, row),
+                Fill::Exact => exact_row(right, left, row),
+            }
+        })
+        .reduce(Filled::default, Filled::add)
+}
+
+/// Whether a pixel of class `class` whose source is left pixel `s` is shaded by stage 5:
+/// it is reprojected, and its source saw a surface rather than the background.
+#[inline]
+fn sees_surface(left: &Film, class: PixelClass, s: u32) -> bool {
+    class == PixelClass::Reprojected && left.object[s as usize] != NO_OBJECT
+}
+
+/// Gives each reprojected pixel of a row whose source saw background its source's colour.
+/// Returns how many others there are: the pixels that stage 5 shades.
+fn keep_background(left: &Film, rgb: &mut [u32], mask: &[PixelClass], src: &[u32]) -> u64 {
+    let mut named = 0;
+    for ((rgb, &class), &s) in rgb.iter_mut().zip(mask).zip(src) {
+        if class == PixelClass::Reprojected {
+            if left.object[s as usize] == NO_OBJECT {
+                *rgb = left.rgb[s as usize];
+            } else {
+                named += 1;
+            }
+        }
+    }
+    named
+}
+
+/// One row of [`Fill::Reshade`]: the surfaces seen, re-shaded as one list.
+fn reshade_row(right: SecondView<'_>, left: &Film, row: Row<'_>) -> Filled {
+    let Row { j, rgb, mask, src } = row;
+    keep_background(left, rgb, mask, src);
+    let mut rays = RayCounts::default();
+    let items = (0..rgb.len() as u32)
+        .filter(|&i| sees_surface(left, mask[i as usize], src[i as usize]))
+        .map(|i| (i, left.surface(src[i as usize] as usize)));
+    right.reshade(j, items, &mut rays, |i, c| rgb[i as usize] = c);
+    Filled { rays, sphere_tests: 0 }
+}
+
+/// One row of [`Fill::Exact`]: each pixel's own ray against the sphere its source saw, as
+/// one list; the silhouettes it misses are retraced and marked edges.
+fn exact_row(right: SecondView<'_>, left: &Film, row: Row<'_>) -> Filled {
+    let Row { j, rgb, mask, src } = row;
+    let sphere_tests = keep_background(left, rgb, mask, src);
+    let mut rays = RayCounts::default();
+    // The list is read while the silhouettes it has passed are marked.
+    let mask = Cell::from_mut(mask).as_slice_of_cells();
+    let items =
+        (0..rgb.len() as u32).filter(|&i| sees_surface(left, mask[i as usize].get(), src[i as usize])).map(|i| {
+            let s = src[i as usize] as usize;
+            (i, left.object[s], left.lights[s])
+        });
+    right.shade_on(j, items, &mut rays, |i, c, retraced| {
+        rgb[i as usize] = c;
+        if retraced {
+            mask[i as usize].set(PixelClass::RetracedEdge);
+        }
+    });
+    Filled { rays, sphere_tests }
+}

@@ -1,0 +1,101 @@
+//! Stage 4: full primary rays for the right pixels the reprojection does not fill (gaps,
+//! the border strip, and the edges and shadow boundaries the mode sends back), traced
+//! exactly as [`Mode::Full`](crate::Mode::Full) traces every pixel.
+//!
+//! In copy mode the same pass over the image also gives each reprojected pixel its source's
+//! colour (the seed paper's stage 5), so the right image is swept once.
+
+use rayon::prelude::*;
+use tracer::{RayCounts, SecondView};
+
+use crate::image::Image;
+use crate::stats::PixelClass;
+
+/// Stage 4 over the image: every right pixel that `mask` does not mark
+/// [`PixelClass::Reprojected`] is traced by `right`, the right eye's view, into `out`; with
+/// `copy_from` (the left eye's colours), every reprojected one takes the colour of its
+/// source in `src`, and without, keeps what `out` holds. Returns the rays cast.
+pub(crate) fn retrace(
+    right: SecondView<'_>,
+    mask: &[PixelClass],
+    src: &[u32],
+    copy_from: Option<&[u32]>,
+    out: &mut Image,
+) -> RayCounts {
+    let w = out.width as usize;
+    debug_assert!(
+        mask.len() == out.rgb.len() && src.len() == out.rgb.len() && out.rgb.len() == w * out.height as usize,
+        "the mask, the source map and the image must have one size"
+    );
+    out.rgb
+        .par_chunks_mut(w)
+        .zip(mask.par_chunks(w))
+        .zip(src.par_chunks(w))
+        .enumerate()
+        .map(|(j, ((rgb, mask), src))| {
+            let mut counts = RayCounts::default();
+            if let Some(left) = copy_from {
+                for i in 0..w {
+                    if mask[i] == PixelClass::Reprojected {
+                        rgb[i] = left[src[i] as usize];
+                    }
+                }
+            }
+            let traced = (0..w as u32).filter(|&i| mask[i as usize] != PixelClass::Reprojected);
+            right.trace_pixels(j as u32, traced, &mut counts, |i, c| rgb[i as usize] = c);
+            counts
+        })
+        .sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use tracer::{Eye, Renderer, Scene, Tracer};
+
+    use super::*;
+
+    /// A colour no traced pixel has: its high byte is set.
+    const UNTOUCHED: u32 = 0xFF00_FF00;
+
+    #[test]
+    fn retraced_pixels_are_the_full_trace_and_reprojected_ones_are_copied() {
+        let scene = Scene::from_toml(include_str!("../../../assets/scenes/window.toml"), "window.toml").unwrap();
+        let tracer = Tracer::new(&scene, 0.7);
+        let (w, h) = (122, 68);
+        let n = (w * h) as usize;
+        let rv = scene.camera.view(Eye::Right, w, h);
+        let mut full = Vec::new();
+        let full_counts = Renderer::new().render_rgb(&tracer, &rv, &mut full);
+        let mut renderer = Renderer::new();
+        let right = renderer.second_view(&tracer, &rv);
+        let image = || Image { width: w, height: h, rgb: vec![UNTOUCHED; n] };
+
+        // Every pixel retraced: the full trace, ray for ray.
+        let mut out = image();
+        let counts = retrace(right, &vec![PixelClass::RetracedGap; n], &vec![0; n], None, &mut out);
+        assert!(out.rgb == full, "retracing every pixel differs from the full trace");
+        assert_eq!(counts, full_counts);
+
+        // A mix of classes, in runs and alone, with and without copying the sources.
+        let classes = [PixelClass::RetracedGap, PixelClass::RetracedEdge, PixelClass::RetracedShadow];
+        let mask: Vec<PixelClass> =
+            (0..n).map(|k| if k % 11 < 5 || k % 7 == 0 { PixelClass::Reprojected } else { classes[k % 3] }).collect();
+        let src: Vec<u32> = (0..n as u32).rev().collect();
+        let left: Vec<u32> = (0..n as u32).map(|s| 0x0100_0000 | s).collect();
+        let retraced = mask.iter().filter(|&&c| c != PixelClass::Reprojected).count() as u64;
+        for copy_from in [None, Some(&left[..])] {
+            let mut out = image();
+            let counts = retrace(right, &mask, &src, copy_from, &mut out);
+            assert_eq!(counts.primary, retraced, "one primary ray per retraced pixel");
+            for k in 0..n {
+                let expected = match (mask[k], copy_from) {
+                    (PixelClass::Reprojected, Some(left)) => left[src[k] as usize],
+                    (PixelClass::Reprojected, None) => UNTOUCHED,
+                    _ => full[k],
+                };
+                let got = out.rgb[k];
+                assert!(got == expected, "pixel {k} ({:?}, copy {}): {got:#x}", mask[k], copy_from.is_some());
+            }
+        }
+    }
+}
