@@ -8,7 +8,7 @@ const W: u32 = 320;
 const H: u32 = 180;
 
 fn seed() -> Scene {
-    Scene::load(root().join("assets/scenes/seed.toml")).expect("seed scene loads")
+    Scene::load(root().join("assets/scenes/seed.toml")).unwrap_or_else(|e| panic!("the seed scene loads: {e}"))
 }
 
 #[test]

@@ -249,7 +249,7 @@ impl App {
             if pixels.is_empty() {
                 anyhow::bail!("no frame was presented, so there is nothing to write to {}", path.display());
             }
-            crate::png_out::write_png(path, *w, *h, pixels)?;
+            viewer::write_png(path, *w, *h, pixels)?;
         }
         Ok(())
     }

@@ -5,7 +5,6 @@
 mod app;
 mod bench;
 mod cli;
-mod png_out;
 mod present;
 mod render_cmd;
 mod report;

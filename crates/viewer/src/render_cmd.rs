@@ -12,9 +12,9 @@ use stereo::{compose, mask_color, Options, Quality, StereoFrame};
 use tracer::{render_rgb, Eye, PrimaryBins, RayCounts, Tracer};
 
 use crate::cli::RenderArgs;
-use crate::png_out::{parent_dir, write_png};
 use crate::report;
 use crate::setup::{BadInput, FrameSetup};
+use viewer::{parent_dir, write_png};
 
 /// Runs the command.
 pub fn run(args: &RenderArgs) -> Result<()> {

@@ -73,7 +73,7 @@ pub fn save(
             continue;
         }
         let path = folder.join(format!("{base}-{name}.png"));
-        crate::png_out::write_png(&path, iw, ih, pixels)?;
+        viewer::write_png(&path, iw, ih, pixels)?;
         written.push(path);
     }
     Ok(written)
