@@ -27,7 +27,7 @@ mod stats;
 
 pub use frame::{Image, StereoFrame};
 pub use layout::{anaglyph_pixel, compose, Layout};
-pub use mask::{mask_color, MASK_LEGEND};
+pub use mask::{mask_color, mask_image, MASK_LEGEND};
 pub use metrics::Quality;
 pub use mode::{Mode, Options};
 pub use reproject::{reproject_row, NO_SOURCE};

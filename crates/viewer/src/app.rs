@@ -35,7 +35,7 @@ use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
 use winit::window::{Window, WindowId};
 
 use crate::cli::{WindowArgs, DEFAULT_SCENE};
-use crate::present::{self, Compositor};
+use crate::present::{self, Compositor, Look};
 use crate::screenshot;
 use crate::syslibs::{self, Backend};
 use crate::timing::{RateMeter, SceneClock};
@@ -218,7 +218,7 @@ impl App {
             gfx: None,
             egui,
             egui_render: EguiSoftwareRender::new(ColorFieldOrder::Bgra),
-            compositor: Compositor::new(),
+            compositor: Compositor::default(),
             history: FrameTimes::default(),
             ui_meter: RateMeter::new(now, 0),
             render_meter: RateMeter::new(now, 0),
@@ -351,14 +351,8 @@ impl App {
     fn save_pair(&mut self) {
         let s = &self.settings;
         let folder = PathBuf::from(if self.folder.trim().is_empty() { "." } else { self.folder.trim() });
-        let note = match screenshot::save(
-            &folder,
-            self.worker.current(),
-            s.layout,
-            s.swap_eyes,
-            s.show_mask,
-            SystemTime::now(),
-        ) {
+        let look = Look { layout: s.layout, swap: s.swap_eyes, show_mask: s.show_mask };
+        let note = match screenshot::save(&folder, self.worker.current(), look, SystemTime::now()) {
             Ok(paths) => {
                 for p in &paths {
                     eprintln!("stereotrace: saved {}", p.display());
@@ -495,7 +489,8 @@ impl App {
         }
         let frame = self.worker.current();
         let s = &self.settings;
-        let eyes = self.compositor.compose(&mut buffer, width, height, frame, s.layout, s.swap_eyes, s.show_mask);
+        let look = Look { layout: s.layout, swap: s.swap_eyes, show_mask: s.show_mask };
+        let eyes = self.compositor.compose(&mut buffer, width, height, frame, look);
         let primitives = self.egui.tessellate(output.shapes, output.pixels_per_point);
         self.egui_render.render(
             &mut BufferMutRef::new(bytemuck::cast_slice_mut(&mut buffer[..]), width, height),

@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use serde_json::json;
-use stereo::{compose, mask_color, Options, Quality, StereoFrame};
+use stereo::{compose, mask_image, Options, Quality, StereoFrame};
 use tracer::{render_rgb, Eye, PrimaryBins, RayCounts, Tracer};
 
 use crate::cli::RenderArgs;
@@ -44,7 +44,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         write_png(p, w, h, &frame.right().rgb)?;
     }
     if let Some(p) = &args.mask {
-        let mask: Vec<u32> = frame.mask().iter().map(|&c| mask_color(c)).collect();
+        let mut mask = Vec::new();
+        mask_image(frame.mask(), &mut mask);
         write_png(p, w, h, &mask)?;
     }
     if let Some(p) = &args.out {

@@ -4,11 +4,9 @@
 use std::path::{Path, PathBuf};
 use std::time::{SystemTime, UNIX_EPOCH};
 
-use anyhow::Context as _;
-use stereo::Layout;
-
-use crate::present;
+use crate::present::Look;
 use crate::worker::Finished;
+use anyhow::Context as _;
 
 /// The default folder, relative to the current directory.
 pub const DEFAULT_FOLDER: &str = "./screenshots";
@@ -37,17 +35,11 @@ fn civil_from_days(days: i64) -> (i64, u32, u32) {
     (y, m, d)
 }
 
-/// Writes the left and right eyes, the pair in `layout` (eyes exchanged first when `swap`)
-/// and, when `with_mask`, the right eye's class mask into `folder`, creating it if missing.
-/// Returns the files written.
-pub fn save(
-    folder: &Path,
-    frame: &Finished,
-    layout: Layout,
-    swap: bool,
-    with_mask: bool,
-    time: SystemTime,
-) -> anyhow::Result<Vec<PathBuf>> {
+/// Writes the left and right eyes, the pair in the look's layout (eyes exchanged first when
+/// it swaps them) and, when it shows the mask, the right eye's class mask into `folder`,
+/// creating it if missing. Returns the files written.
+pub fn save(folder: &Path, frame: &Finished, look: Look, time: SystemTime) -> anyhow::Result<Vec<PathBuf>> {
+    let Look { layout, swap, show_mask } = look;
     let (w, h) = frame.size();
     let n = w as usize * h as usize;
     if frame.info.is_none() || frame.left.len() != n || frame.right.len() != n || frame.mask.len() != n {
@@ -59,8 +51,8 @@ pub fn save(
     stereo::compose(layout, swap, &frame.left, &frame.right, w, h, &mut pair);
     let (pw, ph) = layout.size(w, h);
     let mut mask = Vec::new();
-    if with_mask {
-        present::mask_image(&frame.mask, &mut mask);
+    if show_mask {
+        stereo::mask_image(&frame.mask, &mut mask);
     }
     let mut written = Vec::new();
     for (name, pixels, (iw, ih)) in [
@@ -99,7 +91,8 @@ mod tests {
     #[test]
     fn saving_before_the_first_frame_fails_cleanly() {
         let dir = std::env::temp_dir().join(format!("stereotrace-shot-test-{}", std::process::id()));
-        let e = save(&dir, &Finished::default(), Layout::SideBySide, false, true, SystemTime::now()).unwrap_err();
+        let look = Look { layout: stereo::Layout::SideBySide, swap: false, show_mask: true };
+        let e = save(&dir, &Finished::default(), look, SystemTime::now()).unwrap_err();
         assert!(e.to_string().contains("nothing to save"), "{e}");
         assert!(!dir.exists(), "no folder is made for nothing");
     }

@@ -12,9 +12,7 @@ use std::thread::JoinHandle;
 use std::time::Instant;
 
 use glam::Vec3;
-use rayon::prelude::*;
-
-use stereo::{FrameStats, Options, PixelClass, Quality, StereoFrame};
+use stereo::{FrameStats, Layout, Options, PixelClass, Quality, StereoFrame};
 use tracer::{render_eye, Camera, Eye, Film, Scene, Tracer};
 
 /// Everything that determines one stereo frame.
@@ -88,18 +86,13 @@ impl Finished {
         self.right.extend_from_slice(&frame.right().rgb);
         self.mask.clear();
         self.mask.extend_from_slice(frame.mask());
-        self.anaglyph.clear();
         if info.request.anaglyph {
             // Dubois's matrices decode every channel to linear light: too slow for the UI
             // thread at 60 Hz, so it is done here, once per frame, on the rayon pool.
-            let w = (info.request.width as usize).max(1);
-            self.anaglyph.resize(self.left.len(), 0);
-            let (l, r) = if info.request.swap { (&self.right, &self.left) } else { (&self.left, &self.right) };
-            self.anaglyph.par_chunks_mut(w).zip(l.par_chunks(w).zip(r.par_chunks(w))).for_each(|(out, (l, r))| {
-                for (o, (&a, &b)) in out.iter_mut().zip(l.iter().zip(r)) {
-                    *o = stereo::anaglyph_pixel(a, b);
-                }
-            });
+            let (w, h, swap) = (info.request.width, info.request.height, info.request.swap);
+            stereo::compose(Layout::Anaglyph, swap, &self.left, &self.right, w, h, &mut self.anaglyph);
+        } else {
+            self.anaglyph.clear();
         }
         self.info = Some(*info);
     }
