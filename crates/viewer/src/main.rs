@@ -5,14 +5,19 @@
 mod app;
 mod bench;
 mod cli;
+mod fps_log;
+mod frame_times;
+mod input;
 mod present;
 mod render_cmd;
 mod report;
 mod screenshot;
+mod settings;
 mod setup;
 mod syslibs;
 mod timing;
 mod ui;
+mod window;
 mod worker;
 
 use std::process::ExitCode;

@@ -1,8 +1,9 @@
 //! Screenshots (key S): the frame on screen as PNGs named
-//! `stereotrace-YYYYmmdd-HHMMSS-<left|right|pair|mask>.png` (UTC) in a folder created if missing.
+//! `stereotrace-YYYYmmdd-HHMMSS-<left|right|pair|mask>.png` (UTC) in a folder created if
+//! missing, and the note the panel shows about the last save.
 
 use std::path::{Path, PathBuf};
-use std::time::{SystemTime, UNIX_EPOCH};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
 use crate::present::Look;
 use crate::worker::Finished;
@@ -10,6 +11,59 @@ use anyhow::Context as _;
 
 /// The default folder, relative to the current directory.
 pub const DEFAULT_FOLDER: &str = "./screenshots";
+
+/// How long the panel shows where the last screenshot went.
+const NOTE_SHOWN: Duration = Duration::from_secs(6);
+
+/// The screenshot folder and what the last save did.
+#[derive(Clone, Debug)]
+pub struct Screenshots {
+    /// The folder, as typed in the panel.
+    pub folder: String,
+    /// What the last save wrote, or why it failed.
+    pub note: Note,
+}
+
+/// What the last save wrote (or why it failed), and when.
+#[derive(Clone, Debug, Default)]
+pub struct Note(Option<(String, Instant)>);
+
+impl Note {
+    /// The note while it is recent at `now`.
+    #[must_use]
+    pub fn recent(&self, now: Instant) -> Option<&str> {
+        self.0.as_ref().filter(|(_, at)| now.saturating_duration_since(*at) < NOTE_SHOWN).map(|(note, _)| &**note)
+    }
+}
+
+impl Default for Screenshots {
+    fn default() -> Self {
+        Self { folder: DEFAULT_FOLDER.to_owned(), note: Note::default() }
+    }
+}
+
+impl Screenshots {
+    /// Writes `frame` as `look` shows it into the folder ([`save`]); the note says where (or
+    /// why not), and so does stderr. The viewer carries on either way.
+    pub fn save(&mut self, frame: &Finished, look: Look) {
+        let folder = PathBuf::from(if self.folder.trim().is_empty() { "." } else { self.folder.trim() });
+        let note = match save(&folder, frame, look, SystemTime::now()) {
+            Ok(paths) => {
+                for p in &paths {
+                    eprintln!("stereotrace: saved {}", p.display());
+                }
+                let names: Vec<String> =
+                    paths.iter().filter_map(|p| p.file_name()).map(|n| n.to_string_lossy().into_owned()).collect();
+                format!("saved in {}:\n{}", folder.display(), names.join("\n"))
+            }
+            Err(e) => {
+                eprintln!("stereotrace: {e:#}");
+                format!("not saved: {e:#}")
+            }
+        };
+        self.note = Note(Some((note, Instant::now())));
+    }
+}
 
 /// `YYYYmmdd-HHMMSS` in UTC for a time (times before 1970 count as 1970-01-01 00:00:00).
 #[must_use]
@@ -95,5 +149,12 @@ mod tests {
         let e = save(&dir, &Finished::default(), look, SystemTime::now()).unwrap_err();
         assert!(e.to_string().contains("nothing to save"), "{e}");
         assert!(!dir.exists(), "no folder is made for nothing");
+        let mut shots = Screenshots { folder: dir.display().to_string(), note: Note::default() };
+        let before = Instant::now();
+        assert_eq!(shots.note.recent(before), None, "no note before a save");
+        shots.save(&Finished::default(), look);
+        let note = shots.note.recent(before).unwrap_or_default();
+        assert!(note.starts_with("not saved: nothing to save"), "the panel says why: {note}");
+        assert_eq!(shots.note.recent(Instant::now() + NOTE_SHOWN), None, "the note goes after a while");
     }
 }
