@@ -323,13 +323,28 @@ mod tests {
         assert_eq!(wait_for(&mut worker, 3).left, before, "no override: the scene's light again");
     }
 
+    /// A handle whose render thread never started: what `post` sends stays in the inbox,
+    /// where the test takes it out as the thread would.
+    fn unstarted() -> Worker {
+        Worker { shared: Arc::default(), thread: None, front: Finished::default(), last_posted: None }
+    }
+
+    /// The dedup happens where requests are sent, so it is checked there, without a thread
+    /// and without waiting: the render loop renders exactly what reaches its inbox.
     #[test]
-    fn an_unchanged_request_is_not_rendered_again() {
-        let mut worker = Worker::spawn(scene()).unwrap();
+    fn an_unchanged_request_is_not_sent_again() {
+        let mut worker = unstarted();
+        let take = |w: &Worker| lock(&w.shared.inbox).request.take();
         worker.post(request(16, false));
-        wait_for(&mut worker, 1);
+        assert_eq!(take(&worker), Some(request(16, false)), "the first request is sent");
         worker.post(request(16, false));
-        std::thread::sleep(Duration::from_millis(50));
-        assert_eq!(worker.latest().info.unwrap().seq, 1);
+        assert_eq!(take(&worker), None, "the same request again is not");
+        worker.post(request(17, false));
+        assert_eq!(take(&worker), Some(request(17, false)), "a changed one is");
+        worker.post(request(16, false));
+        worker.post(request(18, false));
+        assert_eq!(take(&worker), Some(request(18, false)), "a request not yet started is replaced");
+        worker.post(request(18, true));
+        assert_eq!(take(&worker), Some(request(18, true)), "any field counts as a change");
     }
 }
