@@ -9,6 +9,7 @@ mod fps_log;
 mod frame_times;
 mod input;
 mod present;
+mod reference;
 mod render_cmd;
 mod report;
 mod screenshot;

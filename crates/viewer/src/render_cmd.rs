@@ -8,10 +8,11 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use serde_json::json;
-use stereo::{compose, mask_image, Options, Quality, StereoFrame};
-use tracer::{render_rgb, Eye, PrimaryBins, RayCounts, Tracer};
+use stereo::{compose, mask_image, Options, StereoFrame};
+use tracer::{RayCounts, Tracer};
 
 use crate::cli::RenderArgs;
+use crate::reference::Reference;
 use crate::report;
 use crate::setup::{BadInput, FrameSetup};
 use viewer::{parent_dir, write_png};
@@ -55,9 +56,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         write_png(p, ow, oh, &pair)?;
     }
     if args.json {
-        let mut reference = Vec::new();
-        render_rgb(&tracer, &setup.camera.view(Eye::Right, w, h), &mut PrimaryBins::new(), &mut reference);
-        let q = Quality::compare(&frame.right().rgb, &reference);
+        let mut reference = Reference::default();
+        reference.trace(&tracer, &setup.camera, w, h);
+        let q = reference.compare(&frame.right().rgb);
         let mut out = json!({
             "scene": setup.path.display().to_string(),
             "width": w,

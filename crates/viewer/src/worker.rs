@@ -13,7 +13,9 @@ use std::time::Instant;
 
 use glam::Vec3;
 use stereo::{FrameStats, Layout, Options, PixelClass, Quality, StereoFrame};
-use tracer::{render_eye, Camera, Eye, Film, Scene, Tracer};
+use tracer::{Camera, Scene, Tracer};
+
+use crate::reference::Reference;
 
 /// Everything that determines one stereo frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -199,7 +201,7 @@ fn render_loop(mut scene: Scene, shared: &Shared) {
     let mut tracer = Tracer::new(&scene, 0.0);
     let scene_light = scene.lights.first().map(|l| l.position);
     let mut frame = StereoFrame::new();
-    let mut reference = Film::default();
+    let mut reference = Reference::default();
     let mut back = Finished::default();
     let mut seq = 0u64;
     loop {
@@ -224,8 +226,8 @@ fn render_loop(mut scene: Scene, shared: &Shared) {
         let (w, h) = (request.width, request.height);
         let stats = frame.render(&tracer, &request.camera, w, h, request.opts);
         let quality = request.psnr.then(|| {
-            render_eye(&tracer, &request.camera.view(Eye::Right, w, h), &mut reference);
-            Quality::compare(&frame.right().rgb, &reference.rgb)
+            reference.trace(&tracer, &request.camera, w, h);
+            reference.compare(&frame.right().rgb)
         });
         seq += 1;
         back.fill_from(&frame, &FrameInfo { seq, request, stats, quality, wall_ms: 0.0 });
