@@ -2,7 +2,7 @@
 
 use stereo::{Mode, Options, Quality, StereoFrame};
 use stereotrace_tests::scene_files;
-use tracer::{render_rgb, Eye, PrimaryBins, Scene, Tracer};
+use tracer::{Eye, Renderer, Scene, Tracer};
 
 #[test]
 fn exact_mode_equals_the_full_trace_on_every_scene() {
@@ -11,12 +11,12 @@ fn exact_mode_equals_the_full_trace_on_every_scene() {
     let (w, h) = (320, 180);
     let mut frame = StereoFrame::new();
     let mut reference = Vec::new();
-    let mut bins = PrimaryBins::new();
+    let mut renderer = Renderer::new();
     for path in files {
         let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
         for t in [0.0, 2.7] {
             let tracer = Tracer::new(&scene, t);
-            render_rgb(&tracer, &scene.camera.view(Eye::Right, w, h), &mut bins, &mut reference);
+            renderer.render_rgb(&tracer, &scene.camera.view(Eye::Right, w, h), &mut reference);
             let stats = frame.render(&tracer, &scene.camera, w, h, Options { mode: Mode::Exact, retrace_edges: false });
             let q = Quality::compare(&frame.right().rgb, &reference);
             assert!(

@@ -5,7 +5,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use stereo::{reproject_row, Mode, Options, StereoFrame};
-use tracer::{render_eye, Eye, Film, Scene, Tracer};
+use tracer::{Eye, Film, Renderer, Scene, Tracer};
 
 const W: u32 = 1280;
 const H: u32 = 720;
@@ -19,7 +19,7 @@ fn seed() -> (Scene, Tracer) {
 fn reprojection(c: &mut Criterion) {
     let (scene, tracer) = seed();
     let mut left = Film::new(W, H);
-    render_eye(&tracer, &scene.camera.view(Eye::Left, W, H), &mut left);
+    Renderer::new().render(&tracer, &scene.camera.view(Eye::Left, W, H), &mut left);
     let scale = scene.camera.ipd * scene.camera.view(Eye::Right, W, H).pixels_per_unit();
     let mut src = vec![0u32; (W * H) as usize];
     let mut targets = Vec::new();

@@ -3,7 +3,7 @@
 use std::time::Instant;
 
 use rayon::prelude::*;
-use tracer::{render_eye, render_rgb, Camera, Eye, EyeView, Film, PrimaryBins, RayCounts, Tracer, NO_OBJECT};
+use tracer::{Camera, Eye, EyeView, Film, RayCounts, Renderer, SecondView, Tracer, NO_OBJECT};
 
 use crate::classify::{classify_row, KeyRows, GAP_LIGHTS, GAP_OBJECT};
 use crate::mode::{Mode, Options};
@@ -27,8 +27,10 @@ pub struct Image {
 pub struct StereoFrame {
     left: Film,
     right: Image,
-    /// Screen bins of the right eye's view, for the pixels it traces.
-    right_bins: PrimaryBins,
+    /// The left eye's renderer.
+    left_renderer: Renderer,
+    /// The right eye's renderer, for the pixels it traces.
+    right_renderer: Renderer,
     /// For each right pixel, the left pixel that fills it, or [`NO_SOURCE`].
     src: Vec<u32>,
     mask: Vec<PixelClass>,
@@ -207,7 +209,7 @@ impl StereoFrame {
         let mut stats = FrameStats::default();
 
         let t = Instant::now();
-        stats.left.rays = render_eye(tracer, &lv, &mut self.left);
+        stats.left.rays = self.left_renderer.render(tracer, &lv, &mut self.left);
         stats.stages.trace_left = ms_since(t);
         stats.left.ms = stats.stages.trace_left;
 
@@ -218,7 +220,7 @@ impl StereoFrame {
         if n == 0 {
         } else if opts.mode == Mode::Full {
             let t = Instant::now();
-            stats.right.rays = render_rgb(tracer, &rv, &mut self.right_bins, &mut self.right.rgb);
+            stats.right.rays = self.right_renderer.render_rgb(tracer, &rv, &mut self.right.rgb);
             self.mask.fill(PixelClass::Traced);
             stats.stages.retrace = ms_since(t);
         } else {
@@ -227,18 +229,19 @@ impl StereoFrame {
             stats.stages.reproject = ms_since(t);
 
             let t = Instant::now();
-            self.right_bins.build(tracer, &rv);
+            let right = self.right_renderer.second_view(tracer, &rv);
             // The paper's mode gathers its reprojected colours in the same pass over the
             // image as the retrace: nothing is left for stage 5.
             let copy = opts.mode == Mode::Copy;
-            let retraced = self.retrace(tracer, &rv, copy);
+            let retraced = retrace(right, &self.left, &mut self.right, &self.mask, &self.src, copy);
             stats.stages.retrace = ms_since(t);
 
             if copy {
                 stats.right.rays = retraced;
             } else {
                 let t = Instant::now();
-                let (filled, sphere_tests) = self.fill(tracer, &rv, opts.mode);
+                let (filled, sphere_tests) =
+                    fill(right, &self.left, &mut self.right, &mut self.mask, &self.src, opts.mode);
                 stats.stages.reshade = ms_since(t);
                 stats.right.rays = retraced + filled;
                 stats.sphere_tests = sphere_tests;
@@ -264,110 +267,96 @@ impl StereoFrame {
         let p = Reprojection { shift_scale, distance: camera.distance, strip, edges, shadows };
         reproject_and_classify(&self.left, p, &mut self.src, &mut self.mask);
     }
+}
 
-    /// Stage 4: full primary rays for every pixel not reprojected; with `copy`, also the
-    /// paper's stage 5 in the same pass: each reprojected pixel takes its source's colour.
-    fn retrace(&mut self, tracer: &Tracer, rv: &EyeView, copy: bool) -> RayCounts {
-        let w = rv.width as usize;
-        let (bins, left) = (&self.right_bins, &self.left.rgb);
-        self.right
-            .rgb
-            .par_chunks_mut(w)
-            .zip(self.mask.par_chunks(w))
-            .zip(self.src.par_chunks(w))
-            .enumerate()
-            .map(|(j, ((rgb, mask), src))| {
-                let mut counts = RayCounts::default();
-                let j = j as u32;
-                let quads = rgb.chunks_mut(4).zip(mask.chunks(4)).zip(src.chunks(4)).enumerate();
-                for (i0, ((rgb, mask), src)) in quads.map(|(q, c)| (4 * q, c)) {
-                    // Gaps come in strips: four in a row (one tile) are traced together.
-                    if mask.iter().all(|&c| c != PixelClass::Reprojected) {
-                        tracer.trace_primary4(bins, i0 as u32, j, mask.len(), &mut counts, |k, s| rgb[k] = s.rgb);
-                        continue;
-                    }
-                    for (k, &class) in mask.iter().enumerate() {
-                        if class != PixelClass::Reprojected {
-                            rgb[k] = tracer.trace_primary(bins, (i0 + k) as u32, j, &mut counts).rgb;
-                        } else if copy {
-                            rgb[k] = left[src[k] as usize];
-                        }
+/// Stage 4: full primary rays for every pixel not reprojected; with `copy`, also the
+/// paper's stage 5 in the same pass: each reprojected pixel takes its source's colour.
+fn retrace(
+    right: SecondView<'_>,
+    left: &Film,
+    out: &mut Image,
+    mask: &[PixelClass],
+    src: &[u32],
+    copy: bool,
+) -> RayCounts {
+    let w = out.width as usize;
+    let left = &left.rgb;
+    out.rgb
+        .par_chunks_mut(w)
+        .zip(mask.par_chunks(w))
+        .zip(src.par_chunks(w))
+        .enumerate()
+        .map(|(j, ((rgb, mask), src))| {
+            let mut counts = RayCounts::default();
+            if copy {
+                for i in 0..w {
+                    if mask[i] == PixelClass::Reprojected {
+                        rgb[i] = left[src[i] as usize];
                     }
                 }
-                counts
-            })
-            .sum()
-    }
+            }
+            let traced = (0..w as u32).filter(|&i| mask[i as usize] != PixelClass::Reprojected);
+            right.trace_pixels(j as u32, traced, &mut counts, |i, c| rgb[i as usize] = c);
+            counts
+        })
+        .sum()
+}
 
-    /// Stage 5: the reprojected pixels, per mode. Returns the rays cast and the number of
-    /// single-sphere tests. In exact mode a pixel whose centre ray misses the named sphere
-    /// is a silhouette the edge test did not catch: it is retraced and marked as an edge.
-    fn fill(&mut self, tracer: &Tracer, rv: &EyeView, mode: Mode) -> (RayCounts, u64) {
-        debug_assert!(!matches!(mode, Mode::Full | Mode::Copy), "full and copy modes have no stage 5");
-        let w = rv.width as usize;
-        let (left, bins) = (&self.left, &self.right_bins);
-        self.right
-            .rgb
-            .par_chunks_mut(w)
-            .zip(self.mask.par_chunks_mut(w))
-            .zip(self.src.par_chunks(w))
-            .enumerate()
-            .map(|(j, ((rgb, mask), src))| {
-                let mut counts = RayCounts::default();
-                let mut tests = 0u64;
-                let j32 = j as u32;
-                if mode == Mode::Reshade {
-                    for i in 0..w {
-                        if mask[i] != PixelClass::Reprojected {
-                            continue;
-                        }
-                        let s = src[i] as usize;
-                        rgb[i] = if left.object[s] == NO_OBJECT {
-                            left.rgb[s]
-                        } else {
-                            let dir = rv.primary_ray(i as u32, j32).dir;
-                            tracer.reshade(dir, &left.surface(s), &mut counts)
-                        };
-                    }
-                    return (counts, tests);
-                }
-                // Exact: the single-sphere tests four pixels at a time.
-                for i0 in (0..w).step_by(4) {
-                    let n = (w - i0).min(4);
-                    let mut objects = [NO_OBJECT; 4];
-                    for (k, object) in objects.iter_mut().enumerate().take(n) {
-                        let i = i0 + k;
-                        if mask[i] == PixelClass::Reprojected {
-                            let s = src[i] as usize;
-                            *object = left.object[s];
-                            if *object == NO_OBJECT {
-                                rgb[i] = left.rgb[s];
-                            }
-                        }
-                    }
-                    if objects == [NO_OBJECT; 4] {
-                        continue;
-                    }
-                    let hits = tracer.primary_hits_on(rv, i0 as u32, j32, objects);
-                    for (k, ((ray, t), object)) in hits.into_iter().zip(objects).enumerate().take(n) {
-                        if object == NO_OBJECT {
-                            continue;
-                        }
-                        let i = i0 + k;
-                        tests += 1;
-                        rgb[i] = if let Some(t) = t {
-                            let lights = left.lights[src[i] as usize];
-                            tracer.shade_known_visibility(rv, &ray, t, object, lights, &mut counts).rgb
-                        } else {
-                            mask[i] = PixelClass::RetracedEdge;
-                            tracer.trace_primary(bins, i as u32, j32, &mut counts).rgb
-                        };
+/// Stage 5: the reprojected pixels, per mode. Returns the rays cast and the number of
+/// single-sphere tests. In exact mode a pixel whose centre ray misses the named sphere
+/// is a silhouette the edge test did not catch: it is retraced and marked as an edge.
+fn fill(
+    right: SecondView<'_>,
+    left: &Film,
+    out: &mut Image,
+    mask: &mut [PixelClass],
+    src: &[u32],
+    mode: Mode,
+) -> (RayCounts, u64) {
+    debug_assert!(!matches!(mode, Mode::Full | Mode::Copy), "full and copy modes have no stage 5");
+    let w = out.width as usize;
+    out.rgb
+        .par_chunks_mut(w)
+        .zip(mask.par_chunks_mut(w))
+        .zip(src.par_chunks(w))
+        .enumerate()
+        .map(|(j, ((rgb, mask), src))| {
+            let mut counts = RayCounts::default();
+            let j = j as u32;
+            // Reprojected pixels whose source saw background keep its colour; the rest are
+            // shaded as one list.
+            let mut named = 0u64;
+            for i in 0..w {
+                if mask[i] == PixelClass::Reprojected {
+                    let s = src[i] as usize;
+                    if left.object[s] == NO_OBJECT {
+                        rgb[i] = left.rgb[s];
+                    } else {
+                        named += 1;
                     }
                 }
-                (counts, tests)
-            })
-            .reduce(|| (RayCounts::default(), 0), |a, b| (a.0 + b.0, a.1 + b.1))
-    }
+            }
+            let mask = std::cell::Cell::from_mut(mask).as_slice_of_cells();
+            let sources = (0..w as u32).filter_map(|i| {
+                let s = src[i as usize] as usize;
+                (mask[i as usize].get() == PixelClass::Reprojected && left.object[s] != NO_OBJECT).then_some((i, s))
+            });
+            if mode == Mode::Reshade {
+                let items = sources.map(|(i, s)| (i, left.surface(s)));
+                right.reshade(j, items, &mut counts, |i, c| rgb[i as usize] = c);
+                return (counts, 0);
+            }
+            // Exact: each pixel's own ray against the sphere its source saw.
+            let items = sources.map(|(i, s)| (i, left.object[s], left.lights[s]));
+            right.shade_on(j, items, &mut counts, |i, c, retraced| {
+                rgb[i as usize] = c;
+                if retraced {
+                    mask[i as usize].set(PixelClass::RetracedEdge);
+                }
+            });
+            (counts, named)
+        })
+        .reduce(|| (RayCounts::default(), 0), |a, b| (a.0 + b.0, a.1 + b.1))
 }
 
 #[cfg(test)]
@@ -388,9 +377,11 @@ mod tests {
         frame.render(&tracer, &scene.camera, w, h, Options { mode: Mode::Copy, retrace_edges: false });
         frame.mask.fill(PixelClass::RetracedGap);
         let rv = scene.camera.view(Eye::Right, w, h);
-        let counts = frame.retrace(&tracer, &rv, false);
+        let mut renderer = Renderer::new();
+        let right = renderer.second_view(&tracer, &rv);
+        let counts = retrace(right, &frame.left, &mut frame.right, &frame.mask, &frame.src, false);
         let mut full = Vec::new();
-        let full_counts = render_rgb(&tracer, &rv, &mut PrimaryBins::new(), &mut full);
+        let full_counts = Renderer::new().render_rgb(&tracer, &rv, &mut full);
         assert_eq!(frame.right.rgb, full);
         assert_eq!(counts, full_counts);
     }

@@ -3,10 +3,7 @@
 use glam::Vec3;
 use proptest::prelude::*;
 use stereo::{reproject_row, Mode, Options, PixelClass, Quality, StereoFrame, NO_SOURCE};
-use tracer::{
-    render_eye, render_rgb, Camera, Eye, Film, Light, Material, Motion, PrimaryBins, RenderSettings, Scene,
-    SceneSphere, Tracer,
-};
+use tracer::{Camera, Eye, Film, Light, Material, Motion, RenderSettings, Renderer, Scene, SceneSphere, Tracer};
 
 fn seed() -> Scene {
     Scene::from_toml(include_str!("../../../assets/scenes/seed.toml"), "seed.toml").unwrap()
@@ -14,7 +11,7 @@ fn seed() -> Scene {
 
 fn full_right(tracer: &Tracer, camera: &Camera, w: u32, h: u32) -> Vec<u32> {
     let mut rgb = Vec::new();
-    render_rgb(tracer, &camera.view(Eye::Right, w, h), &mut PrimaryBins::new(), &mut rgb);
+    Renderer::new().render_rgb(tracer, &camera.view(Eye::Right, w, h), &mut rgb);
     rgb
 }
 
@@ -90,7 +87,7 @@ fn a_hidden_far_surface_never_overwrites_the_near_one() {
     let tracer = Tracer::new(&scene, 0.0);
     let (w, h) = (200u32, 120u32);
     let mut truth = Film::new(w, h);
-    render_eye(&tracer, &scene.camera.view(Eye::Right, w, h), &mut truth);
+    Renderer::new().render(&tracer, &scene.camera.view(Eye::Right, w, h), &mut truth);
     let reference = truth.rgb.clone();
     let mut frame = StereoFrame::new();
     for mode in REPROJECTING {

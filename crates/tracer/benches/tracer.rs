@@ -1,11 +1,12 @@
 //! Criterion benchmarks of the tracer's inner loops, on fixed inputs.
-#![allow(missing_docs)] // criterion_group! and criterion_main! generate undocumented items.
+#![expect(missing_docs, reason = "criterion_group! and criterion_main! generate undocumented items")]
+#![expect(clippy::expect_used, reason = "a benchmark whose scene does not load has nothing to measure")]
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
-use tracer::{intersect_sphere, reflect, render_eye, spawn_ray, Eye, Film, PrimaryBins, Ray, RayCounts, Scene, Tracer};
+use tracer::{intersect_sphere, reflect, spawn_ray, Eye, Film, Hit, Ray, RayCounts, Renderer, Scene, Tracer};
 
 fn scene(name: &str) -> Scene {
     let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -32,7 +33,8 @@ fn ray_sphere(c: &mut Criterion) {
 }
 
 /// Primary rays of a 160×90 view: BVH traversal alone (closest hit), and shading with the
-/// first hit found through the BVH or, one pixel at a time, through the screen bins.
+/// first hit found through the BVH one pixel at a time (the recursive plain path) or
+/// through the screen bins, a row at a time (the wavefront).
 fn traversal_and_shading(c: &mut Criterion) {
     for name in ["seed.toml", "thousand.toml"] {
         let s = scene(name);
@@ -47,22 +49,30 @@ fn traversal_and_shading(c: &mut Criterion) {
         let mirrors: Vec<Ray> = rays
             .iter()
             .filter_map(|r| {
-                let (t, k) = tracer.intersect(r, f32::INFINITY)?;
+                let Hit { t, object } = tracer.intersect(r, f32::INFINITY)?;
                 let p = r.at(t);
-                let n = s.sphere_at(k as usize, 0.0).normal_at(p);
+                let n = (p - s.sphere_at(object as usize, 0.0).center).normalize();
                 Some(spawn_ray(p, n, reflect(r.dir, n)))
             })
             .collect();
         c.bench_function(&format!("bvh_mirror_rays_160x90_{name}"), |b| {
             b.iter(|| mirrors.iter().filter(|r| tracer.intersect(black_box(r), f32::INFINITY).is_some()).count());
         });
-        let mut bins = PrimaryBins::new();
-        bins.build(&tracer, &view);
+        let mut renderer = Renderer::new();
         c.bench_function(&format!("screen_bins_build_160x90_{name}"), |b| {
-            b.iter(|| bins.build(black_box(&tracer), &view));
+            b.iter(|| {
+                renderer.second_view(black_box(&tracer), &view);
+            });
         });
+        let binned = renderer.second_view(&tracer, &view);
         c.bench_function(&format!("shade_binned_160x90_{name}"), |b| {
-            b.iter(|| shade_all(|i, j, counts| tracer.trace_primary(&bins, i, j, counts).rgb));
+            b.iter(|| {
+                let (mut counts, mut sum) = (RayCounts::default(), 0u32);
+                for j in 0..90 {
+                    binned.trace_pixels(j, 0..160, &mut counts, |_, c| sum = sum.wrapping_add(c));
+                }
+                (sum, counts)
+            });
         });
         c.bench_function(&format!("shade_160x90_{name}"), |b| {
             b.iter(|| shade_all(|i, j, counts| tracer.trace_pixel(&view, i, j, counts).rgb));
@@ -87,9 +97,10 @@ fn eye(c: &mut Criterion) {
     let tracer = Tracer::new(&s, 0.0);
     let view = s.camera.view(Eye::Left, 1280, 720);
     let mut film = Film::new(1280, 720);
+    let mut renderer = Renderer::new();
     let mut group = c.benchmark_group("render_eye");
     group.sample_size(10);
-    group.bench_function("seed_1280x720", |b| b.iter(|| render_eye(&tracer, black_box(&view), &mut film)));
+    group.bench_function("seed_1280x720", |b| b.iter(|| renderer.render(&tracer, black_box(&view), &mut film)));
     group.finish();
 }
 

@@ -74,12 +74,6 @@ impl Camera {
         self.position + self.world_from_head() * Vec3::new(eye.sign() * 0.5 * self.ipd, 0.0, 0.0)
     }
 
-    /// Head-space z of a world point: its depth beyond the zero-parallax window.
-    #[must_use]
-    pub fn head_z(&self, p: Vec3) -> f32 {
-        (self.world_from_head() * Vec3::Z).dot(p - self.position) - self.distance
-    }
-
     /// Horizontal shift, in window units, from the left eye's window position of a point at
     /// head-space depth `z` to the right eye's: e·z/(d+z). A point at infinity (a miss) shifts
     /// by exactly e.
@@ -136,12 +130,6 @@ pub struct EyeView {
 }
 
 impl EyeView {
-    /// Window width in world units.
-    #[must_use]
-    pub fn window_width(&self) -> f32 {
-        self.window_width
-    }
-
     /// Pixels per window unit, horizontally (W / window width).
     #[must_use]
     pub fn pixels_per_unit(&self) -> f32 {
@@ -183,7 +171,7 @@ impl EyeView {
     /// Head-space depth beyond the window (the paper's z) of a world point.
     #[inline]
     #[must_use]
-    pub fn head_z(&self, p: glam::Vec3) -> f32 {
+    pub fn head_z(&self, p: Vec3) -> f32 {
         self.head_from_world.row(2).dot(p - self.head_position) - self.distance
     }
 

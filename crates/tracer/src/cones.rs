@@ -21,6 +21,7 @@ use wide::f32x4;
 
 use crate::ray::Ray;
 use crate::sphere::{set_lane, splat3, SpherePacket, LANES};
+use crate::surface::Hit;
 
 /// Largest scene for which the cones are built.
 pub(crate) const MAX_SPHERES: usize = 64;
@@ -73,7 +74,8 @@ impl Cones {
                 } else {
                     (Vec3::ZERO, -2.0)
                 };
-                let p = self.packets.last_mut().expect("pushed above");
+                let last = self.packets.len() - 1;
+                let p = &mut self.packets[last];
                 p.spheres.set(lane, j as u32, cj, rj);
                 set_lane(&mut p.axis[0], lane, axis.x);
                 set_lane(&mut p.axis[1], lane, axis.y);
@@ -96,7 +98,7 @@ impl Cones {
     /// # Panics
     /// If the cones were not built ([`Cones::is_built`]).
     #[inline]
-    pub(crate) fn intersect_from(&self, from: u32, ray: &Ray, t_max: f32) -> Option<(f32, u32)> {
+    pub(crate) fn intersect_from(&self, from: u32, ray: &Ray, t_max: f32) -> Option<Hit> {
         let k = from as usize;
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         let (mut t_best, mut best) = (t_max, None);
@@ -111,7 +113,7 @@ impl Cones {
                 }
             }
         }
-        best.map(|j| (t_best, j))
+        best.map(|object| Hit { t: t_best, object })
     }
 }
 
@@ -120,7 +122,7 @@ mod tests {
     use super::*;
     use crate::ray::{reflect, spawn_ray};
     use crate::scene::Scene;
-    use crate::world::Tracer;
+    use crate::tracer::Tracer;
 
     fn scene(name: &str) -> Scene {
         let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -146,8 +148,8 @@ mod tests {
                     let want = tracer.intersect(&ray, f32::INFINITY);
                     let got = tracer.intersect_from(k as u32, n, &ray);
                     assert_eq!(
-                        got.map(|(t, j)| (t.to_bits(), j)),
-                        want.map(|(t, j)| (t.to_bits(), j)),
+                        got.map(|h| (h.t.to_bits(), h.object)),
+                        want.map(|h| (h.t.to_bits(), h.object)),
                         "sphere {k}, point {i}"
                     );
                     hits += usize::from(want.is_some());

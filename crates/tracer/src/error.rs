@@ -7,6 +7,7 @@ use std::path::PathBuf;
 /// Every variant names the file; parse and validation errors also name the line, the
 /// field and the offending value, so a user can fix a hand-written scene without guessing.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum SceneError {
     /// The file could not be read at all.
     #[error("{path}: cannot read scene file: {source}")]

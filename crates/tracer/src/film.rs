@@ -1,49 +1,7 @@
-//! The film: one eye's colour plus the visible-surface record of every pixel.
+//! The film: one eye's colour plus the visible-surface record of every pixel (pbrt's film
+//! with its visible-surface buffer, kept apart from the camera).
 
-use glam::Vec3;
-
-/// Object id of a pixel whose primary ray missed everything.
-pub const NO_OBJECT: u32 = u32::MAX;
-
-/// What the primary ray of one pixel saw (pbrt's "visible surface"), kept so that a second
-/// view can reuse it: `stereo` reads this, it never re-derives it.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Surface {
-    /// World-space hit point.
-    pub point: Vec3,
-    /// Unit outward normal at the hit.
-    pub normal: Vec3,
-    /// View-independent light at the hit, linear: colour · (ambient + diffuse · Σ visible
-    /// lights · n·l). Reusable from any eye.
-    pub diffuse: Vec3,
-    /// Index of the sphere hit, or [`NO_OBJECT`].
-    pub object: u32,
-    /// Bit k set when light k reaches the point (faces it and is not in shadow).
-    pub lights: u32,
-}
-
-impl Surface {
-    /// The record of a pixel that saw only background.
-    pub const MISS: Self =
-        Self { point: Vec3::ZERO, normal: Vec3::ZERO, diffuse: Vec3::ZERO, object: NO_OBJECT, lights: 0 };
-
-    /// Whether the primary ray hit a sphere.
-    #[must_use]
-    pub fn is_hit(&self) -> bool {
-        self.object != NO_OBJECT
-    }
-}
-
-/// The part of a [`Surface`] that only re-shading reads.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Shading {
-    /// World-space hit point.
-    pub point: Vec3,
-    /// Unit outward normal at the hit.
-    pub normal: Vec3,
-    /// View-independent light at the hit (see [`Surface::diffuse`]).
-    pub diffuse: Vec3,
-}
+use crate::surface::{Shading, Surface, NO_OBJECT};
 
 /// A `width` × `height` image plus its per-pixel visible-surface records, row-major, row 0
 /// at the top.
@@ -66,8 +24,6 @@ pub struct Film {
     /// Hit point, normal and view-independent light of each pixel that hit a sphere;
     /// unspecified where `object` is [`NO_OBJECT`].
     pub shading: Vec<Shading>,
-    /// Screen bins of the view last rendered into this film, kept for their buffers.
-    pub(crate) bins: crate::primary::PrimaryBins,
 }
 
 impl Film {
@@ -88,7 +44,7 @@ impl Film {
         self.z.resize(n, f32::INFINITY);
         self.object.resize(n, NO_OBJECT);
         self.lights.resize(n, 0);
-        self.shading.resize(n, Shading { point: Vec3::ZERO, normal: Vec3::ZERO, diffuse: Vec3::ZERO });
+        self.shading.resize(n, Shading::MISS);
     }
 
     /// The whole visible-surface record of pixel `k` (row-major index); [`Surface::MISS`]
@@ -112,17 +68,5 @@ impl Film {
     #[must_use]
     pub fn height(&self) -> u32 {
         self.height
-    }
-
-    /// Index of pixel (i, j).
-    #[must_use]
-    pub fn index(&self, i: u32, j: u32) -> usize {
-        j as usize * self.width as usize + i as usize
-    }
-
-    /// The sRGB bytes, 3 per pixel, row-major (for PNG output).
-    #[must_use]
-    pub fn to_rgb8(&self) -> Vec<u8> {
-        self.rgb.iter().flat_map(|&p| crate::color::unpack_rgb(p)).collect()
     }
 }

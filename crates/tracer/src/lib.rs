@@ -6,7 +6,7 @@
 //! reflection; Whitted 1980), and the parallel renderer that fills a [`Film`].
 //!
 //! Rays are answered by the cheapest structure that is exact for them: primary rays by
-//! screen-space tile bins ([`PrimaryBins`], four rays per SIMD test), shadow rays by a cube
+//! screen-space tile bins (four rays per SIMD test), shadow rays by a cube
 //! map of sphere lists around each light, mirror rays in small scenes by direction cones
 //! between spheres, and anything else by a 4-wide BVH (four child boxes per SIMD slab test)
 //! with SIMD leaves. Each gives bit-for-bit the
@@ -15,8 +15,33 @@
 //! Besides colour, the film keeps a per-pixel *visible-surface record*
 //! ([`Surface`]): hit point, normal, depth, object id, per-light visibility and the
 //! view-independent part of the light. The `stereo` crate reads that record to build the
-//! second eye by reprojection; this crate knows nothing about stereo pairs beyond the
-//! camera geometry.
+//! second eye by reprojection, through the services of [`SecondView`]; this crate knows
+//! nothing about stereo pairs beyond the camera geometry.
+//!
+//! The public surface: a [`Scene`] (loaded from TOML) becomes a [`Tracer`] at one instant; a
+//! [`Camera`] gives each eye an [`EyeView`]; a [`Renderer`] traces a view into a [`Film`]
+//! (or colour only), and hands a [`SecondView`] to whoever fills an eye pixel by pixel.
+//!
+//! ## Modules, in dependency order
+//!
+//! Each uses only modules above it, so the graph has no cycle:
+//! - `ray`, `color`, `stats`, `error`, `surface`, `material`: leaves (rays and spawning,
+//!   sRGB, ray counters, the scene error, the hit and visible-surface records, materials
+//!   and their highlight exponents);
+//! - `sphere` (ray): the ray–sphere test and its SIMD packets;
+//! - `camera` (ray): the stereo camera and each eye's view;
+//! - `scene` (camera, material, sphere), then `scene_file` (scene, material, camera, error);
+//! - `bvh` (its child `bvh::build` makes the tree), `cones`, `shadow` (ray, sphere, surface,
+//!   scene): the acceleration structures;
+//! - `tracer` (the structures, scene, material, color, ray, surface): the scene at one
+//!   instant and its two queries, `intersect` and `occluded`;
+//! - `shade` (tracer, camera, ray, color, stats, surface): Whitted shading;
+//! - `primary` (tracer, shade, camera, sphere, ray, stats): screen bins for primary rays;
+//! - `film` (surface): the image and its visible-surface record;
+//! - `second_view` (primary, tracer, sphere, ray, stats, surface): services for a second view;
+//! - `render` (film, primary, second_view, shade, camera, stats, surface, tracer): the
+//!   parallel renderer.
+
 //!
 //! Conventions (see the README): left-handed, +x right, +y up, +z into the scene; world
 //! units are arbitrary but shared by positions and radii; light is linear inside and
@@ -29,26 +54,32 @@ mod color;
 mod cones;
 mod error;
 mod film;
+mod material;
 mod primary;
 mod ray;
 mod render;
 mod scene;
 mod scene_file;
+mod second_view;
 mod shade;
 mod shadow;
 mod sphere;
 mod stats;
-mod world;
+mod surface;
+mod tracer;
+mod wavefront;
 
 pub use camera::{Camera, Eye, EyeView};
 pub use color::{linear_to_srgb8, pack_rgb, srgb8_to_linear, unpack_rgb};
 pub use error::SceneError;
-pub use film::{Film, Shading, Surface, NO_OBJECT};
-pub use primary::{PrimaryBins, TILE};
+pub use film::Film;
+pub use material::Material;
 pub use ray::{reflect, spawn_ray, Ray};
-pub use render::{render_eye, render_rgb};
-pub use scene::{Light, Material, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
+pub use render::Renderer;
+pub use scene::{Light, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
+pub use second_view::SecondView;
 pub use shade::Shaded;
 pub use sphere::{intersect_sphere, Sphere};
 pub use stats::RayCounts;
-pub use world::Tracer;
+pub use surface::{Hit, Shading, Surface, NO_OBJECT};
+pub use tracer::Tracer;

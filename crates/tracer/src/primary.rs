@@ -36,15 +36,13 @@ use glam::{DVec3, Vec3};
 use wide::f32x4;
 
 use crate::camera::EyeView;
-use crate::film::NO_OBJECT;
 use crate::ray::Ray;
-use crate::shade::Shaded;
-use crate::sphere::{hits_each, SphereFromOrigin};
-use crate::stats::RayCounts;
-use crate::world::Tracer;
+use crate::sphere::SphereFromOrigin;
+use crate::surface::Hit;
+use crate::tracer::Tracer;
 
 /// Tile edge in pixels.
-pub const TILE: u32 = 8;
+pub(crate) const TILE: u32 = 8;
 
 /// Growth of a sphere's radius for the bound, relative to its distance from the eye.
 const RADIUS_MARGIN: f64 = 1e-4;
@@ -52,10 +50,9 @@ const RADIUS_MARGIN: f64 = 1e-4;
 /// Screen tiles of one eye's view, each with the packets of spheres its pixels can hit.
 ///
 /// Built by [`PrimaryBins::build`] into buffers reused from frame to frame; traced through
-/// by [`Tracer::trace_primary`].
+/// by [`BinnedView`].
 #[derive(Clone, Debug, Default)]
-pub struct PrimaryBins {
-    view: Option<EyeView>,
+pub(crate) struct PrimaryBins {
     tiles_x: u32,
     /// Tile t's spheres are `spheres[first[t]..first[t + 1]]`, in id order.
     first: Vec<u32>,
@@ -75,7 +72,6 @@ fn tangent_slopes(a: f64, c: f64, r: f64) -> (f64, f64) {
     ((a * c - root) / den, (a * c + root) / den)
 }
 
-/// The inclusive tile rectangle a sphere's primary hits can fall in.
 /// Where on screen a sphere's primary hits can be.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Bound {
@@ -134,21 +130,8 @@ fn tile_rect(view: &EyeView, center: Vec3, radius: f32) -> Option<[u32; 4]> {
 }
 
 impl PrimaryBins {
-    /// Empty bins; [`PrimaryBins::build`] fills them.
-    #[must_use]
-    pub fn new() -> Self {
-        Self::default()
-    }
-
-    /// The view the bins were last built for.
-    #[must_use]
-    pub fn view(&self) -> Option<&EyeView> {
-        self.view.as_ref()
-    }
-
     /// Bins the spheres of `tracer` for the primary rays of `view`, reusing the buffers.
-    pub fn build(&mut self, tracer: &Tracer, view: &EyeView) {
-        self.view = Some(*view);
+    pub(crate) fn build(&mut self, tracer: &Tracer, view: &EyeView) {
         self.tiles_x = view.width.div_ceil(TILE);
         let tiles_y = view.height.div_ceil(TILE);
         let tiles = (self.tiles_x * tiles_y) as usize;
@@ -200,7 +183,7 @@ impl PrimaryBins {
     /// Whether pixel (i, j)'s tile lists no sphere: its primary ray sees only background.
     #[inline]
     #[must_use]
-    pub fn is_empty_at(&self, i: u32, j: u32) -> bool {
+    pub(crate) fn is_empty_at(&self, i: u32, j: u32) -> bool {
         self.spheres_at(i, j).is_empty()
     }
 
@@ -226,80 +209,36 @@ impl PrimaryBins {
     }
 }
 
-impl Tracer {
-    /// Traces and shades pixel (i, j) of the view `bins` was built for: the same result as
-    /// [`Tracer::trace_pixel`], with the first hit found among the pixel's tile's spheres
-    /// instead of through the BVH.
-    ///
-    /// # Panics
-    /// If `bins` has not been built.
-    #[inline]
-    #[must_use]
-    pub fn trace_primary(&self, bins: &PrimaryBins, i: u32, j: u32, counts: &mut RayCounts) -> Shaded {
-        let view = bins.view.as_ref().expect("PrimaryBins::build before tracing");
-        counts.primary += 1;
-        if bins.is_empty_at(i, j) {
-            return self.miss_sample();
-        }
-        let ray = view.primary_ray(i, j);
-        let (t, ids) = bins.closest4(i, j, [ray.dir.x, ray.dir.y, ray.dir.z].map(f32x4::splat));
-        if t[0].is_finite() {
-            self.shade_primary_hit(view, &ray, t[0], ids[0], counts)
-        } else {
-            self.miss_sample()
-        }
-    }
+/// One eye's view with its screen bins built: traces that view's primary rays.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BinnedView<'a> {
+    /// The scene.
+    pub(crate) tracer: &'a Tracer,
+    /// The eye.
+    pub(crate) view: &'a EyeView,
+    /// `view`'s bins, built by [`PrimaryBins::build`] for `tracer` and `view`.
+    pub(crate) bins: &'a PrimaryBins,
+}
 
-    /// The primary rays of pixels (i + k, j), k = 0..4, of `view`, each tested against the
-    /// one sphere `objects[k]` alone ([`crate::NO_OBJECT`] lanes are skipped): per lane the
-    /// ray and its hit parameter, if it hits. `stereo`'s exact mode, four pixels at a time:
-    /// the rays are bit-for-bit [`EyeView::primary_ray`]'s and the `t` that of
-    /// [`Tracer::intersect_object`].
-    #[must_use]
-    pub fn primary_hits_on(&self, view: &EyeView, i: u32, j: u32, objects: [u32; 4]) -> [(Ray, Option<f32>); 4] {
+impl BinnedView<'_> {
+    /// The first hits of the primary rays of pixels (i + k, j), k = 0..n (n ≤ 4), which lie
+    /// in one tile: per lane the ray and what it meets, `None` for a lane beyond `n` or a
+    /// ray that meets nothing. The rays are [`EyeView::primary_ray`]'s and the hits
+    /// [`Tracer::intersect`]'s, bit for bit.
+    #[inline]
+    pub(crate) fn hits4(&self, i: u32, j: u32, n: usize) -> [Option<(Ray, Hit)>; 4] {
+        if self.bins.is_empty_at(i, j) {
+            return [None; 4];
+        }
+        let view = self.view;
         let dirs = view.primary_dirs4(i, j);
-        let spheres = objects.map(|k| (k != NO_OBJECT).then(|| (self.centers[k as usize], self.radii[k as usize])));
-        let t = hits_each(view.origin, spheres, dirs).to_array();
+        let (t, ids) = self.bins.closest4(i, j, dirs);
         std::array::from_fn(|k| {
-            let dir = Vec3::new(dirs[0].as_array()[k], dirs[1].as_array()[k], dirs[2].as_array()[k]);
-            (Ray::new(view.origin, dir), t[k].is_finite().then_some(t[k]))
-        })
-    }
-
-    /// Traces and shades pixels (i + k, j), k = 0..n (n ≤ 4), which lie in one tile, into
-    /// `out(k, sample)`: the same samples as [`Tracer::trace_primary`] one by one.
-    ///
-    /// # Panics
-    /// If `bins` has not been built.
-    #[inline]
-    pub fn trace_primary4(
-        &self,
-        bins: &PrimaryBins,
-        i: u32,
-        j: u32,
-        n: usize,
-        counts: &mut RayCounts,
-        mut out: impl FnMut(usize, Shaded),
-    ) {
-        let view = bins.view.as_ref().expect("PrimaryBins::build before tracing");
-        counts.primary += n as u64;
-        if bins.is_empty_at(i, j) {
-            for k in 0..n.min(4) {
-                out(k, self.miss_sample());
-            }
-            return;
-        }
-        let dirs = view.primary_dirs4(i, j);
-        let (t, ids) = bins.closest4(i, j, dirs);
-        for k in 0..n.min(4) {
-            let sample = if t[k].is_finite() {
+            (k < n && t[k].is_finite()).then(|| {
                 let dir = Vec3::new(dirs[0].as_array()[k], dirs[1].as_array()[k], dirs[2].as_array()[k]);
-                self.shade_primary_hit(view, &Ray::new(view.origin, dir), t[k], ids[k], counts)
-            } else {
-                self.miss_sample()
-            };
-            out(k, sample);
-        }
+                (Ray::new(view.origin, dir), Hit { t: t[k], object: ids[k] })
+            })
+        })
     }
 }
 
@@ -315,63 +254,34 @@ mod tests {
         Scene::from_toml(&text, &path).expect("valid scene")
     }
 
-    /// Every pixel through the bins equals the BVH path: colour, depth and surface.
+    /// Every pixel's first hit through the bins is the BVH's, four at a time (the last group
+    /// short where the row ends), and the rays are the view's.
     fn assert_same_as_bvh(scene: &Scene, camera: &Camera, t: f32, w: u32, h: u32) {
         let tracer = Tracer::new(scene, t);
         for eye in [Eye::Left, Eye::Right] {
             let view = camera.view(eye, w, h);
-            let mut bins = PrimaryBins::new();
+            let mut bins = PrimaryBins::default();
             bins.build(&tracer, &view);
-            let (mut a, mut b) = (RayCounts::default(), RayCounts::default());
+            let binned = BinnedView { tracer: &tracer, view: &view, bins: &bins };
+            let mut hits = 0;
             for j in 0..h {
-                for i in 0..w {
-                    let x = tracer.trace_primary(&bins, i, j, &mut a);
-                    let y = tracer.trace_pixel(&view, i, j, &mut b);
-                    assert_eq!(
-                        (x.rgb, x.z.to_bits(), x.surface),
-                        (y.rgb, y.z.to_bits(), y.surface),
-                        "{eye:?} pixel ({i}, {j})"
-                    );
+                for i in (0..w).step_by(4) {
+                    let n = (w - i).min(4) as usize;
+                    let four = binned.hits4(i, j, n);
+                    for (k, got) in four.into_iter().enumerate() {
+                        let ray = view.primary_ray(i + k as u32, j);
+                        let want = (k < n).then(|| tracer.intersect(&ray, f32::INFINITY)).flatten();
+                        let key = |h: Option<Hit>| h.map(|h| (h.t.to_bits(), h.object));
+                        assert_eq!(key(got.map(|g| g.1)), key(want), "{eye:?} pixel ({i} + {k}, {j})");
+                        if let Some((r, _)) = got {
+                            assert_eq!(r, ray, "{eye:?} pixel ({i} + {k}, {j}): the view's ray");
+                            hits += 1;
+                        }
+                    }
                 }
             }
-            assert_eq!(a, b);
+            assert!(hits > 0 || scene.spheres.is_empty(), "{eye:?}: the view sees spheres");
         }
-    }
-
-    #[test]
-    fn four_single_sphere_tests_equal_one_at_a_time() {
-        let scene = scene("many.toml");
-        let tracer = Tracer::new(&scene, 0.0);
-        let view = scene.camera.view(Eye::Right, 96, 54);
-        let n = tracer.sphere_count() as u32;
-        let mut hits = 0;
-        for j in 0..54 {
-            for i in (0..96).step_by(4) {
-                let objects =
-                    [i % n, NO_OBJECT, (7 * j) % n, (i + j) % n].map(|k| if k == NO_OBJECT { k } else { (k * 13) % n });
-                for (k, (ray, t)) in tracer.primary_hits_on(&view, i, j, objects).into_iter().enumerate() {
-                    let one = view.primary_ray(i + k as u32, j);
-                    assert_eq!(ray, one);
-                    let want = (objects[k] != NO_OBJECT).then(|| tracer.intersect_object(&one, objects[k])).flatten();
-                    assert_eq!(t.map(f32::to_bits), want.map(f32::to_bits), "({i} + {k}, {j})");
-                    hits += usize::from(t.is_some());
-                }
-            }
-        }
-        // Aim some lanes at what the pixel actually sees, so hits are tested too.
-        for j in 0..54 {
-            for i in (0..96).step_by(4) {
-                let objects: [u32; 4] = std::array::from_fn(|k| {
-                    tracer.intersect(&view.primary_ray(i + k as u32, j), f32::INFINITY).map_or(NO_OBJECT, |h| h.1)
-                });
-                for (k, (ray, t)) in tracer.primary_hits_on(&view, i, j, objects).into_iter().enumerate() {
-                    let want = (objects[k] != NO_OBJECT).then(|| tracer.intersect_object(&ray, objects[k])).flatten();
-                    assert_eq!(t.map(f32::to_bits), want.map(f32::to_bits));
-                    hits += usize::from(t.is_some());
-                }
-            }
-        }
-        assert!(hits > 500, "{hits}");
     }
 
     #[test]
@@ -437,7 +347,7 @@ mod tests {
         let tracer = Tracer::new(&scene, 0.0);
         let (w, h) = (800, 800);
         let view = camera.view(Eye::Left, w, h);
-        let mut bins = PrimaryBins::new();
+        let mut bins = PrimaryBins::default();
         bins.build(&tracer, &view);
         let half = (0.1f64.asin().tan() * 400.0) as u32; // ≈ 40 pixels
         let [x0, y0, x1, y1] = bins.rects[0].expect("visible");

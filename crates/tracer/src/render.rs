@@ -1,109 +1,181 @@
 //! The parallel renderer: one eye, every pixel, rows spread over rayon's pool.
+//!
+//! A [`Renderer`] owns the buffers an eye needs besides its image (the screen bins of its
+//! primary rays, `primary.rs`), so a warm renderer allocates nothing. One row loop serves
+//! every output: the full visible-surface record ([`Renderer::render`]), colour only
+//! ([`Renderer::render_rgb`]); and [`Renderer::second_view`] hands the same bins to a
+//! second view that traces its pixels one by one.
+
+use std::ops::Range;
 
 use rayon::prelude::*;
 
 use crate::camera::EyeView;
-use crate::film::{Film, Shading, Surface, NO_OBJECT};
-use crate::primary::{PrimaryBins, TILE};
+use crate::film::Film;
+use crate::primary::{BinnedView, PrimaryBins, TILE};
+use crate::second_view::SecondView;
+use crate::shade::Shaded;
 use crate::stats::RayCounts;
-use crate::world::Tracer;
+use crate::surface::{Shading, NO_OBJECT};
+use crate::tracer::Tracer;
+use crate::wavefront::{with_wavefront, Start};
 
-/// Traces every pixel of `view` into `film` (resized to the view if needed) and returns the
-/// rays cast.
+/// Renders one eye's views, keeping its screen bins from frame to frame.
+#[derive(Clone, Debug, Default)]
+pub struct Renderer {
+    bins: PrimaryBins,
+}
+
+/// Where a row's samples go.
+trait RowSink {
+    /// Pixels `span` saw only background, of colour `rgb`.
+    fn background(&mut self, span: Range<usize>, rgb: u32);
+    /// Pixel `i` of the row is `sample`.
+    fn sample(&mut self, i: usize, sample: &Shaded);
+}
+
+/// One row of a [`Film`]: colour and the visible-surface record.
+struct FilmRow<'a> {
+    rgb: &'a mut [u32],
+    z: &'a mut [f32],
+    object: &'a mut [u32],
+    lights: &'a mut [u32],
+    shading: &'a mut [Shading],
+}
+
+impl RowSink for FilmRow<'_> {
+    #[inline]
+    fn background(&mut self, span: Range<usize>, rgb: u32) {
+        // The shading entries of a miss are left as they are: nothing reads them (see
+        // `Film::surface`).
+        self.rgb[span.clone()].fill(rgb);
+        self.z[span.clone()].fill(f32::INFINITY);
+        self.object[span.clone()].fill(NO_OBJECT);
+        self.lights[span].fill(0);
+    }
+
+    #[inline]
+    fn sample(&mut self, i: usize, s: &Shaded) {
+        self.rgb[i] = s.rgb;
+        self.z[i] = s.z;
+        self.object[i] = s.surface.object;
+        self.lights[i] = s.surface.lights;
+        if s.surface.is_hit() {
+            let surface = &s.surface;
+            self.shading[i] = Shading { point: surface.point, normal: surface.normal, diffuse: surface.diffuse };
+        }
+    }
+}
+
+/// One row of colour only.
+struct RgbRow<'a>(&'a mut [u32]);
+
+impl RowSink for RgbRow<'_> {
+    #[inline]
+    fn background(&mut self, span: Range<usize>, rgb: u32) {
+        self.0[span].fill(rgb);
+    }
+
+    #[inline]
+    fn sample(&mut self, i: usize, s: &Shaded) {
+        self.0[i] = s.rgb;
+    }
+}
+
+/// Traces row `j` of `eye`, `w` pixels wide, into `sink`; the rays cast.
 ///
-/// First hits are found through screen-space bins ([`PrimaryBins`], kept in the film and
-/// rebuilt for `view`), the rest through the BVH. Rows are independent work items; each
-/// row counts its own rays and the counts are summed afterwards, so the result — pixels and
-/// counts — is the same for any thread count. Nothing is allocated per pixel or per ray,
-/// nor per frame once the film has its size.
-pub fn render_eye(tracer: &Tracer, view: &EyeView, film: &mut Film) -> RayCounts {
-    film.resize(view.width, view.height);
-    let w = view.width as usize;
-    if w == 0 || view.height == 0 {
-        return RayCounts::default();
-    }
-    film.bins.build(tracer, view);
-    let bins = &film.bins;
-    (
-        film.rgb.par_chunks_mut(w),
-        film.z.par_chunks_mut(w),
-        film.object.par_chunks_mut(w),
-        film.lights.par_chunks_mut(w),
-        film.shading.par_chunks_mut(w),
-    )
-        .into_par_iter()
-        .enumerate()
-        .map(|(j, (rgb, z, object, lights, shading))| {
-            let mut counts = RayCounts::default();
-            let j = j as u32;
-            for span in spans(w) {
-                if bins.is_empty_at(span.start as u32, j) {
-                    // Background without a sphere test. The shading entries of a miss are
-                    // left as they are: nothing reads them (see `Film::surface`).
-                    counts.primary += span.len() as u64;
-                    rgb[span.clone()].fill(tracer.background_rgb);
-                    z[span.clone()].fill(f32::INFINITY);
-                    object[span.clone()].fill(NO_OBJECT);
-                    lights[span].fill(0);
-                    continue;
-                }
-                for i0 in span.clone().step_by(4) {
-                    let n = (span.end - i0).min(4);
-                    tracer.trace_primary4(bins, i0 as u32, j, n, &mut counts, |k, s| {
-                        let i = i0 + k;
-                        rgb[i] = s.rgb;
-                        z[i] = s.z;
-                        object[i] = s.surface.object;
-                        lights[i] = s.surface.lights;
-                        if s.surface.is_hit() {
-                            let Surface { point, normal, diffuse, .. } = s.surface;
-                            shading[i] = Shading { point, normal, diffuse };
-                        }
-                    });
-                }
-            }
-            counts
-        })
-        .sum()
-}
-
-/// The pixel spans of a `w`-pixel row that fall in one screen tile each.
-fn spans(w: usize) -> impl Iterator<Item = std::ops::Range<usize>> {
+/// The row goes tile by tile: a tile whose bin is empty is background without a sphere
+/// test, the others find their first hits four pixels at a time. The hits are then shaded
+/// together, as one batch of this thread's wavefront.
+#[inline]
+fn trace_row(eye: &BinnedView<'_>, j: u32, w: usize, sink: &mut impl RowSink) -> RayCounts {
+    let mut counts = RayCounts { primary: w as u64, ..RayCounts::default() };
     let tile = TILE as usize;
-    (0..w.div_ceil(tile)).map(move |t| t * tile..((t + 1) * tile).min(w))
-}
-
-/// Traces every pixel of `view` for colour only into `rgb` (resized to the view), for
-/// images whose visible-surface record nobody reads. `bins` is rebuilt for `view` (pass the
-/// same one every frame to reuse its buffers). Returns the rays cast; pixels and counts are
-/// those of [`render_eye`].
-pub fn render_rgb(tracer: &Tracer, view: &EyeView, bins: &mut PrimaryBins, rgb: &mut Vec<u32>) -> RayCounts {
-    let w = view.width as usize;
-    rgb.resize(w * view.height as usize, 0);
-    if w == 0 || view.height == 0 {
-        return RayCounts::default();
-    }
-    bins.build(tracer, view);
-    let bins = &*bins;
-    rgb.par_chunks_mut(w)
-        .enumerate()
-        .map(|(j, row)| {
-            let mut counts = RayCounts::default();
-            let j = j as u32;
-            for span in spans(w) {
-                if bins.is_empty_at(span.start as u32, j) {
-                    counts.primary += span.len() as u64;
-                    row[span].fill(tracer.background_rgb);
-                    continue;
-                }
-                for i0 in span.clone().step_by(4) {
-                    let n = (span.end - i0).min(4);
-                    tracer.trace_primary4(bins, i0 as u32, j, n, &mut counts, |k, s| row[i0 + k] = s.rgb);
+    let (tracer, view) = (eye.tracer, eye.view);
+    with_wavefront(|wavefront| {
+        for span in (0..w.div_ceil(tile)).map(|t| t * tile..((t + 1) * tile).min(w)) {
+            if eye.bins.is_empty_at(span.start as u32, j) {
+                sink.background(span, tracer.background_rgb);
+                continue;
+            }
+            for i0 in span.clone().step_by(4) {
+                let n = (span.end - i0).min(4);
+                for (k, first) in eye.hits4(i0 as u32, j, n).into_iter().enumerate().take(n) {
+                    match first {
+                        Some((ray, hit)) => wavefront.push_hit(&ray, hit, None, (i0 + k) as u32),
+                        None => sink.sample(i0 + k, &tracer.miss_sample()),
+                    }
                 }
             }
-            counts
-        })
-        .sum()
+        }
+        wavefront.shade(tracer, Start::Rays, &mut counts);
+        for e in 0..wavefront.len() {
+            let surface = wavefront.surface(e);
+            let sample = Shaded { rgb: wavefront.rgb(e), z: view.head_z(surface.point), surface };
+            sink.sample(wavefront.tag(e) as usize, &sample);
+        }
+    });
+    counts
+}
+
+impl Renderer {
+    /// A renderer with empty buffers; the first frame sizes them.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Traces every pixel of `view` into `film` (resized to the view if needed) and returns
+    /// the rays cast.
+    ///
+    /// First hits are found through screen-space bins, rebuilt for `view`, the rest through
+    /// the BVH. Rows are independent work items; each row counts its own rays and the
+    /// counts are summed afterwards, so the result — pixels and counts — is the same for
+    /// any thread count. Nothing is allocated per pixel or per ray, nor per frame once the
+    /// film has its size.
+    pub fn render(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film) -> RayCounts {
+        film.resize(view.width, view.height);
+        let w = view.width as usize;
+        if w == 0 || view.height == 0 {
+            return RayCounts::default();
+        }
+        self.bins.build(tracer, view);
+        let eye = BinnedView { tracer, view, bins: &self.bins };
+        (
+            film.rgb.par_chunks_mut(w),
+            film.z.par_chunks_mut(w),
+            film.object.par_chunks_mut(w),
+            film.lights.par_chunks_mut(w),
+            film.shading.par_chunks_mut(w),
+        )
+            .into_par_iter()
+            .enumerate()
+            .map(|(j, (rgb, z, object, lights, shading))| {
+                trace_row(&eye, j as u32, w, &mut FilmRow { rgb, z, object, lights, shading })
+            })
+            .sum()
+    }
+
+    /// Traces every pixel of `view` for colour only into `rgb` (resized to the view), for
+    /// images whose visible-surface record nobody reads. Returns the rays cast; pixels and
+    /// counts are those of [`Renderer::render`].
+    pub fn render_rgb(&mut self, tracer: &Tracer, view: &EyeView, rgb: &mut Vec<u32>) -> RayCounts {
+        let w = view.width as usize;
+        rgb.resize(w * view.height as usize, 0);
+        if w == 0 || view.height == 0 {
+            return RayCounts::default();
+        }
+        self.bins.build(tracer, view);
+        let eye = BinnedView { tracer, view, bins: &self.bins };
+        rgb.par_chunks_mut(w).enumerate().map(|(j, row)| trace_row(&eye, j as u32, w, &mut RgbRow(row))).sum()
+    }
+
+    /// The services of `view` as a second view (see `second_view.rs`), with the screen bins
+    /// rebuilt for it.
+    pub fn second_view<'a>(&'a mut self, tracer: &'a Tracer, view: &'a EyeView) -> SecondView<'a> {
+        self.bins.build(tracer, view);
+        SecondView::new(BinnedView { tracer, view, bins: &self.bins })
+    }
 }
 
 #[cfg(test)]
@@ -112,167 +184,103 @@ mod tests {
 
     use super::*;
     use crate::camera::{Camera, Eye};
-    use crate::color::{linear_to_srgb8, unpack_rgb};
-    use crate::scene::{Light, Material, Motion, RenderSettings, Scene, SceneSphere};
+    use crate::material::Material;
+    use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere};
+    use crate::surface::Surface;
 
-    /// One sphere straight ahead at z = 10 (radius 1), seen by a mono camera (IPD 0) whose
-    /// centre pixel of a 3×3 image looks exactly down +z.
-    fn one_sphere(material: Material, lights: Vec<Light>, render: RenderSettings) -> Scene {
-        Scene {
+    fn seed() -> Scene {
+        Scene::from_toml(include_str!("../../../assets/scenes/seed.toml"), "seed.toml").expect("seed scene")
+    }
+
+    #[test]
+    fn ray_counts_match_a_count_over_the_pixels_hits() {
+        // One mirror sphere alone: a mirror ray leaves a convex sphere outwards and meets
+        // nothing, so every hit pixel casts exactly one, and the only shadow rays are the
+        // hits' own, one per light its surface faces. Those are counted here from the
+        // film's records, apart from the renderer's counters.
+        let material = Material { reflectivity: 0.5, specular: 0.3, ..Material::default() };
+        let lights = vec![
+            Light { position: Vec3::new(0.0, 0.0, 0.0), color: Vec3::ONE },
+            Light { position: Vec3::new(25.0, 4.0, 12.0), color: Vec3::splat(0.5) },
+        ];
+        let scene = Scene {
             camera: Camera { ipd: 0.0, distance: 5.0, fov_deg: 30.0, ..Camera::default() },
-            render,
+            render: RenderSettings { max_depth: 3, ..RenderSettings::default() },
+            spheres: vec![SceneSphere { radius: 1.5, motion: Motion::Static(Vec3::new(0.3, -0.2, 10.0)), material }],
             lights,
-            spheres: vec![SceneSphere { radius: 1.0, motion: Motion::Static(Vec3::new(0.0, 0.0, 10.0)), material }],
-        }
-    }
-
-    fn centre_pixel(scene: &Scene) -> ([u8; 3], RayCounts, crate::Surface) {
-        let tracer = Tracer::new(scene, 0.0);
-        let view = scene.camera.view(Eye::Left, 3, 3);
-        let mut film = Film::new(3, 3);
-        let counts = render_eye(&tracer, &view, &mut film);
-        (unpack_rgb(film.rgb[4]), counts, film.surface(4))
-    }
-
-    fn srgb(c: Vec3) -> [u8; 3] {
-        [linear_to_srgb8(c.x), linear_to_srgb8(c.y), linear_to_srgb8(c.z)]
-    }
-
-    #[test]
-    fn lit_sphere_centre_pixel_matches_the_closed_form() {
-        // Light at the eye: n·l = 1 and n·h = 1 at the centre, so
-        // L = c·(ambient + kd) + ks.
-        let m = Material {
-            color: Vec3::new(0.5, 0.25, 0.2),
-            diffuse: 0.8,
-            specular: 0.3,
-            shininess: 10.0,
-            reflectivity: 0.0,
         };
-        let scene = one_sphere(
-            m,
-            vec![Light { position: Vec3::ZERO, color: Vec3::ONE }],
-            RenderSettings { ambient: 0.1, ..RenderSettings::default() },
-        );
-        let (px, counts, surface) = centre_pixel(&scene);
-        assert_eq!(px, srgb(m.color * 0.9 + Vec3::splat(0.3)));
-        assert!((surface.point - Vec3::new(0.0, 0.0, 9.0)).length() < 1e-5);
-        assert!((surface.normal - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-5);
-        assert_eq!(surface.lights, 1);
-        assert_eq!(counts.primary, 9);
-    }
-
-    #[test]
-    fn light_at_an_angle_follows_lambert() {
-        // Light 45° above the hit point (0, 0, 9): n·l = cos 45°.
-        let m = Material { color: Vec3::ONE, diffuse: 1.0, specular: 0.0, shininess: 1.0, reflectivity: 0.0 };
-        let light = Light { position: Vec3::new(0.0, 5.0, 4.0), color: Vec3::ONE };
-        let scene = one_sphere(m, vec![light], RenderSettings { ambient: 0.0, ..RenderSettings::default() });
-        let (px, ..) = centre_pixel(&scene);
-        assert_eq!(px, srgb(Vec3::splat(std::f32::consts::FRAC_1_SQRT_2)));
-    }
-
-    #[test]
-    fn shadow_ray_goes_towards_the_light_and_an_occluder_blocks_it() {
-        let m = Material { color: Vec3::ONE, diffuse: 1.0, specular: 0.5, shininess: 8.0, reflectivity: 0.0 };
-        let light = Light { position: Vec3::new(0.0, 5.0, 4.0), color: Vec3::ONE };
-        let mut scene = one_sphere(m, vec![light], RenderSettings { ambient: 0.2, ..RenderSettings::default() });
-        // A small sphere halfway between the hit point (0, 0, 9) and the light, off the camera ray.
-        scene.spheres.push(SceneSphere { radius: 0.5, motion: Motion::Static(Vec3::new(0.0, 2.5, 6.5)), material: m });
-        let (px, counts, surface) = centre_pixel(&scene);
-        assert_eq!(px, srgb(Vec3::splat(0.2)), "only ambient in shadow, and no highlight");
-        assert_eq!(surface.lights, 0);
-        assert!(counts.shadow >= 1);
-        // The same occluder placed on the far side of the light casts no shadow.
-        scene.spheres[1].motion = Motion::Static(Vec3::new(0.0, 7.5, 1.5));
-        let (_, _, surface) = centre_pixel(&scene);
-        assert_eq!(surface.lights, 1);
-    }
-
-    #[test]
-    fn head_on_mirror_shows_the_background_and_depth_zero_turns_it_off() {
-        let m = Material { color: Vec3::ONE, diffuse: 0.0, specular: 0.0, shininess: 1.0, reflectivity: 1.0 };
-        let bg = Vec3::new(0.2, 0.4, 0.6);
-        let scene = one_sphere(m, vec![], RenderSettings { max_depth: 1, background: bg, ambient: 0.0 });
-        let (px, counts, _) = centre_pixel(&scene);
-        assert_eq!(px, srgb(bg), "r = d − 2(d·n)n sends the ray back past the eye");
-        assert!(counts.reflection >= 1);
-        let scene = one_sphere(m, vec![], RenderSettings { max_depth: 0, background: bg, ambient: 0.0 });
-        let (px, counts, _) = centre_pixel(&scene);
-        assert_eq!(px, [0, 0, 0]);
-        assert_eq!(counts.reflection, 0);
-    }
-
-    #[test]
-    fn reflection_sees_a_sphere_behind_the_eye_direction() {
-        // A black mirror at z = 10 and a red sphere on the axis behind the eye: the centre
-        // pixel's reflection travels back along −z, past the eye, onto the red sphere.
-        let mirror = Material { color: Vec3::ZERO, diffuse: 0.0, specular: 0.0, shininess: 1.0, reflectivity: 1.0 };
-        let red = Material {
-            color: Vec3::new(1.0, 0.0, 0.0),
-            diffuse: 0.0,
-            specular: 0.0,
-            shininess: 1.0,
-            reflectivity: 0.0,
-        };
-        let mut scene =
-            one_sphere(mirror, vec![], RenderSettings { max_depth: 1, background: Vec3::ZERO, ambient: 1.0 });
-        scene.spheres.push(SceneSphere {
-            radius: 0.5,
-            motion: Motion::Static(Vec3::new(0.0, 0.0, -3.0)),
-            material: red,
-        });
-        let (px, ..) = centre_pixel(&scene);
-        assert_eq!(px, [255, 0, 0]);
-    }
-
-    #[test]
-    fn counts_add_up() {
-        let scene = Scene::from_toml(include_str!("../../../assets/scenes/seed.toml"), "seed.toml").unwrap();
         let tracer = Tracer::new(&scene, 0.0);
-        let view = scene.camera.view(Eye::Left, 64, 36);
-        let mut film = Film::new(64, 36);
-        let counts = render_eye(&tracer, &view, &mut film);
-        assert_eq!(counts.primary, 64 * 36);
-        let hits = film.object.iter().filter(|&&o| o != crate::NO_OBJECT).count() as u64;
-        // Every sphere is reflective and max_depth > 0: each primary hit casts one reflection.
-        assert!(counts.reflection >= hits);
-        assert_eq!(counts.total(), counts.primary + counts.shadow + counts.reflection);
+        let (w, h) = (64, 48);
+        let view = scene.camera.view(Eye::Left, w, h);
+        let mut film = Film::new(w, h);
+        let counts = Renderer::new().render(&tracer, &view, &mut film);
+        let hits: Vec<_> = (0..(w * h) as usize).map(|k| film.surface(k)).filter(Surface::is_hit).collect();
+        let faced = hits
+            .iter()
+            .flat_map(|s| scene.lights.iter().map(move |l| s.normal.dot((l.position - s.point).normalize())))
+            .filter(|&ndl| ndl > 0.0)
+            .count();
+        assert!(hits.len() > 200 && faced > hits.len(), "the sphere fills part of the view: {} hits", hits.len());
+        let want = RayCounts { primary: u64::from(w * h), shadow: faced as u64, reflection: hits.len() as u64 };
+        assert_eq!(counts, want, "rays counted while rendering against the count over the hits");
+    }
+
+    #[test]
+    fn every_pixel_is_the_plain_paths_and_colour_only_agrees() {
+        for (name, t) in [("seed.toml", 0.8), ("many.toml", 0.0)] {
+            let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+            let scene = Scene::load(path).expect("scene loads");
+            let tracer = Tracer::new(&scene, t);
+            let (w, h) = (83, 45); // not a whole number of tiles
+            let view = scene.camera.view(Eye::Right, w, h);
+            let mut renderer = Renderer::new();
+            let mut film = Film::new(1, 1);
+            let counts = renderer.render(&tracer, &view, &mut film);
+            let mut plain = RayCounts::default();
+            for j in 0..h {
+                for i in 0..w {
+                    let k = (j * w + i) as usize;
+                    let s = tracer.trace_pixel(&view, i, j, &mut plain);
+                    assert_eq!((film.rgb[k], film.z[k].to_bits()), (s.rgb, s.z.to_bits()), "{name} ({i}, {j})");
+                    assert_eq!(film.surface(k), s.surface, "{name} ({i}, {j})");
+                }
+            }
+            assert_eq!(counts, plain, "{name}");
+            let mut rgb = Vec::new();
+            assert_eq!(renderer.render_rgb(&tracer, &view, &mut rgb), counts, "{name}");
+            assert_eq!(rgb, film.rgb, "{name}: colour only is the film's colour");
+        }
     }
 
     #[test]
     fn same_bytes_for_one_and_two_threads() {
-        let scene = Scene::from_toml(include_str!("../../../assets/scenes/seed.toml"), "seed.toml").unwrap();
+        let scene = seed();
         let tracer = Tracer::new(&scene, 1.5);
         let view = scene.camera.view(Eye::Right, 160, 90);
         let run = |threads| {
-            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+            let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
             pool.install(|| {
                 let mut film = Film::new(1, 1);
-                let counts = render_eye(&tracer, &view, &mut film);
-                (film.rgb, film.z, counts)
+                let counts = Renderer::new().render(&tracer, &view, &mut film);
+                let z: Vec<u32> = film.z.iter().map(|z| z.to_bits()).collect();
+                (film.rgb, z, film.object, film.lights, counts)
             })
         };
-        let (a, b) = (run(1), run(2));
-        assert_eq!(a.0, b.0);
-        assert_eq!(
-            a.1.iter().map(|z| z.to_bits()).collect::<Vec<_>>(),
-            b.1.iter().map(|z| z.to_bits()).collect::<Vec<_>>()
-        );
-        assert_eq!(a.2, b.2);
+        assert_eq!(run(1), run(2), "pixels, depths, objects, light bits and counts");
     }
 
     #[test]
     fn zero_ipd_gives_identical_eyes() {
-        let mut scene = Scene::from_toml(include_str!("../../../assets/scenes/seed.toml"), "seed.toml").unwrap();
+        let mut scene = seed();
         scene.camera.ipd = 0.0;
         let tracer = Tracer::new(&scene, 0.0);
         let (mut l, mut r) = (Vec::new(), Vec::new());
-        render_rgb(&tracer, &scene.camera.view(Eye::Left, 96, 54), &mut PrimaryBins::new(), &mut l);
-        render_rgb(&tracer, &scene.camera.view(Eye::Right, 96, 54), &mut PrimaryBins::new(), &mut r);
-        assert_eq!(l, r);
+        let mut renderer = Renderer::new();
+        renderer.render_rgb(&tracer, &scene.camera.view(Eye::Left, 96, 54), &mut l);
+        renderer.render_rgb(&tracer, &scene.camera.view(Eye::Right, 96, 54), &mut r);
+        assert_eq!(l, r, "one eye position, one image");
         scene.camera.ipd = 0.65;
-        render_rgb(&tracer, &scene.camera.view(Eye::Right, 96, 54), &mut PrimaryBins::new(), &mut r);
+        renderer.render_rgb(&tracer, &scene.camera.view(Eye::Right, 96, 54), &mut r);
         assert_ne!(l, r, "a real IPD changes the right eye");
     }
 }

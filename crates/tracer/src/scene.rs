@@ -7,33 +7,13 @@
 use glam::Vec3;
 
 use crate::camera::Camera;
+use crate::material::Material;
 use crate::sphere::Sphere;
 
 /// Most lights a scene may have: each light takes one bit of [`crate::Surface::lights`].
 pub const MAX_LIGHTS: usize = 32;
 /// Largest allowed reflection depth.
 pub const MAX_DEPTH_LIMIT: u32 = 16;
-
-/// Surface material (Whitted 1980 with Blinn–Phong highlights).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Material {
-    /// Linear albedo, each channel 0..1.
-    pub color: Vec3,
-    /// Lambert diffuse coefficient, 0..1.
-    pub diffuse: f32,
-    /// Highlight strength, 0..1.
-    pub specular: f32,
-    /// Blinn–Phong exponent, ≥ 1.
-    pub shininess: f32,
-    /// Mirror reflectivity, 0..1.
-    pub reflectivity: f32,
-}
-
-impl Default for Material {
-    fn default() -> Self {
-        Self { color: Vec3::ONE, diffuse: 0.7, specular: 0.0, shininess: 32.0, reflectivity: 0.0 }
-    }
-}
 
 /// How a sphere's centre moves.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -13,7 +13,8 @@ use toml::Spanned;
 
 use crate::camera::{Camera, Eye};
 use crate::error::SceneError;
-use crate::scene::{Light, Material, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
+use crate::material::Material;
+use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -443,12 +444,6 @@ mod tests {
         // An orbit that sweeps through the eyes is caught too.
         let e = err("[[spheres]]\nradius = 0.5\norbit = { center = [0, 0, 3], radius = 3, period_s = 8 }\n");
         assert!(e.contains("on its orbit"), "{e}");
-    }
-
-    #[test]
-    fn no_lights_is_allowed_and_means_ambient_only() {
-        let s = Scene::from_toml(MINIMAL, "m.toml").unwrap();
-        assert!(s.lights.is_empty());
     }
 
     #[test]

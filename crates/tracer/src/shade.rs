@@ -19,25 +19,16 @@ use glam::Vec3;
 
 use crate::camera::EyeView;
 use crate::color::pack_rgb;
-use crate::film::Surface;
 use crate::ray::{reflect, spawn_ray, Ray};
 use crate::stats::RayCounts;
-use crate::world::Tracer;
+use crate::surface::{Hit, Surface};
+use crate::tracer::Tracer;
 
 /// How many lights' directions the diffuse step hands on to the highlight step.
 const KEPT_LIGHTS: usize = 4;
 
 /// Directions from a hit to the first [`KEPT_LIGHTS`] lights.
 type LightDirs = [Vec3; KEPT_LIGHTS];
-
-/// Where light visibility comes from when shading a hit.
-#[derive(Clone, Copy, Debug)]
-enum Visibility {
-    /// Cast a shadow ray to each light the surface faces.
-    Trace,
-    /// Reuse known visibility bits (bit k = light k reaches the point).
-    Known(u32),
-}
 
 /// One shaded primary sample: the pixel colour and its visible-surface record.
 #[derive(Clone, Copy, Debug)]
@@ -50,76 +41,26 @@ pub struct Shaded {
     pub surface: Surface,
 }
 
-/// How a material's highlight exponent is evaluated: by repeated squaring for whole
-/// exponents up to 256 (the common case, several times faster than `powf`), `powf`
-/// otherwise. Decided once per material when the tracer is updated; every eye and mode
-/// shades through [`highlight`], so the choice never makes two paths disagree.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub(crate) enum Exponent {
-    /// A whole exponent.
-    Whole(u32),
-    /// Any other exponent.
-    #[default]
-    Real,
-}
-
-impl Exponent {
-    /// The evaluation of `shininess`.
-    pub(crate) fn of(shininess: f32) -> Self {
-        if shininess.fract() == 0.0 && (0.0..=256.0).contains(&shininess) {
-            Self::Whole(shininess as u32)
-        } else {
-            Self::Real
-        }
-    }
-}
-
-/// (n·h)^shininess.
-#[inline]
-fn highlight(ndh: f32, shininess: f32, exponent: Exponent) -> f32 {
-    match exponent {
-        Exponent::Whole(mut e) => {
-            let (mut base, mut acc) = (ndh, 1.0f32);
-            while e > 0 {
-                if e & 1 == 1 {
-                    acc *= base;
-                }
-                base *= base;
-                e >>= 1;
-            }
-            acc
-        }
-        Exponent::Real => ndh.powf(shininess),
-    }
-}
-
 impl Tracer {
-    /// Radiance arriving along `ray`, which is at reflection depth `depth`.
-    #[must_use]
-    pub fn trace(&self, ray: &Ray, depth: u32, counts: &mut RayCounts) -> Vec3 {
-        match self.intersect(ray, f32::INFINITY) {
-            Some((t, object)) => self.shade_hit(ray, t, object, depth, Visibility::Trace, counts).0,
-            None => self.settings.background,
-        }
-    }
-
     /// Radiance arriving along `ray`, a mirror ray spawned from sphere `from` (normal `n`
     /// there), at depth `depth`.
     fn trace_reflection(&self, from: u32, n: Vec3, ray: &Ray, depth: u32, counts: &mut RayCounts) -> Vec3 {
         match self.intersect_from(from, n, ray) {
-            Some((t, object)) => self.shade_hit(ray, t, object, depth, Visibility::Trace, counts).0,
+            Some(Hit { t, object }) => self.shade_hit(ray, t, object, depth, counts).0,
             None => self.settings.background,
         }
     }
 
-    /// Traces the primary ray of pixel (i, j) of `view` and shades it fully.
+    /// Traces the primary ray of pixel (i, j) of `view` through the BVH and shades it fully:
+    /// the plain path, which the screen bins and every second-view service are tested
+    /// against.
     #[inline]
     #[must_use]
     pub fn trace_pixel(&self, view: &EyeView, i: u32, j: u32, counts: &mut RayCounts) -> Shaded {
         counts.primary += 1;
         let ray = view.primary_ray(i, j);
         match self.intersect(&ray, f32::INFINITY) {
-            Some((t, object)) => self.shade_primary_hit(view, &ray, t, object, counts),
+            Some(Hit { t, object }) => self.shade_primary_hit(view, &ray, t, object, counts),
             None => self.miss_sample(),
         }
     }
@@ -134,79 +75,34 @@ impl Tracer {
         object: u32,
         counts: &mut RayCounts,
     ) -> Shaded {
-        self.shaded_sample(view, ray, t, object, Visibility::Trace, counts)
-    }
-
-    /// Shades the hit of `ray` on sphere `object` at parameter `t` with known light
-    /// visibility `lights` (no shadow rays), recomputing everything else. With the right
-    /// visibility this is bit-for-bit what [`Tracer::trace_pixel`] would produce.
-    #[inline]
-    #[must_use]
-    pub fn shade_known_visibility(
-        &self,
-        view: &EyeView,
-        ray: &Ray,
-        t: f32,
-        object: u32,
-        lights: u32,
-        counts: &mut RayCounts,
-    ) -> Shaded {
-        self.shaded_sample(view, ray, t, object, Visibility::Known(lights), counts)
-    }
-
-    /// Re-shades a surface seen from another eye for a view along the unit direction `d`
-    /// (the new pixel's ray): keeps its view-independent light and recomputes the highlight
-    /// and reflection. Casts no shadow ray for the surface itself. With `d` equal to the
-    /// original ray's direction the result is bit-for-bit the original pixel.
-    #[inline]
-    #[must_use]
-    pub fn reshade(&self, d: Vec3, surface: &Surface, counts: &mut RayCounts) -> u32 {
-        let view_dependent =
-            self.view_dependent(surface.point, surface.normal, d, surface.object, surface.lights, None, 0, counts);
-        pack_rgb(surface.diffuse + view_dependent)
+        self.shaded_sample(view, ray, t, object, counts)
     }
 
     /// The sample of a pixel whose primary ray missed.
     #[must_use]
-    pub fn miss_sample(&self) -> Shaded {
+    pub(crate) fn miss_sample(&self) -> Shaded {
         Shaded { rgb: self.background_rgb, z: f32::INFINITY, surface: Surface::MISS }
     }
 
-    fn shaded_sample(
-        &self,
-        view: &EyeView,
-        ray: &Ray,
-        t: f32,
-        object: u32,
-        vis: Visibility,
-        counts: &mut RayCounts,
-    ) -> Shaded {
-        let (color, surface) = self.shade_hit(ray, t, object, 0, vis, counts);
+    fn shaded_sample(&self, view: &EyeView, ray: &Ray, t: f32, object: u32, counts: &mut RayCounts) -> Shaded {
+        let (color, surface) = self.shade_hit(ray, t, object, 0, counts);
         Shaded { rgb: pack_rgb(color), z: view.head_z(surface.point), surface }
     }
 
-    fn shade_hit(
-        &self,
-        ray: &Ray,
-        t: f32,
-        object: u32,
-        depth: u32,
-        vis: Visibility,
-        counts: &mut RayCounts,
-    ) -> (Vec3, Surface) {
+    fn shade_hit(&self, ray: &Ray, t: f32, object: u32, depth: u32, counts: &mut RayCounts) -> (Vec3, Surface) {
         let k = object as usize;
         let p = ray.at(t);
         // Normalised rather than divided by r: the hit lies on the sphere only to rounding.
         let n = (p - self.centers[k]).normalize();
-        let (diffuse, lights, dirs) = self.view_independent(object, p, n, vis, counts);
-        let color = diffuse + self.view_dependent(p, n, ray.dir, object, lights, Some(&dirs), depth, counts);
-        (color, Surface { point: p, normal: n, diffuse, object, lights })
+        let (diffuse, lights, dirs) = self.view_independent(object, p, n, counts);
+        let surface = Surface { point: p, normal: n, diffuse, object, lights };
+        (diffuse + self.view_dependent(&surface, ray.dir, Some(&dirs), depth, counts), surface)
     }
 
     /// Unit direction and distance from `p` to light `k`: the one formula every shading
     /// path uses, so that a direction kept from one step equals one recomputed in another.
     #[inline]
-    fn to_light(&self, p: Vec3, k: usize) -> (Vec3, f32) {
+    pub(crate) fn to_light(&self, p: Vec3, k: usize) -> (Vec3, f32) {
         let v = self.lights[k].position - p;
         let dist = v.length();
         (v * dist.recip(), dist)
@@ -214,14 +110,7 @@ impl Tracer {
 
     /// Ambient + Lambert diffuse with hard shadows, the visibility bits it found, and the
     /// directions to the first [`KEPT_LIGHTS`] lights for the highlights.
-    fn view_independent(
-        &self,
-        object: u32,
-        p: Vec3,
-        n: Vec3,
-        vis: Visibility,
-        counts: &mut RayCounts,
-    ) -> (Vec3, u32, LightDirs) {
+    fn view_independent(&self, object: u32, p: Vec3, n: Vec3, counts: &mut RayCounts) -> (Vec3, u32, LightDirs) {
         let mut sum = Vec3::ZERO;
         let mut bits = 0u32;
         let mut dirs = [Vec3::ZERO; KEPT_LIGHTS];
@@ -234,14 +123,8 @@ impl Tracer {
             if ndl <= 0.0 {
                 continue;
             }
-            let visible = match vis {
-                Visibility::Trace => {
-                    counts.shadow += 1;
-                    !self.shadowed(k, object, p, n, &spawn_ray(p, n, l), dist)
-                }
-                Visibility::Known(known) => known & (1 << k) != 0,
-            };
-            if visible {
+            counts.shadow += 1;
+            if !self.shadowed(k, object, p, n, &spawn_ray(p, n, l), dist) {
                 bits |= 1 << k;
                 sum += ndl * light.color;
             }
@@ -250,18 +133,18 @@ impl Tracer {
         (m.color * (self.settings.ambient + m.diffuse * sum), bits, dirs)
     }
 
-    /// Blinn–Phong highlights from the visible lights plus the mirror reflection.
+    /// Blinn–Phong highlights from the lights visible at `surface` plus the mirror
+    /// reflection, seen along `d`, at reflection depth `depth`; `dirs` are the light
+    /// directions [`Tracer::view_independent`] found, if it ran for this point.
     fn view_dependent(
         &self,
-        p: Vec3,
-        n: Vec3,
+        surface: &Surface,
         d: Vec3,
-        object: u32,
-        lights: u32,
         dirs: Option<&LightDirs>,
         depth: u32,
         counts: &mut RayCounts,
     ) -> Vec3 {
+        let &Surface { point: p, normal: n, object, lights, .. } = surface;
         let (m, exponent) = (&self.materials[object as usize], self.exponents[object as usize]);
         let mut out = Vec3::ZERO;
         if m.specular > 0.0 {
@@ -275,7 +158,7 @@ impl Tracer {
                 };
                 let ndh = n.dot((l - d).normalize_or_zero());
                 if ndh > 0.0 {
-                    out += m.specular * highlight(ndh, m.shininess, exponent) * light.color;
+                    out += m.specular * exponent.power(ndh, m.shininess) * light.color;
                 }
             }
         }
@@ -286,5 +169,151 @@ impl Tracer {
             out += m.reflectivity * self.trace_reflection(object, n, &reflected, depth + 1, counts);
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::{Camera, Eye};
+    use crate::color::{linear_to_srgb8, unpack_rgb};
+    use crate::material::Material;
+    use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere};
+
+    /// One sphere straight ahead at z = 10 (radius 1), seen by a mono camera (IPD 0) whose
+    /// centre pixel of a 3×3 image looks exactly down +z.
+    fn one_sphere(material: Material, lights: Vec<Light>, render: RenderSettings) -> Scene {
+        Scene {
+            camera: Camera { ipd: 0.0, distance: 5.0, fov_deg: 30.0, ..Camera::default() },
+            render,
+            lights,
+            spheres: vec![SceneSphere { radius: 1.0, motion: Motion::Static(Vec3::new(0.0, 0.0, 10.0)), material }],
+        }
+    }
+
+    /// The centre pixel of a 3×3 image, traced the plain way: its colour, the rays it
+    /// cast and what it saw.
+    fn centre_pixel(scene: &Scene) -> ([u8; 3], RayCounts, Surface) {
+        let tracer = Tracer::new(scene, 0.0);
+        let view = scene.camera.view(Eye::Left, 3, 3);
+        let mut counts = RayCounts::default();
+        let s = tracer.trace_pixel(&view, 1, 1, &mut counts);
+        (unpack_rgb(s.rgb), counts, s.surface)
+    }
+
+    fn srgb(c: Vec3) -> [u8; 3] {
+        [linear_to_srgb8(c.x), linear_to_srgb8(c.y), linear_to_srgb8(c.z)]
+    }
+
+    #[test]
+    fn lit_sphere_centre_pixel_matches_the_closed_form() {
+        // Light at the eye: n·l = 1 and n·h = 1 at the centre, so
+        // L = c·(ambient + kd) + ks.
+        let m = Material {
+            color: Vec3::new(0.5, 0.25, 0.2),
+            diffuse: 0.8,
+            specular: 0.3,
+            shininess: 10.0,
+            reflectivity: 0.0,
+        };
+        let scene = one_sphere(
+            m,
+            vec![Light { position: Vec3::ZERO, color: Vec3::ONE }],
+            RenderSettings { ambient: 0.1, ..RenderSettings::default() },
+        );
+        let (px, counts, surface) = centre_pixel(&scene);
+        assert_eq!(px, srgb(m.color * 0.9 + Vec3::splat(0.3)));
+        assert!((surface.point - Vec3::new(0.0, 0.0, 9.0)).length() < 1e-5);
+        assert!((surface.normal - Vec3::new(0.0, 0.0, -1.0)).length() < 1e-5);
+        assert_eq!(surface.lights, 1);
+        assert_eq!(counts, RayCounts { primary: 1, shadow: 1, reflection: 0 }, "one light faced, no mirror");
+    }
+
+    #[test]
+    fn light_at_an_angle_follows_lambert() {
+        // Light 45° above the hit point (0, 0, 9): n·l = cos 45°.
+        let m = Material { color: Vec3::ONE, diffuse: 1.0, specular: 0.0, shininess: 1.0, reflectivity: 0.0 };
+        let light = Light { position: Vec3::new(0.0, 5.0, 4.0), color: Vec3::ONE };
+        let scene = one_sphere(m, vec![light], RenderSettings { ambient: 0.0, ..RenderSettings::default() });
+        let (px, ..) = centre_pixel(&scene);
+        assert_eq!(px, srgb(Vec3::splat(std::f32::consts::FRAC_1_SQRT_2)));
+    }
+
+    #[test]
+    fn shadow_ray_goes_towards_the_light_and_an_occluder_blocks_it() {
+        let m = Material { color: Vec3::ONE, diffuse: 1.0, specular: 0.5, shininess: 8.0, reflectivity: 0.0 };
+        let light = Light { position: Vec3::new(0.0, 5.0, 4.0), color: Vec3::ONE };
+        let mut scene = one_sphere(m, vec![light], RenderSettings { ambient: 0.2, ..RenderSettings::default() });
+        // A small sphere halfway between the hit point (0, 0, 9) and the light, off the camera ray.
+        scene.spheres.push(SceneSphere { radius: 0.5, motion: Motion::Static(Vec3::new(0.0, 2.5, 6.5)), material: m });
+        let (px, counts, surface) = centre_pixel(&scene);
+        assert_eq!(px, srgb(Vec3::splat(0.2)), "only ambient in shadow, and no highlight");
+        assert_eq!(surface.lights, 0);
+        assert!(counts.shadow >= 1);
+        // The same occluder placed on the far side of the light casts no shadow.
+        scene.spheres[1].motion = Motion::Static(Vec3::new(0.0, 7.5, 1.5));
+        let (_, _, surface) = centre_pixel(&scene);
+        assert_eq!(surface.lights, 1);
+    }
+
+    #[test]
+    fn head_on_mirror_shows_the_background_and_depth_zero_turns_it_off() {
+        let m = Material { color: Vec3::ONE, diffuse: 0.0, specular: 0.0, shininess: 1.0, reflectivity: 1.0 };
+        let bg = Vec3::new(0.2, 0.4, 0.6);
+        let scene = one_sphere(m, vec![], RenderSettings { max_depth: 1, background: bg, ambient: 0.0 });
+        let (px, counts, _) = centre_pixel(&scene);
+        assert_eq!(px, srgb(bg), "r = d − 2(d·n)n sends the ray back past the eye");
+        assert!(counts.reflection >= 1);
+        let scene = one_sphere(m, vec![], RenderSettings { max_depth: 0, background: bg, ambient: 0.0 });
+        let (px, counts, _) = centre_pixel(&scene);
+        assert_eq!(px, [0, 0, 0]);
+        assert_eq!(counts.reflection, 0);
+    }
+
+    #[test]
+    fn reflection_sees_a_sphere_behind_the_eye_direction() {
+        // A black mirror at z = 10 and a red sphere on the axis behind the eye: the centre
+        // pixel's reflection travels back along −z, past the eye, onto the red sphere.
+        let mirror = Material { color: Vec3::ZERO, diffuse: 0.0, specular: 0.0, shininess: 1.0, reflectivity: 1.0 };
+        let red = Material {
+            color: Vec3::new(1.0, 0.0, 0.0),
+            diffuse: 0.0,
+            specular: 0.0,
+            shininess: 1.0,
+            reflectivity: 0.0,
+        };
+        let mut scene =
+            one_sphere(mirror, vec![], RenderSettings { max_depth: 1, background: Vec3::ZERO, ambient: 1.0 });
+        scene.spheres.push(SceneSphere {
+            radius: 0.5,
+            motion: Motion::Static(Vec3::new(0.0, 0.0, -3.0)),
+            material: red,
+        });
+        let (px, ..) = centre_pixel(&scene);
+        assert_eq!(px, [255, 0, 0]);
+    }
+
+    #[test]
+    fn no_lights_is_allowed_and_means_ambient_only() {
+        // A scene file without lights, a shiny sphere: every pixel that sees it is
+        // colour · ambient, with no highlight and no shadow ray.
+        let text = "[render]\nambient = 0.25\n[[spheres]]\ncenter = [0.0, 0.0, 15.0]\nradius = 2.5\n\
+                    color = [0.8, 0.4, 0.2]\nspecular = 0.9\nshininess = 8\n";
+        let scene = Scene::from_toml(text, "ambient.toml").expect("a scene without lights is valid");
+        assert!(scene.lights.is_empty(), "no light given, none made up");
+        let tracer = Tracer::new(&scene, 0.0);
+        let view = scene.camera.view(Eye::Right, 48, 27);
+        let (mut counts, mut hits) = (RayCounts::default(), 0);
+        for j in 0..27 {
+            for i in 0..48 {
+                let s = tracer.trace_pixel(&view, i, j, &mut counts);
+                if s.surface.is_hit() {
+                    assert_eq!(unpack_rgb(s.rgb), srgb(Vec3::new(0.8, 0.4, 0.2) * 0.25), "({i}, {j})");
+                    hits += 1;
+                }
+            }
+        }
+        assert!(hits > 50, "the sphere is in view: {hits}");
+        assert_eq!(counts.shadow, 0, "no light, no shadow ray");
     }
 }

@@ -177,7 +177,7 @@ mod tests {
     use super::*;
     use crate::ray::spawn_ray;
     use crate::scene::{Motion, Scene};
-    use crate::world::Tracer;
+    use crate::tracer::Tracer;
 
     fn scene(name: &str) -> Scene {
         let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));

@@ -186,12 +186,6 @@ impl Sphere {
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<f32> {
         intersect_sphere(ray, self.center, self.radius, t_max)
     }
-
-    /// Unit outward normal at a point on the surface.
-    #[must_use]
-    pub fn normal_at(&self, p: Vec3) -> Vec3 {
-        (p - self.center) / self.radius
-    }
 }
 
 #[cfg(test)]

@@ -1,13 +1,21 @@
-//! The scene frozen at one instant, ready to trace: the two scene queries live here.
+//! The scene frozen at one instant, ready to trace, and its ray queries: the closest hit
+//! ([`Tracer::intersect`]) and any hit ([`Tracer::occluded`]), as pbrt's `Intersect` and
+//! `IntersectP`, each answered by the cheapest structure that is exact for the ray.
+//!
+//! Shading is in `shade.rs`, primary rays through screen bins in `primary.rs`, and the
+//! services a second view uses in `second_view.rs`: all are `impl` blocks on this type's
+//! data, which only this crate sees.
 
 use glam::Vec3;
 
 use crate::bvh::Bvh;
+use crate::color::pack_rgb;
 use crate::cones::Cones;
+use crate::material::{Exponent, Material};
 use crate::ray::{Ray, SPAWN_EPSILON};
-use crate::scene::{Light, Material, RenderSettings, Scene};
-use crate::shade::Exponent;
+use crate::scene::{Light, RenderSettings, Scene};
 use crate::shadow::ShadowBins;
+use crate::surface::{Hit, NO_OBJECT};
 
 /// A scene at one instant, laid out for tracing. Build it once and [`Tracer::update`] it each
 /// frame: the buffers are reused, so a warm viewer does not allocate per frame.
@@ -52,7 +60,7 @@ impl Tracer {
         self.lights.clear();
         self.lights.extend_from_slice(&scene.lights);
         self.settings = scene.render;
-        self.background_rgb = crate::color::pack_rgb(self.settings.background);
+        self.background_rgb = pack_rgb(self.settings.background);
         self.bvh.build(&self.centers, &self.radii);
         // The largest offset `spawn_ray` can give a ray leaving any sphere, with room to spare.
         let reach = self.centers.iter().zip(&self.radii).map(|(c, r)| c.abs().max_element() + r).fold(0.0, f32::max);
@@ -78,25 +86,10 @@ impl Tracer {
         self.centers.len()
     }
 
-    /// The smallest depth along `forward` from `origin` of any sphere point in front of
-    /// that plane: min over spheres of (forward·(c − origin) − r), ignoring spheres wholly
-    /// behind it. `None` if no sphere is in front. Negative when a sphere straddles the
-    /// plane.
-    #[must_use]
-    pub fn nearest_depth(&self, origin: Vec3, forward: Vec3) -> Option<f32> {
-        self.centers
-            .iter()
-            .zip(&self.radii)
-            .map(|(&c, &r)| (forward.dot(c - origin), r))
-            .filter(|&(w, r)| w + r > 0.0)
-            .map(|(w, r)| w - r)
-            .reduce(f32::min)
-    }
-
-    /// Closest hit in `(0, t_max)`: `(t, object id)`.
+    /// Closest hit in `(0, t_max)`, through the BVH.
     #[inline]
     #[must_use]
-    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(f32, u32)> {
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
         self.bvh.intersect(ray, t_max)
     }
 
@@ -114,7 +107,7 @@ impl Tracer {
     /// answer is the same either way.
     #[inline]
     #[must_use]
-    pub fn intersect_from(&self, from: u32, n: Vec3, ray: &Ray) -> Option<(f32, u32)> {
+    pub(crate) fn intersect_from(&self, from: u32, n: Vec3, ray: &Ray) -> Option<Hit> {
         if ray.dir.dot(n) >= 0.0 && self.cones.is_built() {
             self.cones.intersect_from(from, ray, f32::INFINITY)
         } else {
@@ -129,18 +122,18 @@ impl Tracer {
     /// skipped when the ray leaves outwards, as it cannot meet its own sphere again.
     #[inline]
     #[must_use]
-    pub fn shadowed(&self, k: usize, from: u32, p: Vec3, n: Vec3, ray: &Ray, t_max: f32) -> bool {
-        let own = if ray.dir.dot(n) >= 0.0 { from } else { crate::NO_OBJECT };
+    pub(crate) fn shadowed(&self, k: usize, from: u32, p: Vec3, n: Vec3, ray: &Ray, t_max: f32) -> bool {
+        let own = if ray.dir.dot(n) >= 0.0 { from } else { NO_OBJECT };
         self.shadows
             .occluded(k, self.lights[k].position, p, ray, t_max, own)
             .unwrap_or_else(|| self.occluded(ray, t_max))
     }
 
-    /// Hit parameter of `ray` against the one sphere `object`, ignoring all others. Used by
-    /// `stereo`'s exact mode: one sphere test, not a scene ray.
-    #[inline]
+    /// Hit parameter of `ray` against the one sphere `object`, ignoring all others: one
+    /// sphere test, not a scene ray: the oracle of [`crate::SecondView::shade_on4`].
+    #[cfg(test)]
     #[must_use]
-    pub fn intersect_object(&self, ray: &Ray, object: u32) -> Option<f32> {
+    pub(crate) fn intersect_object(&self, ray: &Ray, object: u32) -> Option<f32> {
         self.bvh.intersect_one(ray, object)
     }
 }
