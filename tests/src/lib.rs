@@ -11,7 +11,6 @@
 //! names the first failing pixel. `STEREOTRACE_BLESS=1` rewrites the golden files instead.
 
 use std::fs::File;
-use std::io::BufWriter;
 use std::path::{Path, PathBuf};
 
 /// The workspace root.
@@ -23,9 +22,10 @@ pub fn root() -> PathBuf {
 /// Every scene file in `assets/scenes`, sorted.
 #[must_use]
 pub fn scene_files() -> Vec<PathBuf> {
-    let mut v: Vec<PathBuf> = std::fs::read_dir(root().join("assets/scenes"))
-        .expect("assets/scenes is readable")
-        .map(|e| e.expect("directory entry").path())
+    let dir = root().join("assets/scenes");
+    let mut v: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap_or_else(|e| panic!("{}: {e}", dir.display()))
+        .map(|e| e.unwrap_or_else(|e| panic!("{}: {e}", dir.display())).path())
         .filter(|p| p.extension().is_some_and(|e| e == "toml"))
         .collect();
     v.sort();
@@ -51,15 +51,10 @@ pub fn read_png(path: &Path) -> Result<(u32, u32, Vec<u32>), String> {
     Ok((info.width, info.height, px))
 }
 
-/// Writes `0x00RRGGBB` pixels as an 8-bit RGB PNG.
+/// Writes `0x00RRGGBB` pixels as an 8-bit RGB PNG with the binary's writer
+/// ([`viewer::write_png`]), panicking on failure: a test's failure report.
 pub fn write_png(path: &Path, width: u32, height: u32, pixels: &[u32]) {
-    let file = File::create(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut encoder = png::Encoder::new(BufWriter::new(file), width, height);
-    encoder.set_color(png::ColorType::Rgb);
-    encoder.set_depth(png::BitDepth::Eight);
-    let mut writer = encoder.write_header().expect("PNG header");
-    let bytes: Vec<u8> = pixels.iter().flat_map(|&p| [(p >> 16) as u8, (p >> 8) as u8, p as u8]).collect();
-    writer.write_image_data(&bytes).expect("PNG data");
+    viewer::write_png(path, width, height, pixels).unwrap_or_else(|e| panic!("{e:#}"));
 }
 
 /// Compares an image with its golden file; see the crate docs. `tolerance` is in 8-bit

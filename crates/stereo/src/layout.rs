@@ -1,9 +1,13 @@
 //! How a stereo pair reaches the viewer's eyes: the layouts stereo viewers such as Bino offer.
+//!
+//! [`Layout::slots`] is the one place that says which eye goes where; [`compose`] (the
+//! exported pairs) and the viewer's window both arrange the eyes by it.
 
 use std::fmt;
 use std::str::FromStr;
 
-use tracer::{linear_to_srgb8, srgb8_to_linear};
+use rayon::prelude::*;
+use tracer::{linear_to_srgb8, srgb8_to_linear, Eye};
 
 /// Arrangement of the two eye images in one output image.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -28,6 +32,19 @@ impl Layout {
             Layout::SideBySide => "side-by-side",
             Layout::CrossEyed => "cross-eyed",
             Layout::Anaglyph => "anaglyph",
+        }
+    }
+
+    /// Which eye's image fills each of the layout's two slots: the left and right halves of
+    /// a pair, or the anaglyph's red and cyan parts. `swap` exchanges the eyes (for viewers
+    /// who see the pair the other way round); cross-eyed is side by side with the eyes
+    /// exchanged.
+    #[must_use]
+    pub fn slots(self, swap: bool) -> [Eye; 2] {
+        if (self == Layout::CrossEyed) == swap {
+            [Eye::Left, Eye::Right]
+        } else {
+            [Eye::Right, Eye::Left]
         }
     }
 
@@ -81,23 +98,33 @@ pub fn anaglyph_pixel(left: u32, right: u32) -> u32 {
 }
 
 /// Composes two `w` × `h` eye images (`0x00RRGGBB`) into `out`, resized to
-/// [`Layout::size`]. `swap` exchanges the eyes first (for viewers who see the pair the
-/// other way round).
+/// [`Layout::size`], with the eyes in [`Layout::slots`]. The anaglyph, which decodes every
+/// channel to linear light, is made in parallel over rows (on rayon's pool).
 pub fn compose(layout: Layout, swap: bool, left: &[u32], right: &[u32], w: u32, h: u32, out: &mut Vec<u32>) {
-    let (left, right) = if swap { (right, left) } else { (left, right) };
+    let [a, b] = layout.slots(swap).map(|eye| match eye {
+        Eye::Left => left,
+        Eye::Right => right,
+    });
     let (ow, oh) = layout.size(w, h);
+    let n = ow as usize * oh as usize;
+    let w = (w as usize).max(1);
     out.clear();
-    out.reserve(ow as usize * oh as usize);
-    let w = w as usize;
     match layout {
         Layout::SideBySide | Layout::CrossEyed => {
-            let (a, b) = if layout == Layout::SideBySide { (left, right) } else { (right, left) };
+            out.reserve(n);
             for (ra, rb) in a.chunks_exact(w).zip(b.chunks_exact(w)) {
                 out.extend_from_slice(ra);
                 out.extend_from_slice(rb);
             }
         }
-        Layout::Anaglyph => out.extend(left.iter().zip(right).map(|(&l, &r)| anaglyph_pixel(l, r))),
+        Layout::Anaglyph => {
+            out.resize(n, 0);
+            out.par_chunks_mut(w).zip(a.par_chunks(w).zip(b.par_chunks(w))).for_each(|(o, (a, b))| {
+                for (o, (&l, &r)) in o.iter_mut().zip(a.iter().zip(b)) {
+                    *o = anaglyph_pixel(l, r);
+                }
+            });
+        }
     }
 }
 
@@ -110,11 +137,13 @@ mod tests {
         let (l, r) = ([1, 2, 3, 4], [5, 6, 7, 8]);
         let mut out = Vec::new();
         compose(Layout::SideBySide, false, &l, &r, 2, 2, &mut out);
-        assert_eq!(out, vec![1, 2, 5, 6, 3, 4, 7, 8]);
+        assert_eq!(out, vec![1, 2, 5, 6, 3, 4, 7, 8], "side by side: the left eye on the left");
         compose(Layout::CrossEyed, false, &l, &r, 2, 2, &mut out);
-        assert_eq!(out, vec![5, 6, 1, 2, 7, 8, 3, 4]);
+        assert_eq!(out, vec![5, 6, 1, 2, 7, 8, 3, 4], "cross-eyed: the right eye on the left");
         compose(Layout::SideBySide, true, &l, &r, 2, 2, &mut out);
-        assert_eq!(out, vec![5, 6, 1, 2, 7, 8, 3, 4]);
+        assert_eq!(out, vec![5, 6, 1, 2, 7, 8, 3, 4], "swapped side by side is cross-eyed");
+        compose(Layout::CrossEyed, true, &l, &r, 2, 2, &mut out);
+        assert_eq!(out, vec![1, 2, 5, 6, 3, 4, 7, 8], "cross-eyed and swapped is side by side");
     }
 
     #[test]
@@ -128,9 +157,11 @@ mod tests {
         let [r, g, b] = tracer::unpack_rgb(right_only);
         assert!(r == 0 && g > 200 && b > 200, "{right_only:06x}");
         let mut out = Vec::new();
-        compose(Layout::Anaglyph, false, &[white], &[0], 1, 1, &mut out);
-        assert_eq!(out, vec![left_only]);
-        assert_eq!(Layout::Anaglyph.size(4, 3), (4, 3));
-        assert_eq!("cross-eyed".parse::<Layout>(), Ok(Layout::CrossEyed));
+        compose(Layout::Anaglyph, false, &[white, 0], &[0, white], 2, 1, &mut out);
+        assert_eq!(out, vec![left_only, right_only]);
+        compose(Layout::Anaglyph, true, &[white, 0], &[0, white], 2, 1, &mut out);
+        assert_eq!(out, vec![right_only, left_only], "swapped: red shows the right eye");
+        assert_eq!(Layout::Anaglyph.size(4, 3), (4, 3), "the anaglyph is eye-sized");
+        assert_eq!("cross-eyed".parse::<Layout>(), Ok(Layout::CrossEyed), "layouts parse by name");
     }
 }

@@ -66,7 +66,7 @@ mod stats;
 pub use frame::StereoFrame;
 pub use image::Image;
 pub use layout::{anaglyph_pixel, compose, Layout};
-pub use mask::{mask_color, MASK_LEGEND};
+pub use mask::{mask_color, mask_image, MASK_LEGEND};
 pub use metrics::Quality;
 pub use mode::{Mode, Options};
 pub use reproject::{reproject_row, NO_SOURCE};

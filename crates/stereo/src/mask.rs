@@ -15,6 +15,13 @@ pub fn mask_color(class: PixelClass) -> u32 {
     }
 }
 
+/// The mask as an image: the [`mask_color`] of every pixel's class, `0x00RRGGBB`, into
+/// `out` (reusing its allocation).
+pub fn mask_image(mask: &[PixelClass], out: &mut Vec<u32>) {
+    out.clear();
+    out.extend(mask.iter().map(|&c| mask_color(c)));
+}
+
 /// The legend: each class with its colour and a short label.
 pub const MASK_LEGEND: [(PixelClass, &str); 5] = [
     (PixelClass::Reprojected, "reprojected"),

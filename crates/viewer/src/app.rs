@@ -1,46 +1,42 @@
 //! The viewer window: a winit 0.30 [`ApplicationHandler`] that shows the two eyes side by side
 //! with softbuffer and an egui panel over them.
 //!
+//! The app is in one of two states, as in softbuffer's examples: [`State::Initial`] until
+//! winit first resumes it, then [`State::Running`] with the open [`Window`]. What does not
+//! depend on the window — the scene, the settings, the render worker, the clocks and meters —
+//! is the [`Viewer`], which lives through both.
+//!
 //! The UI ticks 60 times a second (paced with `ControlFlow::WaitUntil`). On a tick it redraws
 //! only when there is something new to show: a finished stereo frame from the [`Worker`],
 //! input, a moving head, an egui animation, or a quarter second gone by; otherwise it just
 //! posts the next render request, so the two cores go to tracing rather than to repainting
 //! an unchanged window. A redraw takes the newest frame, runs the egui panel, posts the
-//! settings as the next render request, composes the eyes into the softbuffer frame,
-//! rasterises the UI over them (`egui_software_backend`) and presents once. Tracing happens
-//! only on the worker thread, never while the softbuffer buffer is held.
-//!
-//! Keys (ignored while egui has keyboard focus, e.g. typing a slider value): W/Up and Down
-//! move the head forward and back, A/Left and D/Right sideways (held: [`ui::HEAD_SPEED`]
-//! units a second along the head's own axes); R resets the head; 1, 2, 3 choose side-by-side,
-//! cross-eyed, anaglyph; X swaps the eyes; M toggles the debug mask; Space pauses the
-//! revolving spheres; S saves screenshots; Esc quits. Dragging with the right mouse button,
-//! or the left one outside the panel, turns the head. Both eyes share the head pose, so
-//! moving never breaks the reprojection.
+//! settings as the next render request and presents. Keys and drags are `input.rs`'s, the
+//! settings and the request they make `settings.rs`'s, the stderr log `fps_log.rs`'s.
 
-use std::num::NonZeroU32;
-use std::path::{Path, PathBuf};
-use std::rc::Rc;
-use std::time::{Duration, Instant, SystemTime};
+use std::path::Path;
+use std::time::{Duration, Instant};
 
 use anyhow::Context as _;
-use egui_software_backend::{BufferMutRef, ColorFieldOrder, EguiSoftwareRender};
 use tracer::Scene;
 use winit::application::ApplicationHandler;
 use winit::dpi::LogicalSize;
-use winit::dpi::PhysicalPosition;
-use winit::event::{ElementState, KeyEvent, MouseButton, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
-use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
-use winit::window::{Window, WindowId};
+use winit::event::{ElementState, KeyEvent, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow};
+use winit::window::WindowId;
 
 use crate::cli::{WindowArgs, DEFAULT_SCENE};
-use crate::present::{self, Compositor};
-use crate::screenshot;
-use crate::syslibs::{self, Backend};
+use crate::fps_log::{FpsLog, Report};
+use crate::frame_times::{self, FrameTimes};
+use crate::input::{Command, Input};
+use crate::present;
+use crate::screenshot::Screenshots;
+use crate::settings::Settings;
+use crate::syslibs;
 use crate::timing::{RateMeter, SceneClock};
-use crate::ui::{self, FrameTimes, Readout, Settings};
-use crate::worker::{Request, Worker};
+use crate::ui::{self, Actions, Readout};
+use crate::window::{self, Dump, Size, Window};
+use crate::worker::{FrameInfo, Worker};
 
 /// Time between UI ticks (60 Hz).
 const FRAME_INTERVAL: Duration = Duration::from_micros(16_667);
@@ -49,86 +45,31 @@ const FRAME_INTERVAL: Duration = Duration::from_micros(16_667);
 /// panel keep moving).
 const IDLE_REDRAW: Duration = Duration::from_millis(250);
 
-/// Longest time step a held movement key advances the head by, so a stall does not jump.
-const MAX_MOVE_STEP: f32 = 0.1;
-
-/// How long the panel shows where the last screenshot went.
-const SAVED_NOTE: Duration = Duration::from_secs(6);
-
-/// Movement keys held down: forward, back, left, right.
-#[derive(Clone, Copy, Debug, Default)]
-struct HeldKeys([bool; 4]);
-
-impl HeldKeys {
-    /// The movement slot of a physical key (layout-independent, so W/A/D are where they are
-    /// on a QWERTY keyboard), if it is one.
-    fn slot(key: PhysicalKey) -> Option<usize> {
-        match key {
-            PhysicalKey::Code(KeyCode::KeyW | KeyCode::ArrowUp) => Some(0),
-            PhysicalKey::Code(KeyCode::ArrowDown) => Some(1),
-            PhysicalKey::Code(KeyCode::KeyA | KeyCode::ArrowLeft) => Some(2),
-            PhysicalKey::Code(KeyCode::KeyD | KeyCode::ArrowRight) => Some(3),
-            _ => None,
-        }
-    }
-
-    /// (forward, right) in −1..=1.
-    fn direction(self) -> (f32, f32) {
-        let axis = |plus: bool, minus: bool| f32::from(u8::from(plus)) - f32::from(u8::from(minus));
-        (axis(self.0[0], self.0[1]), axis(self.0[3], self.0[2]))
-    }
-}
-
-/// Mouse state for turning the head by dragging.
-#[derive(Clone, Copy, Debug, Default)]
-struct Drag {
-    /// Last cursor position in the window, physical pixels.
-    cursor: Option<PhysicalPosition<f64>>,
-    /// A turning drag is under way.
-    active: bool,
-}
-
 /// Opens the window and runs until it is closed, Esc is pressed or `--frames` is reached.
 pub fn run(args: &WindowArgs) -> anyhow::Result<()> {
     let scene_path = crate::setup::resolve_scene(args.scene.as_deref().unwrap_or(Path::new(DEFAULT_SCENE)));
     let scene = Scene::load(&scene_path)?;
     let backend = syslibs::backend_from_env()?;
     syslibs::check_runtime_libraries(backend)?;
-    let event_loop = build_event_loop(backend)?;
+    let event_loop = window::build_event_loop(backend)?;
     let name = scene_path.file_name().map_or_else(|| scene_path.display().to_string(), |n| n.to_string_lossy().into());
-    let mut app = App::new(args, scene, format!("stereotrace — {name}"))?;
+    let mut app = App { viewer: Viewer::new(args, scene, format!("stereotrace — {name}"))?, state: State::Initial };
     event_loop.run_app(&mut app).context("the window's event loop failed")?;
-    app.finish()
+    app.viewer.finish()
 }
 
-/// The event loop on the chosen backend, with a clear error if the display cannot be opened.
-fn build_event_loop(backend: Backend) -> anyhow::Result<EventLoop<()>> {
-    let mut builder = EventLoop::builder();
-    #[cfg(any(
-        target_os = "linux",
-        target_os = "freebsd",
-        target_os = "dragonfly",
-        target_os = "netbsd",
-        target_os = "openbsd"
-    ))]
-    match backend {
-        Backend::X11 => {
-            winit::platform::x11::EventLoopBuilderExtX11::with_x11(&mut builder);
-        }
-        Backend::Wayland => {
-            winit::platform::wayland::EventLoopBuilderExtWayland::with_wayland(&mut builder);
-        }
-    }
-    builder.build().with_context(|| match backend {
-        Backend::X11 => format!(
-            "cannot open the X11 display {:?} (is the X server running? headless: xvfb-run -a stereotrace)",
-            std::env::var("DISPLAY").unwrap_or_default()
-        ),
-        Backend::Wayland => format!(
-            "cannot connect to the Wayland display {:?}; set DISPLAY to use X11 (XWayland) instead",
-            std::env::var("WAYLAND_DISPLAY").unwrap_or_default()
-        ),
-    })
+/// The event loop's handler: the viewer, and the window once there is one.
+struct App {
+    viewer: Viewer,
+    state: State,
+}
+
+/// Whether the window exists yet.
+enum State {
+    /// Before winit first resumes the app: windows cannot be created yet.
+    Initial,
+    /// The window is open.
+    Running(Box<Window>),
 }
 
 /// Options that do not change while the window is open.
@@ -137,61 +78,54 @@ struct Config {
     size: LogicalSize<f64>,
     /// `--frames`: stop after this many frames showing the eyes.
     frames: Option<u64>,
-    /// `--dump`: write the last presented frame here on exit.
-    dump: Option<PathBuf>,
-    /// `STEREOTRACE_LOG_FPS=1`: print the frame rates to stderr.
-    log_fps: bool,
 }
 
-/// The window and everything tied to it; exists between `resumed` and exit.
-struct Gfx {
-    window: Rc<Window>,
-    surface: softbuffer::Surface<Rc<Window>, Rc<Window>>,
-    egui_winit: egui_winit::State,
+/// When to redraw: the tick's cadence, and whether anything changed since the last redraw.
+struct Pacing {
+    /// When the next tick is due.
+    next_tick: Instant,
+    /// Input arrived, or egui asked for a repaint, since the last redraw.
+    dirty: bool,
+    /// When the window was last redrawn.
+    last_redraw: Instant,
 }
 
-/// The whole viewer state, owned by the event loop.
-struct App {
-    config: Config,
-    scene: Scene,
-    settings: Settings,
-    clock: SceneClock,
-    worker: Worker,
-    gfx: Option<Gfx>,
-    egui: egui::Context,
-    egui_render: EguiSoftwareRender,
-    compositor: Compositor,
-    history: FrameTimes,
-    ui_meter: RateMeter,
-    render_meter: RateMeter,
+/// Frames counted and rates measured as the viewer runs.
+struct Meters {
     /// UI frames presented.
     presented: u64,
     /// Frames presented with both eyes of a rendered frame on screen (what `--frames` counts).
     presented_with_eyes: u64,
     /// Sequence number of the newest rendered frame seen.
     last_seq: u64,
-    next_redraw: Instant,
-    /// Input arrived, or egui asked for a repaint, since the last redraw.
-    dirty: bool,
-    /// When the window was last redrawn.
-    last_redraw: Instant,
-    /// Time spent in `redraw` and frames drawn since the last fps log line.
-    ui_busy: (Duration, u32),
-    /// Copy of the last presented frame, kept only with `--dump`.
-    dump: (Vec<u32>, u32, u32),
-    /// First error met inside the event loop; `run` returns it.
-    error: Option<anyhow::Error>,
-    held: HeldKeys,
-    drag: Drag,
-    /// When the head was last moved by held keys.
-    last_move: Instant,
-    /// Screenshot folder, as typed in the panel.
-    folder: String,
-    /// What the last screenshot wrote (or why it failed), and when.
-    saved: Option<(String, Instant)>,
+    /// Frames presented per second.
+    ui: RateMeter,
+    /// Stereo frames rendered per second.
+    render: RateMeter,
+    /// The newest frames' times, for the panel's plot.
+    history: FrameTimes,
 }
 
-impl App {
+/// Everything the viewer keeps that does not depend on the window.
+struct Viewer {
+    config: Config,
+    scene: Scene,
+    settings: Settings,
+    clock: SceneClock,
+    worker: Worker,
+    egui: egui::Context,
+    input: Input,
+    pacing: Pacing,
+    meters: Meters,
+    fps_log: FpsLog,
+    screenshots: Screenshots,
+    /// `--dump`: the last presented frame, written on exit.
+    dump: Option<Dump>,
+    /// First error met inside the event loop; `run` returns it.
+    error: Option<anyhow::Error>,
+}
+
+impl Viewer {
     fn new(args: &WindowArgs, scene: Scene, title: String) -> anyhow::Result<Self> {
         let now = Instant::now();
         let mut settings = Settings::from_scene(&scene);
@@ -208,34 +142,26 @@ impl App {
                 title,
                 size: LogicalSize::new(f64::from(args.width), f64::from(args.height)),
                 frames: args.frames,
-                dump: args.dump.clone(),
-                log_fps: std::env::var("STEREOTRACE_LOG_FPS").is_ok_and(|v| v == "1"),
             },
             worker: Worker::spawn(scene.clone())?,
             scene,
             settings,
             clock,
-            gfx: None,
             egui,
-            egui_render: EguiSoftwareRender::new(ColorFieldOrder::Bgra),
-            compositor: Compositor::new(),
-            history: FrameTimes::default(),
-            ui_meter: RateMeter::new(now, 0),
-            render_meter: RateMeter::new(now, 0),
-            presented: 0,
-            presented_with_eyes: 0,
-            last_seq: 0,
-            next_redraw: now,
-            dirty: true,
-            last_redraw: now,
-            ui_busy: (Duration::ZERO, 0),
-            dump: (Vec::new(), 0, 0),
+            input: Input::new(now),
+            pacing: Pacing { next_tick: now, dirty: true, last_redraw: now },
+            meters: Meters {
+                presented: 0,
+                presented_with_eyes: 0,
+                last_seq: 0,
+                ui: RateMeter::new(now, 0),
+                render: RateMeter::new(now, 0),
+                history: FrameTimes::default(),
+            },
+            fps_log: FpsLog::from_env(),
+            screenshots: Screenshots::default(),
+            dump: args.dump.clone().map(Dump::new),
             error: None,
-            held: HeldKeys::default(),
-            drag: Drag::default(),
-            last_move: now,
-            folder: screenshot::DEFAULT_FOLDER.to_owned(),
-            saved: None,
         })
     }
 
@@ -244,14 +170,7 @@ impl App {
         if let Some(e) = self.error.take() {
             return Err(e);
         }
-        if let Some(path) = &self.config.dump {
-            let (pixels, w, h) = &self.dump;
-            if pixels.is_empty() {
-                anyhow::bail!("no frame was presented, so there is nothing to write to {}", path.display());
-            }
-            crate::png_out::write_png(path, *w, *h, pixels)?;
-        }
-        Ok(())
+        self.dump.as_ref().map_or(Ok(()), Dump::write)
     }
 
     /// Stops the event loop with an error that `run` will return.
@@ -262,340 +181,232 @@ impl App {
         event_loop.exit();
     }
 
-    fn create_window(&self, event_loop: &ActiveEventLoop) -> anyhow::Result<Gfx> {
-        let attrs = Window::default_attributes().with_title(&self.config.title).with_inner_size(self.config.size);
-        let window = Rc::new(event_loop.create_window(attrs).context("cannot create the window")?);
-        let context = softbuffer::Context::new(Rc::clone(&window))
-            .map_err(|e| anyhow::anyhow!("cannot start softbuffer: {e}"))?;
-        let surface = softbuffer::Surface::new(&context, Rc::clone(&window))
-            .map_err(|e| anyhow::anyhow!("cannot create the softbuffer surface: {e}"))?;
-        let egui_winit = egui_winit::State::new(
-            self.egui.clone(),
-            egui::ViewportId::ROOT,
-            &window,
-            Some(window.scale_factor() as f32),
-            window.theme(),
-            None,
-        );
-        Ok(Gfx { window, surface, egui_winit })
+    /// Brings the scene clock in line with the settings (pause and orbit speed) at `now`.
+    fn sync_clock(&mut self, now: Instant) {
+        self.clock.set_paused(self.settings.paused, now);
+        self.clock.set_speed(self.settings.orbit_speed, now);
     }
 
-    fn set_paused(&mut self, paused: bool) {
-        self.settings.paused = paused;
-        self.clock.set_paused(paused, Instant::now());
-    }
-
-    fn on_key(&mut self, key: &Key, event_loop: &ActiveEventLoop) {
-        match key {
-            Key::Named(NamedKey::Escape) => event_loop.exit(),
-            Key::Named(NamedKey::Space) => self.set_paused(!self.settings.paused),
-            Key::Character(c) if c.eq_ignore_ascii_case("m") => self.settings.show_mask ^= true,
-            Key::Character(c) if c.eq_ignore_ascii_case("s") => self.save_pair(),
-            Key::Character(c) if c.eq_ignore_ascii_case("x") => self.settings.swap_eyes ^= true,
-            Key::Character(c) if c.eq_ignore_ascii_case("r") => self.settings.reset_camera(&self.scene),
-            Key::Character(c) => {
-                if let Some(&layout) = c.parse::<usize>().ok().and_then(|k| stereo::Layout::ALL.get(k.wrapping_sub(1)))
-                {
-                    self.settings.layout = layout;
-                }
+    /// Does what a key asked for.
+    fn apply(&mut self, command: Command, event_loop: &ActiveEventLoop) {
+        let s = &mut self.settings;
+        match command {
+            Command::Quit => event_loop.exit(),
+            Command::Save => self.screenshots.save(self.worker.current(), s.look()),
+            Command::TogglePause => {
+                s.paused ^= true;
+                self.sync_clock(Instant::now());
             }
-            _ => {}
+            Command::ToggleMask => s.show_mask ^= true,
+            Command::SwapEyes => s.swap_eyes ^= true,
+            Command::ResetHead => s.reset_camera(&self.scene),
+            Command::Layout(layout) => s.layout = layout,
         }
     }
 
-    /// Movement keys: a press counts only when egui does not want the keyboard, a release
-    /// always (so a key never sticks).
-    fn on_movement_key(&mut self, key: PhysicalKey, pressed: bool) {
-        if let Some(slot) = HeldKeys::slot(key) {
-            if !pressed || !self.egui.egui_wants_keyboard_input() {
-                self.held.0[slot] = pressed;
-            }
-        }
-    }
-
-    /// Mouse buttons: the right one always starts a turning drag, the left one only outside
-    /// the panel.
-    fn on_mouse_button(&mut self, button: MouseButton, state: ElementState) {
-        let starts = match button {
-            MouseButton::Right => true,
-            MouseButton::Left => !self.egui.is_pointer_over_egui() && !self.egui.egui_wants_pointer_input(),
-            _ => return,
-        };
-        match state {
-            ElementState::Pressed if starts => self.drag.active = true,
-            ElementState::Pressed => {}
-            ElementState::Released => self.drag.active = false,
-        }
-    }
-
-    fn on_cursor_moved(&mut self, position: PhysicalPosition<f64>) {
-        if let (true, Some(last)) = (self.drag.active, self.drag.cursor) {
-            self.settings.turn_head((position.x - last.x) as f32, (position.y - last.y) as f32);
-        }
-        self.drag.cursor = Some(position);
-    }
-
-    /// Moves the head for the keys held since the last call.
-    fn move_head(&mut self, now: Instant) {
-        let dt = now.saturating_duration_since(self.last_move).as_secs_f32().min(MAX_MOVE_STEP);
-        self.last_move = now;
-        let (forward, right) = self.held.direction();
-        if forward != 0.0 || right != 0.0 {
-            let step = ui::HEAD_SPEED * dt;
-            self.settings.move_head(forward * step, right * step);
-        }
-    }
-
-    /// Writes the frame on screen as PNGs into the screenshot folder; the panel says where
-    /// (or why not), and so does stderr. The viewer carries on either way.
-    fn save_pair(&mut self) {
-        let s = &self.settings;
-        let folder = PathBuf::from(if self.folder.trim().is_empty() { "." } else { self.folder.trim() });
-        let note = match screenshot::save(
-            &folder,
-            self.worker.current(),
-            s.layout,
-            s.swap_eyes,
-            s.show_mask,
-            SystemTime::now(),
-        ) {
-            Ok(paths) => {
-                for p in &paths {
-                    eprintln!("stereotrace: saved {}", p.display());
-                }
-                let names: Vec<String> =
-                    paths.iter().filter_map(|p| p.file_name()).map(|n| n.to_string_lossy().into_owned()).collect();
-                format!("saved in {}:\n{}", folder.display(), names.join("\n"))
-            }
-            Err(e) => {
-                eprintln!("stereotrace: {e:#}");
-                format!("not saved: {e:#}")
-            }
-        };
-        self.saved = Some((note, Instant::now()));
-    }
-
-    /// The render request for the current settings and an eye of `width` × `height` on screen.
-    fn request(&self, width: u32, height: u32, now: Instant) -> Request {
-        let s = &self.settings;
-        let (width, height) = s.render_size(width, height);
-        let anaglyph = s.layout == stereo::Layout::Anaglyph;
-        Request {
-            camera: s.camera(&self.scene.camera),
-            depth: s.depth,
-            opts: s.options(),
-            time: if self.scene.is_animated() { self.clock.time(now) } else { 0.0 },
-            width,
-            height,
-            psnr: s.live_psnr,
-            anaglyph,
-            swap: anaglyph && s.swap_eyes,
-            light: s.light,
-        }
-    }
-
-    /// Posts the render request for a `width` × `height` window at `now` (none for a
-    /// minimised window). The worker ignores a request equal to the last one.
-    fn post_request(&mut self, width: u32, height: u32, now: Instant) {
-        let (eye_w, eye_h) = present::eye_size(width, height);
-        if eye_w > 0 {
-            let request = self.request(eye_w, eye_h, now);
-            self.worker.post(request);
-        }
-    }
-
-    /// One UI frame. A minimised (zero-sized) window is skipped entirely.
-    fn redraw(&mut self, event_loop: &ActiveEventLoop) -> anyhow::Result<()> {
-        let now = Instant::now();
-        self.dirty = false;
-        self.last_redraw = now;
-        self.move_head(now);
-        let Some(gfx) = self.gfx.as_mut() else { return Ok(()) };
-        let size = gfx.window.inner_size();
-        let (Some(nz_w), Some(nz_h)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) else {
-            return Ok(());
-        };
-        let (width, height) = (size.width as usize, size.height as usize);
-
-        // The newest rendered frame, and the rates.
-        let info = self.worker.latest().info;
-        if let Some(info) = info.filter(|i| i.seq != self.last_seq) {
-            self.last_seq = info.seq;
-            self.history.push(ui::sample(info.wall_ms, &info.stats));
-        }
-        self.render_meter.update(now, self.last_seq);
-        if self.ui_meter.update(now, self.presented) && self.config.log_fps {
-            let s = &self.settings;
-            let (busy, frames) = std::mem::take(&mut self.ui_busy);
-            eprintln!(
-                "fps={:.1} render_fps={:.1} ui_ms={:.2} window={}x{} left_ms={:.1} right_ms={:.1} \
-                 head={:.3},{:.3},{:.3} yaw={:.1} pitch={:.1} layout={} swap={} psnr={}",
-                self.ui_meter.rate(),
-                self.render_meter.rate(),
-                busy.as_secs_f64() * 1e3 / f64::from(frames.max(1)),
-                size.width,
-                size.height,
-                info.map_or(0.0, |i| i.stats.left.ms),
-                info.map_or(0.0, |i| i.stats.right.ms),
-                s.position.x,
-                s.position.y,
-                s.position.z,
-                s.yaw_deg,
-                s.pitch_deg,
-                s.layout,
-                s.swap_eyes,
-                info.and_then(|i| i.quality).map_or_else(|| "-".to_owned(), |q| format!("{:.2}", q.psnr_db)),
-            );
-        }
-
-        // The panel.
-        let raw_input = gfx.egui_winit.take_egui_input(&gfx.window);
-        let readout = Readout {
-            ui_fps: self.ui_meter.rate(),
-            render_fps: self.render_meter.rate(),
-            frame: info.as_ref(),
-            time: self.clock.time(now),
-            animated: self.scene.is_animated(),
-            history: &self.history,
-            saved: self.saved.as_ref().filter(|(_, at)| now.saturating_duration_since(*at) < SAVED_NOTE).map(|s| &*s.0),
-        };
-        let mut settings = self.settings;
-        let mut actions = ui::Actions::default();
-        let folder = &mut self.folder;
-        let output = self.egui.run_ui(raw_input, |ui| actions = ui::panel(ui.ctx(), &mut settings, &readout, folder));
-        let repaint_now =
-            output.viewport_output.get(&egui::ViewportId::ROOT).is_some_and(|v| v.repaint_delay.is_zero());
-        self.dirty |= repaint_now;
-        gfx.egui_winit.handle_platform_output(&gfx.window, output.platform_output);
-        if actions.reset {
-            settings.reset_camera(&self.scene);
-        }
-        if actions.reset_light {
-            settings.light = Settings::from_scene(&self.scene).light;
-        }
-        let paused = settings.paused;
-        self.settings = settings;
-        self.set_paused(paused);
-        self.clock.set_speed(settings.orbit_speed, now);
-        if actions.save {
-            self.save_pair();
-        }
-
-        // The next render request.
-        let (eye_w, _) = present::eye_size(size.width, size.height);
-        self.post_request(size.width, size.height, now);
-
-        // Compose, draw the UI over the eyes, present once.
-        let Some(gfx) = self.gfx.as_mut() else { return Ok(()) };
-        gfx.surface.resize(nz_w, nz_h).map_err(|e| anyhow::anyhow!("cannot resize the frame buffer: {e}"))?;
-        let mut buffer = gfx.surface.buffer_mut().map_err(|e| anyhow::anyhow!("cannot map the frame buffer: {e}"))?;
-        if buffer.len() != width * height {
-            // The surface does not match the window yet (a resize in flight): skip this frame.
-            return Ok(());
-        }
-        let frame = self.worker.current();
-        let s = &self.settings;
-        let eyes = self.compositor.compose(&mut buffer, width, height, frame, s.layout, s.swap_eyes, s.show_mask);
-        let primitives = self.egui.tessellate(output.shapes, output.pixels_per_point);
-        self.egui_render.render(
-            &mut BufferMutRef::new(bytemuck::cast_slice_mut(&mut buffer[..]), width, height),
-            &primitives,
-            &output.textures_delta,
-            output.pixels_per_point,
-        );
-        let rows = present::ui_rows(&primitives, output.pixels_per_point, height);
-        present::clear_alpha(&mut buffer[rows.start * width..rows.end * width]);
-        if self.config.dump.is_some() {
-            let (pixels, w, h) = &mut self.dump;
-            pixels.clear();
-            pixels.extend_from_slice(&buffer);
-            (*w, *h) = (size.width, size.height);
-        }
-        buffer.present().map_err(|e| anyhow::anyhow!("cannot present the frame: {e}"))?;
-        self.presented += 1;
-        if eyes || eye_w == 0 {
-            self.presented_with_eyes += 1;
-        }
-        if self.config.frames.is_some_and(|n| self.presented_with_eyes >= n) {
-            event_loop.exit();
-        }
-        Ok(())
-    }
-}
-
-impl ApplicationHandler for App {
-    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
-        if self.gfx.is_some() {
-            return;
-        }
-        match self.create_window(event_loop) {
-            Ok(gfx) => {
-                gfx.window.request_redraw();
-                self.gfx = Some(gfx);
-            }
-            Err(e) => self.fail(event_loop, e),
-        }
-    }
-
-    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
-        let Some(gfx) = self.gfx.as_mut() else { return };
-        // egui sees every event; its `repaint` hint is not needed, the UI redraws at a fixed rate.
-        let _ = gfx.egui_winit.on_window_event(&gfx.window, &event);
+    fn on_window_event(&mut self, window: &mut Window, event_loop: &ActiveEventLoop, event: WindowEvent) {
+        window.on_event(&event);
         if !matches!(event, WindowEvent::RedrawRequested) {
-            self.dirty = true;
+            self.pacing.dirty = true;
         }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
+            // Focus changes send synthetic presses of the keys held: they are not the user's.
             WindowEvent::KeyboardInput {
                 event: KeyEvent { logical_key, physical_key, state, repeat, .. },
                 is_synthetic: false,
                 ..
             } => {
                 let pressed = state == ElementState::Pressed;
-                self.on_movement_key(physical_key, pressed);
-                if pressed && !repeat && !self.egui.egui_wants_keyboard_input() {
-                    self.on_key(&logical_key, event_loop);
+                let egui_wants = self.egui.egui_wants_keyboard_input();
+                if let Some(command) = self.input.key(physical_key, &logical_key, pressed, repeat, egui_wants) {
+                    self.apply(command, event_loop);
                 }
             }
-            WindowEvent::Focused(false) => {
-                self.held = HeldKeys::default();
-                self.drag.active = false;
+            WindowEvent::Focused(false) => self.input.focus_lost(),
+            WindowEvent::MouseInput { state, button, .. } => {
+                let on_panel = self.egui.is_pointer_over_egui() || self.egui.egui_wants_pointer_input();
+                self.input.mouse_button(button, state, on_panel);
             }
-            WindowEvent::MouseInput { state, button, .. } => self.on_mouse_button(button, state),
-            WindowEvent::CursorMoved { position, .. } => self.on_cursor_moved(position),
-            WindowEvent::CursorLeft { .. } => self.drag.cursor = None,
+            WindowEvent::CursorMoved { position, .. } => {
+                if let Some((dx, dy)) = self.input.cursor_moved(position) {
+                    self.settings.turn_head(dx, dy);
+                }
+            }
+            WindowEvent::CursorLeft { .. } => self.input.cursor_left(),
             WindowEvent::RedrawRequested => {
                 let started = Instant::now();
-                if let Err(e) = self.redraw(event_loop) {
+                if let Err(e) = self.redraw(window, event_loop) {
                     self.fail(event_loop, e);
                 }
-                self.ui_busy.0 += started.elapsed();
-                self.ui_busy.1 += 1;
+                self.fps_log.add_redraw(started.elapsed());
             }
             _ => {}
         }
     }
 
-    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+    /// One UI frame: take the newest rendered frame, run the panel, post the next render
+    /// request, present. A minimised (zero-sized) window is skipped entirely.
+    fn redraw(&mut self, window: &mut Window, event_loop: &ActiveEventLoop) -> anyhow::Result<()> {
+        let now = Instant::now();
+        self.pacing.dirty = false;
+        self.pacing.last_redraw = now;
+        let (direction, seconds) = self.input.walk(now);
+        self.settings.walk(direction, seconds);
+        let Some(size) = Size::of(window.inner_size()) else { return Ok(()) };
+        let frame = self.take_frame(size, now);
+        let ui = self.panel(window, frame.as_ref(), now);
+        self.post_request(size.get(), now);
+        self.present(window, size, ui, event_loop)
+    }
+
+    /// Swaps in the newest rendered frame and returns what is known about it; records its
+    /// times, updates the rates and writes the fps log line when one is due.
+    fn take_frame(&mut self, size: Size, now: Instant) -> Option<FrameInfo> {
+        let m = &mut self.meters;
+        let info = self.worker.latest().info;
+        if let Some(info) = info.filter(|i| i.seq != m.last_seq) {
+            m.last_seq = info.seq;
+            m.history.push(frame_times::sample(info.wall_ms, &info.stats));
+        }
+        m.render.update(now, m.last_seq);
+        if m.ui.update(now, m.presented) {
+            self.fps_log.write(&Report {
+                ui_fps: m.ui.rate(),
+                render_fps: m.render.rate(),
+                window: size.get(),
+                frame: info.as_ref(),
+                settings: &self.settings,
+            });
+        }
+        info
+    }
+
+    /// Runs the egui panel over `frame`'s statistics and applies what the user changed.
+    /// Returns the UI to draw.
+    fn panel(&mut self, window: &mut Window, frame: Option<&FrameInfo>, now: Instant) -> egui::FullOutput {
+        let raw_input = window.take_egui_input();
+        let readout = Readout {
+            ui_fps: self.meters.ui.rate(),
+            render_fps: self.meters.render.rate(),
+            frame,
+            time: self.clock.time(now),
+            animated: self.scene.is_animated(),
+            history: &self.meters.history,
+            saved: self.screenshots.note.recent(now),
+        };
+        let mut settings = self.settings;
+        let mut actions = Actions::default();
+        let folder = &mut self.screenshots.folder;
+        let mut output =
+            self.egui.run_ui(raw_input, |ui| actions = ui::panel(ui.ctx(), &mut settings, &readout, folder));
+        self.pacing.dirty |=
+            output.viewport_output.get(&egui::ViewportId::ROOT).is_some_and(|v| v.repaint_delay.is_zero());
+        window.handle_platform_output(std::mem::take(&mut output.platform_output));
+        if actions.reset {
+            settings.reset_camera(&self.scene);
+        }
+        if actions.reset_light {
+            settings.reset_light(&self.scene);
+        }
+        self.settings = settings;
+        self.sync_clock(now);
+        if actions.save {
+            self.screenshots.save(self.worker.current(), self.settings.look());
+        }
+        output
+    }
+
+    /// Posts the render request for a `width` × `height` window at `now` (none for a window
+    /// too small to show an eye). The worker ignores a request equal to the last one.
+    fn post_request(&mut self, (width, height): (u32, u32), now: Instant) {
+        let (eye_w, eye_h) = present::eye_size(width, height);
+        if eye_w > 0 {
+            let request = self.settings.request(&self.scene, self.clock.time(now), eye_w, eye_h);
+            self.worker.post(request);
+        }
+    }
+
+    /// Presents the frame on screen with `ui` over it, counts it, and ends the run when
+    /// `--frames` is reached.
+    fn present(
+        &mut self,
+        window: &mut Window,
+        size: Size,
+        ui: egui::FullOutput,
+        event_loop: &ActiveEventLoop,
+    ) -> anyhow::Result<()> {
+        let look = self.settings.look();
+        let Some(eyes) = window.present(size, self.worker.current(), look, &self.egui, ui, self.dump.as_mut())? else {
+            return Ok(());
+        };
+        let m = &mut self.meters;
+        m.presented += 1;
+        let (width, height) = size.get();
+        if eyes || present::eye_size(width, height).0 == 0 {
+            m.presented_with_eyes += 1;
+        }
+        if self.config.frames.is_some_and(|n| m.presented_with_eyes >= n) {
+            event_loop.exit();
+        }
+        Ok(())
+    }
+
+    /// A tick of the 60 Hz cadence: redraw when there is something new to show, else keep
+    /// the renderer fed.
+    fn tick(&mut self, window: Option<&Window>, event_loop: &ActiveEventLoop) {
         if let Err(e) = self.worker.check_alive() {
             self.fail(event_loop, e);
             return;
         }
         let now = Instant::now();
-        if now >= self.next_redraw {
-            let moving = self.held.direction() != (0.0, 0.0) || self.drag.active;
-            let due = self.dirty || moving || self.worker.has_fresh() || now - self.last_redraw >= IDLE_REDRAW;
-            if let Some(size) = self.gfx.as_ref().map(|gfx| gfx.window.inner_size()) {
+        let p = &self.pacing;
+        if now >= p.next_tick {
+            let due =
+                p.dirty || self.input.is_moving() || self.worker.has_fresh() || now - p.last_redraw >= IDLE_REDRAW;
+            if let Some(window) = window {
                 if due {
-                    self.gfx.as_ref().inspect(|gfx| gfx.window.request_redraw());
+                    window.request_redraw();
                 } else {
                     // Nothing new to show: keep the renderer fed (the scene clock moves on).
-                    self.post_request(size.width, size.height, now);
+                    let size = window.inner_size();
+                    self.post_request((size.width, size.height), now);
                 }
             }
             // Keep the cadence, but never try to catch up on missed frames.
-            self.next_redraw = (self.next_redraw + FRAME_INTERVAL).max(now + FRAME_INTERVAL / 2);
+            let p = &mut self.pacing;
+            p.next_tick = (p.next_tick + FRAME_INTERVAL).max(now + FRAME_INTERVAL / 2);
         }
-        event_loop.set_control_flow(ControlFlow::WaitUntil(self.next_redraw));
+        event_loop.set_control_flow(ControlFlow::WaitUntil(self.pacing.next_tick));
+    }
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if let State::Running(_) = self.state {
+            return;
+        }
+        let v = &mut self.viewer;
+        match Window::open(event_loop, &v.config.title, v.config.size, &v.egui) {
+            Ok(window) => {
+                window.request_redraw();
+                self.state = State::Running(Box::new(window));
+            }
+            Err(e) => v.fail(event_loop, e),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        if let State::Running(window) = &mut self.state {
+            self.viewer.on_window_event(window, event_loop, event);
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        let window = match &self.state {
+            State::Initial => None,
+            State::Running(window) => Some(&**window),
+        };
+        self.viewer.tick(window, event_loop);
     }
 }

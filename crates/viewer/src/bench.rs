@@ -11,9 +11,10 @@ use std::fmt::Write as _;
 use anyhow::Result;
 use serde_json::{json, Map, Value};
 use stereo::{FrameStats, Mode, Options, Quality, StereoFrame};
-use tracer::{Eye, RayCounts, Renderer, Tracer};
+use tracer::{RayCounts, Tracer};
 
 use crate::cli::BenchArgs;
+use crate::reference::Reference;
 use crate::report;
 use crate::setup::FrameSetup;
 
@@ -40,7 +41,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let (w, h) = (args.frame.width, args.frame.height);
     let mut tracer = Tracer::new(&setup.scene, args.frame.time);
     let mut frame = StereoFrame::new();
-    let (mut reference, mut reference_renderer) = (Vec::new(), Renderer::new());
+    let mut reference = Reference::default();
     let mut results: Vec<Measured> =
         VARIANTS.iter().map(|&(name, ..)| Measured { name, frames: Vec::new(), quality: Vec::new() }).collect();
 
@@ -50,11 +51,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     for k in 0..args.frames {
         let t = args.frame.time + k as f32 / 30.0;
         tracer.update(&setup.scene, t);
-        reference_renderer.render_rgb(&tracer, &setup.camera.view(Eye::Right, w, h), &mut reference);
+        reference.trace(&tracer, &setup.camera, w, h);
         for (m, &(_, mode, retrace_edges)) in results.iter_mut().zip(&VARIANTS) {
             let stats = frame.render(&tracer, &setup.camera, w, h, Options { mode, retrace_edges });
             m.frames.push(stats);
-            m.quality.push(Quality::compare(&frame.right().rgb, &reference));
+            m.quality.push(reference.compare(&frame.right().rgb));
         }
     }
 

@@ -1,19 +1,37 @@
 //! `stereotrace`: the stereo viewer window, and the headless `render` and `bench` commands.
 //!
 //! Exit codes: 0 success, 2 bad input (scene file, arguments), 1 any other failure.
+//!
+//! The modules, in order: each uses only modules listed before it (and the package's library,
+//! `lib.rs`, for PNG output).
+//! - `cli` (the arguments), `setup` (a scene with the overrides applied, the memory check),
+//!   `report` (the JSON keys), `reference` (the full trace quality is measured against);
+//! - `render_cmd` and `bench`, the headless commands;
+//! - `timing` (scene clock, rate meters), `syslibs` (start-up checks), `frame_times` (the
+//!   frame-time history), `input` (keys and drags);
+//! - `worker` (the render thread and its requests), `present` (a frame into the window's
+//!   buffer), `settings` (the settings model, head movement, the request), `screenshot`,
+//!   `fps_log` (the stderr log), `ui` (the panel, drawing only), `window` (the window and
+//!   presenting into it);
+//! - `app`, the event loop's handler, which ties the viewer together.
 
 mod app;
 mod bench;
 mod cli;
-mod png_out;
+mod fps_log;
+mod frame_times;
+mod input;
 mod present;
+mod reference;
 mod render_cmd;
 mod report;
 mod screenshot;
+mod settings;
 mod setup;
 mod syslibs;
 mod timing;
 mod ui;
+mod window;
 mod worker;
 
 use std::process::ExitCode;

@@ -26,6 +26,7 @@ pub fn write_png(path: &Path, width: u32, height: u32, pixels: &[u32]) -> Result
 }
 
 /// The directory a file will be written into (`.` for a bare file name).
+#[must_use]
 pub fn parent_dir(path: &Path) -> &Path {
     match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p,

@@ -4,16 +4,17 @@
 //! Each eye fills one half of the window: `width / 2` physical pixels wide (an odd last column
 //! stays background) and the full height. If the finished frame was rendered for another
 //! size — the window was just resized — it is scaled nearest-neighbour, so a resize never
-//! shows stale or uninitialised memory. The layouts are [`stereo::Layout`]'s: side by side,
-//! cross-eyed (eyes swapped), or the red–cyan anaglyph, which the worker computes and which is
-//! shown centred at the eye size.
+//! shows stale or uninitialised memory. The layouts are [`stereo::Layout`]'s, with the eyes
+//! where [`Layout::slots`] puts them: side by side, cross-eyed (eyes swapped), or the red–cyan
+//! anaglyph, which the worker composes and which is shown centred at the eye size.
 //!
 //! This runs on the UI thread without rayon: the global pool belongs to the tracer, and
 //! waiting on it would make the UI wait for the render.
 
 use std::ops::Range;
 
-use stereo::{mask_color, Layout, PixelClass, MASK_LEGEND};
+use stereo::{mask_color, Layout};
+use tracer::Eye;
 
 use crate::worker::Finished;
 
@@ -69,44 +70,34 @@ pub fn ui_rows(primitives: &[egui::ClippedPrimitive], pixels_per_point: f32, hei
     }
 }
 
+/// How the eyes are shown: the choices that change the picture on screen but not the
+/// rendered eyes (the anaglyph aside, which the worker makes with the same swap).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Look {
+    /// How the eyes are arranged.
+    pub layout: Layout,
+    /// Exchange the eyes.
+    pub swap: bool,
+    /// Blend the debug mask over the right eye (or the anaglyph).
+    pub show_mask: bool,
+}
+
 /// Draws stereo frames into window buffers, keeping its scratch between frames.
 #[derive(Debug, Default)]
 pub struct Compositor {
     /// For each destination column of an eye, the source column.
     columns: Vec<u32>,
-    /// Mask colour per class (indexed by `PixelClass as usize`).
-    mask_colors: [u32; 5],
 }
 
 impl Compositor {
-    /// A compositor with an empty scratch.
-    #[must_use]
-    pub fn new() -> Self {
-        let mut mask_colors = [0; 5];
-        for (class, _) in MASK_LEGEND {
-            mask_colors[class as usize] = mask_color(class);
-        }
-        Self { columns: Vec::new(), mask_colors }
-    }
-
-    /// Fills `dst` (`width` × `height`, row-major) with `frame` in `layout`, the eyes
-    /// exchanged first when `swap` is set (the worker made the anaglyph with the same swap),
-    /// the right eye (or the anaglyph) blended half and half with the debug mask when
-    /// `show_mask` is set.
+    /// Fills `dst` (`width` × `height`, row-major) with `frame` as `look` asks: the eyes in
+    /// the layout's slots, the right eye (or the anaglyph) blended half and half with the
+    /// debug mask when it is shown.
     /// A frame without its anaglyph (the layout was just switched) is shown side by side.
     /// Returns whether the eyes were drawn (false before the first frame or when the window
     /// is too small).
-    pub fn compose(
-        &mut self,
-        dst: &mut [u32],
-        width: usize,
-        height: usize,
-        frame: &Finished,
-        layout: Layout,
-        swap: bool,
-        show_mask: bool,
-    ) -> bool {
-        debug_assert_eq!(dst.len(), width * height);
+    pub fn compose(&mut self, dst: &mut [u32], width: usize, height: usize, frame: &Finished, look: Look) -> bool {
+        debug_assert_eq!(dst.len(), width * height, "the buffer is width × height");
         let (ew, eh) = eye_size(width as u32, height as u32);
         let (ew, eh) = (ew as usize, eh as usize);
         let (fw, fh) = frame.size();
@@ -118,12 +109,15 @@ impl Compositor {
         }
         self.columns.clear();
         self.columns.extend((0..ew).map(|x| (x * fw / ew) as u32));
-        let (columns, colors) = (&self.columns, &self.mask_colors);
+        let columns = &self.columns;
         // Same width: whole rows are copied, not gathered column by column.
         let direct = fw == ew;
+        let Look { layout, swap, show_mask } = look;
         let (left, right, mask) = (&frame.left, &frame.right, &frame.mask);
         let anaglyph = (layout == Layout::Anaglyph && frame.anaglyph.len() == fw * fh).then_some(&frame.anaglyph);
-        let overlay = |p: u32, s: usize| if show_mask { blend_half(p, colors[mask[s] as usize]) } else { p };
+        let halves = if layout == Layout::Anaglyph { Layout::SideBySide } else { layout };
+        let left_first = halves.slots(swap)[0] == Eye::Left;
+        let overlay = |p: u32, s: usize| if show_mask { blend_half(p, mask_color(mask[s])) } else { p };
         for (y, row) in dst.chunks_exact_mut(width).enumerate() {
             let src_row = (y * fh / eh) * fw;
             if let Some(image) = anaglyph {
@@ -136,7 +130,7 @@ impl Compositor {
             }
             let (first, rest) = row.split_at_mut(ew);
             let (second, pad) = rest.split_at_mut(ew);
-            let (l, r) = if (layout == Layout::CrossEyed) == swap { (first, second) } else { (second, first) };
+            let (l, r) = if left_first { (first, second) } else { (second, first) };
             let span = src_row..src_row + fw;
             if direct {
                 l.copy_from_slice(&left[span.clone()]);
@@ -162,16 +156,16 @@ fn fill_eye(dst: &mut [u32], columns: &[u32], pixel: impl Fn(usize) -> u32) {
     }
 }
 
-/// The class mask drawn as colours, for saving: `0x00RRGGBB` per right-eye pixel.
-pub fn mask_image(mask: &[PixelClass], out: &mut Vec<u32>) {
-    out.clear();
-    out.extend(mask.iter().map(|&c| mask_color(c)));
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use stereo::PixelClass;
+
     use crate::worker::{FrameInfo, Request};
+
+    fn look(layout: Layout, swap: bool, show_mask: bool) -> Look {
+        Look { layout, swap, show_mask }
+    }
 
     fn frame(w: u32, h: u32) -> Finished {
         let n = (w * h) as usize;
@@ -206,7 +200,7 @@ mod tests {
     fn eyes_fill_the_halves_exactly_at_the_matching_size() {
         let f = frame(4, 2);
         let mut dst = vec![0xFFFF_FFFF; 9 * 2];
-        assert!(Compositor::new().compose(&mut dst, 9, 2, &f, Layout::SideBySide, false, false));
+        assert!(Compositor::default().compose(&mut dst, 9, 2, &f, look(Layout::SideBySide, false, false)));
         assert_eq!(&dst[0..4], &f.left[0..4]);
         assert_eq!(&dst[4..8], &f.right[0..4]);
         assert_eq!(dst[8], BACKGROUND, "odd last column");
@@ -218,15 +212,15 @@ mod tests {
     fn a_stale_frame_is_scaled_and_small_windows_show_background() {
         let f = frame(2, 1);
         let mut dst = vec![0; 8 * 2];
-        let mut c = Compositor::new();
-        assert!(c.compose(&mut dst, 8, 2, &f, Layout::CrossEyed, false, false));
+        let mut c = Compositor::default();
+        assert!(c.compose(&mut dst, 8, 2, &f, look(Layout::CrossEyed, false, false)));
         // Nearest neighbour: each source pixel twice across, every row the same.
         assert_eq!(&dst[0..8], &[f.right[0], f.right[0], f.right[1], f.right[1], 0, 0, 1, 1]);
         assert_eq!(&dst[0..8], &dst[8..16]);
         let mut one = [0u32; 1];
-        assert!(!c.compose(&mut one, 1, 1, &f, Layout::SideBySide, false, false));
+        assert!(!c.compose(&mut one, 1, 1, &f, look(Layout::SideBySide, false, false)));
         assert_eq!(one[0], BACKGROUND);
-        assert!(!c.compose(&mut dst, 8, 2, &Finished::default(), Layout::SideBySide, false, true));
+        assert!(!c.compose(&mut dst, 8, 2, &Finished::default(), look(Layout::SideBySide, false, true)));
     }
 
     #[test]
@@ -245,11 +239,11 @@ mod tests {
     fn the_anaglyph_is_centred_and_missing_ones_fall_back_to_side_by_side() {
         let mut f = frame(2, 1);
         let mut dst = vec![0; 8];
-        let mut c = Compositor::new();
-        c.compose(&mut dst, 8, 1, &f, Layout::Anaglyph, false, false);
+        let mut c = Compositor::default();
+        c.compose(&mut dst, 8, 1, &f, look(Layout::Anaglyph, false, false));
         assert_eq!(&dst[..4], &[f.left[0], f.left[0], f.left[1], f.left[1]], "side by side, scaled");
         f.anaglyph = vec![7, 9];
-        c.compose(&mut dst, 8, 1, &f, Layout::Anaglyph, false, false);
+        c.compose(&mut dst, 8, 1, &f, look(Layout::Anaglyph, false, false));
         assert_eq!(dst, [BACKGROUND, BACKGROUND, 7, 7, 9, 9, BACKGROUND, BACKGROUND]);
     }
 
@@ -257,12 +251,12 @@ mod tests {
     fn swap_exchanges_the_eyes_and_the_mask_follows_the_right_eye() {
         let f = frame(1, 1);
         let mut dst = [0u32; 2];
-        let mut c = Compositor::new();
-        c.compose(&mut dst, 2, 1, &f, Layout::SideBySide, true, false);
+        let mut c = Compositor::default();
+        c.compose(&mut dst, 2, 1, &f, look(Layout::SideBySide, true, false));
         assert_eq!(dst, [f.right[0], f.left[0]]);
-        c.compose(&mut dst, 2, 1, &f, Layout::CrossEyed, true, false);
+        c.compose(&mut dst, 2, 1, &f, look(Layout::CrossEyed, true, false));
         assert_eq!(dst, [f.left[0], f.right[0]]);
-        c.compose(&mut dst, 2, 1, &f, Layout::SideBySide, true, true);
+        c.compose(&mut dst, 2, 1, &f, look(Layout::SideBySide, true, true));
         assert_eq!(dst, [blend_half(f.right[0], mask_color(PixelClass::Reprojected)), f.left[0]]);
     }
 
@@ -270,7 +264,7 @@ mod tests {
     fn mask_blends_half_and_half() {
         let f = frame(1, 1);
         let mut dst = [0u32; 2];
-        Compositor::new().compose(&mut dst, 2, 1, &f, Layout::SideBySide, false, true);
+        Compositor::default().compose(&mut dst, 2, 1, &f, look(Layout::SideBySide, false, true));
         assert_eq!(dst[1], blend_half(f.right[0], mask_color(PixelClass::Reprojected)));
         assert_eq!(blend_half(0x00FF_FFFF, 0x00FF_FFFF), 0x00FE_FEFE);
         assert_eq!(blend_half(0x00FF_0000, 0), 0x007F_0000);

@@ -8,13 +8,14 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use serde_json::json;
-use stereo::{compose, mask_color, Options, Quality, StereoFrame};
-use tracer::{Eye, RayCounts, Renderer, Tracer};
+use stereo::{compose, mask_image, Options, StereoFrame};
+use tracer::{RayCounts, Tracer};
 
 use crate::cli::RenderArgs;
-use crate::png_out::{parent_dir, write_png};
+use crate::reference::Reference;
 use crate::report;
 use crate::setup::{BadInput, FrameSetup};
+use viewer::{parent_dir, write_png};
 
 /// Runs the command.
 pub fn run(args: &RenderArgs) -> Result<()> {
@@ -44,7 +45,8 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         write_png(p, w, h, &frame.right().rgb)?;
     }
     if let Some(p) = &args.mask {
-        let mask: Vec<u32> = frame.mask().iter().map(|&c| mask_color(c)).collect();
+        let mut mask = Vec::new();
+        mask_image(frame.mask(), &mut mask);
         write_png(p, w, h, &mask)?;
     }
     if let Some(p) = &args.out {
@@ -54,9 +56,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         write_png(p, ow, oh, &pair)?;
     }
     if args.json {
-        let mut reference = Vec::new();
-        Renderer::new().render_rgb(&tracer, &setup.camera.view(Eye::Right, w, h), &mut reference);
-        let q = Quality::compare(&frame.right().rgb, &reference);
+        let mut reference = Reference::default();
+        reference.trace(&tracer, &setup.camera, w, h);
+        let q = reference.compare(&frame.right().rgb);
         let mut out = json!({
             "scene": setup.path.display().to_string(),
             "width": w,

@@ -1,17 +1,69 @@
 //! Screenshots (key S): the frame on screen as PNGs named
-//! `stereotrace-YYYYmmdd-HHMMSS-<left|right|pair|mask>.png` (UTC) in a folder created if missing.
+//! `stereotrace-YYYYmmdd-HHMMSS-<left|right|pair|mask>.png` (UTC) in a folder created if
+//! missing, and the note the panel shows about the last save.
 
 use std::path::{Path, PathBuf};
-use std::time::{SystemTime, UNIX_EPOCH};
+use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use anyhow::Context as _;
-use stereo::Layout;
-
-use crate::present;
+use crate::present::Look;
 use crate::worker::Finished;
+use anyhow::Context as _;
 
 /// The default folder, relative to the current directory.
 pub const DEFAULT_FOLDER: &str = "./screenshots";
+
+/// How long the panel shows where the last screenshot went.
+const NOTE_SHOWN: Duration = Duration::from_secs(6);
+
+/// The screenshot folder and what the last save did.
+#[derive(Clone, Debug)]
+pub struct Screenshots {
+    /// The folder, as typed in the panel.
+    pub folder: String,
+    /// What the last save wrote, or why it failed.
+    pub note: Note,
+}
+
+/// What the last save wrote (or why it failed), and when.
+#[derive(Clone, Debug, Default)]
+pub struct Note(Option<(String, Instant)>);
+
+impl Note {
+    /// The note while it is recent at `now`.
+    #[must_use]
+    pub fn recent(&self, now: Instant) -> Option<&str> {
+        self.0.as_ref().filter(|(_, at)| now.saturating_duration_since(*at) < NOTE_SHOWN).map(|(note, _)| &**note)
+    }
+}
+
+impl Default for Screenshots {
+    fn default() -> Self {
+        Self { folder: DEFAULT_FOLDER.to_owned(), note: Note::default() }
+    }
+}
+
+impl Screenshots {
+    /// Writes `frame` as `look` shows it into the folder ([`save`]); the note says where (or
+    /// why not), and so does stderr. The viewer carries on either way.
+    pub fn save(&mut self, frame: &Finished, look: Look) {
+        let folder = PathBuf::from(if self.folder.trim().is_empty() { "." } else { self.folder.trim() });
+        let note = match save(&folder, frame, look, SystemTime::now()) {
+            Ok(paths) => {
+                for p in &paths {
+                    eprintln!("stereotrace: saved {}", p.display());
+                }
+                let names: Vec<String> =
+                    paths.iter().filter_map(|p| p.file_name()).map(|n| n.to_string_lossy().into_owned()).collect();
+                format!("saved in {}:\n{}", folder.display(), names.join("\n"))
+            }
+            Err(e) => {
+                eprintln!("stereotrace: {e:#}");
+                format!("not saved: {e:#}")
+            }
+        };
+        self.note = Note(Some((note, Instant::now())));
+    }
+}
 
 /// `YYYYmmdd-HHMMSS` in UTC for a time (times before 1970 count as 1970-01-01 00:00:00).
 #[must_use]
@@ -37,17 +89,11 @@ fn civil_from_days(days: i64) -> (i64, u32, u32) {
     (y, m, d)
 }
 
-/// Writes the left and right eyes, the pair in `layout` (eyes exchanged first when `swap`)
-/// and, when `with_mask`, the right eye's class mask into `folder`, creating it if missing.
-/// Returns the files written.
-pub fn save(
-    folder: &Path,
-    frame: &Finished,
-    layout: Layout,
-    swap: bool,
-    with_mask: bool,
-    time: SystemTime,
-) -> anyhow::Result<Vec<PathBuf>> {
+/// Writes the left and right eyes, the pair in the look's layout (eyes exchanged first when
+/// it swaps them) and, when it shows the mask, the right eye's class mask into `folder`,
+/// creating it if missing. Returns the files written.
+pub fn save(folder: &Path, frame: &Finished, look: Look, time: SystemTime) -> anyhow::Result<Vec<PathBuf>> {
+    let Look { layout, swap, show_mask } = look;
     let (w, h) = frame.size();
     let n = w as usize * h as usize;
     if frame.info.is_none() || frame.left.len() != n || frame.right.len() != n || frame.mask.len() != n {
@@ -59,8 +105,8 @@ pub fn save(
     stereo::compose(layout, swap, &frame.left, &frame.right, w, h, &mut pair);
     let (pw, ph) = layout.size(w, h);
     let mut mask = Vec::new();
-    if with_mask {
-        present::mask_image(&frame.mask, &mut mask);
+    if show_mask {
+        stereo::mask_image(&frame.mask, &mut mask);
     }
     let mut written = Vec::new();
     for (name, pixels, (iw, ih)) in [
@@ -73,7 +119,7 @@ pub fn save(
             continue;
         }
         let path = folder.join(format!("{base}-{name}.png"));
-        crate::png_out::write_png(&path, iw, ih, pixels)?;
+        viewer::write_png(&path, iw, ih, pixels)?;
         written.push(path);
     }
     Ok(written)
@@ -99,8 +145,16 @@ mod tests {
     #[test]
     fn saving_before_the_first_frame_fails_cleanly() {
         let dir = std::env::temp_dir().join(format!("stereotrace-shot-test-{}", std::process::id()));
-        let e = save(&dir, &Finished::default(), Layout::SideBySide, false, true, SystemTime::now()).unwrap_err();
+        let look = Look { layout: stereo::Layout::SideBySide, swap: false, show_mask: true };
+        let e = save(&dir, &Finished::default(), look, SystemTime::now()).unwrap_err();
         assert!(e.to_string().contains("nothing to save"), "{e}");
         assert!(!dir.exists(), "no folder is made for nothing");
+        let mut shots = Screenshots { folder: dir.display().to_string(), note: Note::default() };
+        let before = Instant::now();
+        assert_eq!(shots.note.recent(before), None, "no note before a save");
+        shots.save(&Finished::default(), look);
+        let note = shots.note.recent(before).unwrap_or_default();
+        assert!(note.starts_with("not saved: nothing to save"), "the panel says why: {note}");
+        assert_eq!(shots.note.recent(Instant::now() + NOTE_SHOWN), None, "the note goes after a while");
     }
 }

@@ -1,5 +1,9 @@
 //! Loading a scene and applying command-line overrides, with input errors kept apart from
-//! other failures (exit code 2 vs 1).
+//! other failures (exit code 2 vs 1), and the check that a frame fits in memory.
+//!
+//! The memory a frame may use is the host's `MemAvailable` (/proc/meminfo), or the number of
+//! bytes in [`MEMORY_ENV`] when that is set: the one place the limit comes from, so tests
+//! (and hosts whose /proc/meminfo misleads, such as some containers) can inject it.
 
 use std::fmt;
 use std::path::{Path, PathBuf};
@@ -78,14 +82,24 @@ impl FrameSetup {
     }
 }
 
+/// The environment variable that sets the memory available to a frame, in bytes, in place of
+/// the host's `MemAvailable`.
+pub const MEMORY_ENV: &str = "STEREOTRACE_MEMORY_AVAILABLE";
+
 /// Bytes one eye-pixel costs across a stereo frame and its full-trace reference: colour,
 /// depth and the visible-surface record for three films, plus the source map and mask.
 const BYTES_PER_PIXEL: u64 = 3 * (4 + 4 + 44) + 4 + 1 + 4;
 
 /// Refuses, before allocating anything, a frame that cannot fit in the memory available.
 fn check_memory(width: u32, height: u32, frames: u64) -> Result<()> {
+    fits_in_memory(width, height, frames, available_memory()?)
+}
+
+/// Whether `frames` frames of `width` × `height` eyes fit in `available` bytes (`None`: no
+/// limit known).
+fn fits_in_memory(width: u32, height: u32, frames: u64, available: Option<u64>) -> Result<()> {
     let need = u64::from(width) * u64::from(height) * BYTES_PER_PIXEL * frames.max(1);
-    let available = available_memory().unwrap_or(u64::MAX);
+    let available = available.unwrap_or(u64::MAX);
     if need > available {
         let gib = |b: u64| b as f64 / f64::from(1u32 << 30);
         return Err(BadInput(format!(
@@ -98,10 +112,46 @@ fn check_memory(width: u32, height: u32, frames: u64) -> Result<()> {
     Ok(())
 }
 
+/// The memory available: [`MEMORY_ENV`] if set, else `MemAvailable` from /proc/meminfo where
+/// there is one.
+fn available_memory() -> Result<Option<u64>> {
+    match std::env::var(MEMORY_ENV) {
+        Ok(v) => v
+            .trim()
+            .parse()
+            .map(Some)
+            .map_err(|_| BadInput(format!("{MEMORY_ENV}={v}: must be a whole number of bytes")).into()),
+        Err(std::env::VarError::NotPresent) => Ok(meminfo_available()),
+        Err(std::env::VarError::NotUnicode(v)) => {
+            Err(BadInput(format!("{MEMORY_ENV}={}: must be a whole number of bytes", v.to_string_lossy())).into())
+        }
+    }
+}
+
 /// `MemAvailable` from /proc/meminfo, where there is one.
-fn available_memory() -> Option<u64> {
+fn meminfo_available() -> Option<u64> {
     let info = std::fs::read_to_string("/proc/meminfo").ok()?;
     let line = info.lines().find(|l| l.starts_with("MemAvailable:"))?;
     let kib: u64 = line.split_whitespace().nth(1)?.parse().ok()?;
     Some(kib * 1024)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_frame_fits_up_to_the_last_byte() {
+        let need = 64 * 64 * BYTES_PER_PIXEL;
+        assert!(fits_in_memory(64, 64, 1, Some(need)).is_ok(), "exactly enough");
+        assert!(fits_in_memory(64, 64, 1, None).is_ok(), "no limit known");
+        let e = fits_in_memory(64, 64, 1, Some(need - 1)).unwrap_err();
+        assert!(e.downcast_ref::<BadInput>().is_some(), "bad input, exit 2: {e}");
+        let e = fits_in_memory(16_384, 16_384, 1, Some(16 << 30)).unwrap_err().to_string();
+        assert_eq!(
+            e, "--width 16384 --height 16384: the frame needs 41.2 GiB but only 16.0 GiB of memory is available",
+            "the message names the flags and both sizes"
+        );
+        assert!(fits_in_memory(64, 64, 2, Some(need)).is_err(), "two frames need twice as much");
+    }
 }

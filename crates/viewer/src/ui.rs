@@ -1,212 +1,34 @@
 //! The egui panel: the render settings the user controls and the live statistics.
 //!
 //! The panel is a small, semi-transparent, collapsible window anchored at the top-left corner,
-//! so the eyes stay visible behind it. It only edits a [`Settings`] value and reports button
-//! presses; the app turns the settings into render requests.
+//! so the eyes stay visible behind it. It only draws: it edits a [`Settings`] value (the
+//! model, `settings.rs`) and reports button presses; the app applies them and turns the
+//! settings into render requests.
 
 use egui::{Align2, Color32, RichText, Slider};
 use glam::Vec3;
-use stereo::{mask_color, FrameStats, Layout, Mode, MASK_LEGEND};
-use tracer::{Camera, Scene};
+use stereo::{mask_color, Layout, Mode, MASK_LEGEND};
 
+use crate::frame_times::{FrameTimes, SERIES_LEN, SERIES_NAMES};
+use crate::settings::{
+    Settings, DISTANCE_RANGE, LIGHT_RANGE, MAX_IPD, MAX_ORBIT_SPEED, MAX_REFLECTION_DEPTH, MIN_RENDER_SCALE,
+};
 use crate::worker::FrameInfo;
-
-/// Largest reflection depth the slider offers.
-pub const MAX_REFLECTION_DEPTH: u32 = 8;
-
-/// How far the light sliders reach from the origin on each axis.
-pub const LIGHT_RANGE: f32 = 30.0;
-
-/// Largest orbit-speed factor.
-pub const MAX_ORBIT_SPEED: f32 = 4.0;
-
-/// Head speed while a movement key is held, scene units per second.
-pub const HEAD_SPEED: f32 = 2.0;
-
-/// Head turn per pixel of mouse drag, degrees.
-pub const TURN_PER_PIXEL: f32 = 0.2;
-
-/// Pitch limit, degrees: the head never looks straight up or down.
-pub const MAX_PITCH: f32 = 89.0;
 
 /// The keys, as the panel lists them.
 pub const HELP: &str = "W/↑ forward · ↓ back · A/← D/→ sideways · right-drag (or left-drag outside \
                         the panel) turns · R reset · 1 2 3 layout · X swap · M mask · Space pause · \
                         S save · Esc quit";
 
-/// Everything the user sets in the panel or with keys.
-// Each flag is an independent checkbox in the panel; an enum or bit set would only obscure that.
-#[allow(clippy::struct_excessive_bools)]
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Settings {
-    /// Interpupillary distance e, scene units (0..2).
-    pub ipd: f32,
-    /// Distance d from the eyes to the zero-parallax window (1..100).
-    pub distance: f32,
-    /// Reflection bounces (0..8).
-    pub depth: u32,
-    /// How the right eye is made.
-    pub mode: Mode,
-    /// For copy and reshade: retrace object-edge pixels too.
-    pub retrace_edges: bool,
-    /// How the eyes are arranged.
-    pub layout: Layout,
-    /// Eyes are traced at this fraction of their on-screen size (0.25..1) and scaled up.
-    pub render_scale: f32,
-    /// Blend the debug mask over the right eye (key M).
-    pub show_mask: bool,
-    /// Measure the right eye against a full trace every frame.
-    pub live_psnr: bool,
-    /// Scene time stands still (key Space).
-    pub paused: bool,
-    /// Exchange the eyes (key X).
-    pub swap_eyes: bool,
-    /// Head position (midpoint between the eyes), world space.
-    pub position: Vec3,
-    /// Head turn about +y, degrees.
-    pub yaw_deg: f32,
-    /// Head tilt, degrees, within ±[`MAX_PITCH`].
-    pub pitch_deg: f32,
-    /// Position of the scene's first light (the sliders reach ±[`LIGHT_RANGE`]); `None` when
-    /// the scene has no lights.
-    pub light: Option<Vec3>,
-    /// Scene seconds per wall second for the revolving spheres (0..4).
-    pub orbit_speed: f32,
-}
-
-impl Settings {
-    /// The scene's own camera and depth, exact mode, nothing else on.
-    #[must_use]
-    pub fn from_scene(scene: &Scene) -> Self {
-        let mut s = Self {
-            ipd: 0.0,
-            distance: 1.0,
-            depth: 0,
-            mode: Mode::Exact,
-            retrace_edges: false,
-            layout: Layout::SideBySide,
-            render_scale: 1.0,
-            show_mask: false,
-            live_psnr: false,
-            paused: false,
-            swap_eyes: false,
-            position: Vec3::ZERO,
-            yaw_deg: 0.0,
-            pitch_deg: 0.0,
-            light: scene.lights.first().map(|l| l.position),
-            orbit_speed: 1.0,
-        };
-        s.reset_camera(scene);
-        s
-    }
-
-    /// Restores the head pose, IPD, distance and reflection depth from the scene (clamped to
-    /// the sliders' ranges).
-    pub fn reset_camera(&mut self, scene: &Scene) {
-        self.ipd = scene.camera.ipd.clamp(0.0, 2.0);
-        self.distance = scene.camera.distance.clamp(1.0, 100.0);
-        self.depth = scene.render.max_depth.min(MAX_REFLECTION_DEPTH);
-        self.position = scene.camera.position;
-        self.yaw_deg = scene.camera.yaw_deg;
-        self.pitch_deg = scene.camera.pitch_deg.clamp(-MAX_PITCH, MAX_PITCH);
-    }
-
-    /// The camera these settings ask for: `base` (the scene's) with the head pose, IPD and
-    /// distance set here.
-    #[must_use]
-    pub fn camera(&self, base: &Camera) -> Camera {
-        Camera {
-            ipd: self.ipd,
-            distance: self.distance,
-            position: self.position,
-            yaw_deg: self.yaw_deg,
-            pitch_deg: self.pitch_deg,
-            ..*base
-        }
-    }
-
-    /// Moves the head (both eyes together) by `forward` and `right` scene units along its own
-    /// axes (forward follows the pitch too).
-    pub fn move_head(&mut self, forward: f32, right: f32) {
-        let rot = self.camera(&Camera::default()).world_from_head();
-        self.position += rot * Vec3::new(right, 0.0, forward);
-    }
-
-    /// Turns the head by a mouse drag of `dx`, `dy` pixels (right turns right, up looks up).
-    pub fn turn_head(&mut self, dx: f32, dy: f32) {
-        self.yaw_deg = (self.yaw_deg + dx * TURN_PER_PIXEL + 180.0).rem_euclid(360.0) - 180.0;
-        self.pitch_deg = (self.pitch_deg - dy * TURN_PER_PIXEL).clamp(-MAX_PITCH, MAX_PITCH);
-    }
-
-    /// The size to trace an eye at, for an eye of `width` × `height` on screen.
-    #[must_use]
-    pub fn render_size(&self, width: u32, height: u32) -> (u32, u32) {
-        let scaled = |n: u32| ((n as f32 * self.render_scale.clamp(0.25, 1.0)).round() as u32).clamp(1, n.max(1));
-        (scaled(width), scaled(height))
-    }
-
-    /// The render options these settings ask for.
-    #[must_use]
-    pub fn options(&self) -> stereo::Options {
-        stereo::Options { mode: self.mode, retrace_edges: self.retrace_edges }
-    }
-}
-
-/// The series of the frame-time plot: name and line colour.
-pub const SERIES: [(&str, Color32); SERIES_LEN] = [
-    ("frame", Color32::from_rgb(200, 200, 200)),
-    ("left eye", Color32::from_rgb(255, 110, 90)),
-    ("right eye", Color32::from_rgb(90, 200, 255)),
-    ("reproject", Color32::from_rgb(120, 230, 110)),
-    ("retrace", Color32::from_rgb(240, 200, 60)),
-    ("reshade", Color32::from_rgb(210, 120, 255)),
+/// The line colour of each series of the frame-time plot, in [`SERIES_NAMES`] order.
+pub const SERIES_COLORS: [Color32; SERIES_LEN] = [
+    Color32::from_rgb(200, 200, 200),
+    Color32::from_rgb(255, 110, 90),
+    Color32::from_rgb(90, 200, 255),
+    Color32::from_rgb(120, 230, 110),
+    Color32::from_rgb(240, 200, 60),
+    Color32::from_rgb(210, 120, 255),
 ];
-
-/// Number of series in the frame-time plot.
-pub const SERIES_LEN: usize = 6;
-
-/// One frame's times, milliseconds, in [`SERIES`] order.
-pub type Sample = [f32; SERIES_LEN];
-
-/// The times of one frame in [`SERIES`] order: the whole job, each eye, and the right eye's
-/// stages (the left eye's only stage is its trace).
-#[must_use]
-pub fn sample(wall_ms: f64, stats: &FrameStats) -> Sample {
-    let st = &stats.stages;
-    [wall_ms, stats.left.ms, stats.right.ms, st.reproject, st.retrace, st.reshade].map(|v| v as f32)
-}
-
-/// The last frames' times, for the plot (a fixed ring, no allocation).
-#[derive(Clone, Debug)]
-pub struct FrameTimes {
-    ms: [Sample; Self::LEN],
-    head: usize,
-    len: usize,
-}
-
-impl Default for FrameTimes {
-    fn default() -> Self {
-        Self { ms: [[0.0; SERIES_LEN]; Self::LEN], head: 0, len: 0 }
-    }
-}
-
-impl FrameTimes {
-    /// How many frames the plot shows.
-    pub const LEN: usize = 120;
-
-    /// Records one frame's times.
-    pub fn push(&mut self, ms: Sample) {
-        self.ms[self.head] = ms;
-        self.head = (self.head + 1) % Self::LEN;
-        self.len = (self.len + 1).min(Self::LEN);
-    }
-
-    /// Oldest first.
-    pub fn iter(&self) -> impl Iterator<Item = &Sample> + '_ {
-        let start = (self.head + Self::LEN - self.len) % Self::LEN;
-        (0..self.len).map(move |k| &self.ms[(start + k) % Self::LEN])
-    }
-}
 
 /// What the panel shows but does not edit.
 #[derive(Clone, Copy, Debug)]
@@ -280,13 +102,13 @@ pub fn panel(ctx: &egui::Context, settings: &mut Settings, readout: &Readout<'_>
 }
 
 fn controls(ui: &mut egui::Ui, s: &mut Settings, readout: &Readout<'_>, actions: &mut Actions) {
-    ui.add(Slider::new(&mut s.ipd, 0.0..=2.0).text("IPD")).on_hover_text("interpupillary distance e, scene units");
-    ui.add(Slider::new(&mut s.distance, 1.0..=100.0).logarithmic(true).text("depth d"))
+    ui.add(Slider::new(&mut s.ipd, 0.0..=MAX_IPD).text("IPD")).on_hover_text("interpupillary distance e, scene units");
+    ui.add(Slider::new(&mut s.distance, DISTANCE_RANGE.0..=DISTANCE_RANGE.1).logarithmic(true).text("depth d"))
         .on_hover_text("distance from the eyes to the zero-parallax window");
     ui.add(Slider::new(&mut s.depth, 0..=MAX_REFLECTION_DEPTH).text("reflections"))
         .on_hover_text("reflection depth (bounces)");
     ui.add(
-        Slider::new(&mut s.render_scale, 0.25..=1.0)
+        Slider::new(&mut s.render_scale, MIN_RENDER_SCALE..=1.0)
             .text("render scale")
             .custom_formatter(|v, _| format!("{:.0} %", v * 100.0))
             .custom_parser(|t| t.trim().trim_end_matches('%').trim().parse::<f64>().ok().map(|v| v / 100.0)),
@@ -409,7 +231,7 @@ fn frame_time_plot(ui: &mut egui::Ui, history: &FrameTimes) {
     let step = rect.width() / (FrameTimes::LEN - 1) as f32;
     // Newest at the right edge.
     let skip = FrameTimes::LEN - history.iter().count();
-    for (series, &(_, color)) in SERIES.iter().enumerate() {
+    for (series, &color) in SERIES_COLORS.iter().enumerate() {
         let points: Vec<egui::Pos2> = history
             .iter()
             .enumerate()
@@ -427,7 +249,7 @@ fn frame_time_plot(ui: &mut egui::Ui, history: &FrameTimes) {
     }
     ui.horizontal_wrapped(|ui| {
         ui.spacing_mut().item_spacing.x = 4.0;
-        for (name, color) in SERIES {
+        for (name, color) in SERIES_NAMES.into_iter().zip(SERIES_COLORS) {
             let (swatch, _) = ui.allocate_exact_size(egui::vec2(10.0, 3.0), egui::Sense::hover());
             ui.painter().rect_filled(swatch, 0.0, color);
             ui.label(RichText::new(name).small());
@@ -449,6 +271,11 @@ fn legend(ui: &mut egui::Ui) {
 
 #[cfg(test)]
 mod tests {
+    use egui::accesskit::Role;
+    use egui_kittest::kittest::Queryable as _;
+    use egui_kittest::Harness;
+    use tracer::Scene;
+
     use super::*;
 
     fn scene() -> Scene {
@@ -457,39 +284,52 @@ mod tests {
         Scene::from_toml(src, "s.toml").unwrap()
     }
 
+    /// A scene with a light and a revolving sphere, so the light section's controls are on.
+    fn lit_scene() -> Scene {
+        let src = "[[lights]]\nposition = [0.0, 5.0, 0.0]\n[[spheres]]\ncenter = [0.0, 0.0, 10.0]\nradius = 1.0\n\
+                   [[spheres]]\nradius = 0.5\norbit = { center = [0.0, 0.0, 10.0], radius = 3.0, period_s = 8.0 }\n";
+        Scene::from_toml(src, "lit.toml").unwrap()
+    }
+
     /// What the panel shows before the first frame arrives.
     fn idle_readout(history: &FrameTimes) -> Readout<'_> {
         Readout { ui_fps: 60.0, render_fps: 30.0, frame: None, time: 0.0, animated: true, history, saved: None }
     }
 
-    #[test]
-    fn reset_restores_the_scene_camera_within_the_slider_ranges() {
-        let scene = scene();
-        let mut s = Settings::from_scene(&scene);
-        assert_eq!((s.ipd, s.distance, s.depth, s.mode), (0.5, 9.0, MAX_REFLECTION_DEPTH, Mode::Exact));
-        s.ipd = 1.7;
-        s.distance = 40.0;
-        s.show_mask = true;
-        s.reset_camera(&scene);
-        assert_eq!((s.ipd, s.distance), (0.5, 9.0));
-        assert!(s.show_mask, "reset touches only the camera values");
-        assert_eq!(s.render_size(800, 600), (800, 600));
-        s.render_scale = 0.5;
-        assert_eq!(s.render_size(801, 600), (401, 300));
-        s.render_scale = 0.0;
-        assert_eq!(s.render_size(3, 1), (1, 1));
+    /// What the harness keeps between frames: the panel's model and every action reported.
+    struct State {
+        settings: Settings,
+        folder: String,
+        actions: Actions,
     }
 
-    #[test]
-    fn frame_times_keep_the_last_ones_in_order() {
-        let mut t = FrameTimes::default();
-        for k in 0..(FrameTimes::LEN + 3) {
-            t.push([k as f32; SERIES_LEN]);
-        }
-        let v: Vec<f32> = t.iter().map(|s| s[2]).collect();
-        assert_eq!(v.len(), FrameTimes::LEN);
-        assert_eq!(v[0], 3.0);
-        assert_eq!(*v.last().unwrap(), (FrameTimes::LEN + 2) as f32);
+    /// The panel for `scene` in a kittest harness, the way the app runs it.
+    fn harness<'a>(scene: &Scene, readout: Readout<'a>) -> Harness<'a, State> {
+        let state = State {
+            settings: Settings::from_scene(scene),
+            folder: "./screenshots".into(),
+            actions: Actions::default(),
+        };
+        let mut harness = Harness::builder().with_size(egui::vec2(1600.0, 900.0)).build_ui_state(
+            move |ui, st: &mut State| {
+                setup_style(ui.ctx());
+                let actions = panel(ui.ctx(), &mut st.settings, &readout, &mut st.folder);
+                st.actions.reset |= actions.reset;
+                st.actions.save |= actions.save;
+                st.actions.reset_light |= actions.reset_light;
+            },
+            state,
+        );
+        harness.run();
+        harness
+    }
+
+    /// Focuses the slider labelled `label` and presses `key` once.
+    fn nudge(harness: &mut Harness<'_, State>, label: &str, key: egui::Key) {
+        harness.get_by_role_and_label(Role::Slider, label).focus();
+        harness.run();
+        harness.key_press(key);
+        harness.run();
     }
 
     #[test]
@@ -525,102 +365,78 @@ mod tests {
         assert!(short.height() < 280.0, "a short window should scroll the panel: {short:?}");
         let again = panel_rect(&mut s, 700.0);
         assert_eq!(again.height(), with.height(), "the panel should grow back");
-        assert_eq!(mega(1_234_567), "1.23 M");
+        assert_eq!(mega(1_234_567), "1.23 M", "ray counts in millions");
     }
 
     /// The panel driven as a user would, through its accessibility tree (egui_kittest):
     /// widgets found by their labels, a slider moved with the keyboard, buttons clicked.
     #[test]
     fn panel_widgets_change_the_render_settings() {
-        use egui::accesskit::Role;
-        use egui_kittest::kittest::Queryable as _;
-        use egui_kittest::Harness;
-
-        struct State {
-            settings: Settings,
-            folder: String,
-            actions: Actions,
-        }
-        let scene = scene();
         let history = FrameTimes::default();
-        let readout = idle_readout(&history);
-        let state = State {
-            settings: Settings::from_scene(&scene),
-            folder: "./screenshots".into(),
-            actions: Actions::default(),
-        };
-        let mut harness = Harness::builder().with_size(egui::vec2(1600.0, 900.0)).build_ui_state(
-            |ui, st: &mut State| {
-                setup_style(ui.ctx());
-                let actions = panel(ui.ctx(), &mut st.settings, &readout, &mut st.folder);
-                st.actions.reset |= actions.reset;
-                st.actions.save |= actions.save;
-            },
-            state,
-        );
-        harness.run();
+        let mut harness = harness(&scene(), idle_readout(&history));
 
         // The IPD slider: focused and nudged up with the arrow key.
         let ipd = harness.state().settings.ipd;
-        harness.get_by_role_and_label(Role::Slider, "IPD").focus();
-        harness.run();
-        harness.key_press(egui::Key::ArrowRight);
-        harness.run();
+        nudge(&mut harness, "IPD", egui::Key::ArrowRight);
         let after = harness.state().settings.ipd;
         assert!(after > ipd, "IPD should grow: {ipd} -> {after}");
-        assert!(after <= 2.0, "within the slider's range: {after}");
+        assert!(after <= MAX_IPD, "within the slider's range: {after}");
 
         // The mode buttons and the mask checkbox.
         harness.get_by_label("copy").click();
         harness.run();
-        assert_eq!(harness.state().settings.mode, Mode::Copy);
-        assert!(!harness.state().settings.show_mask);
+        assert_eq!(harness.state().settings.mode, Mode::Copy, "the mode button picks copy");
+        assert!(!harness.state().settings.show_mask, "the mask starts hidden");
         harness.get_by_label("show mask (M)").click();
         harness.run();
-        assert!(harness.state().settings.show_mask);
+        assert!(harness.state().settings.show_mask, "the checkbox shows the mask");
 
         // Edge retracing applies to copy: its checkbox is enabled there.
         harness.get_by_label("retrace edges").click();
         harness.run();
-        assert!(harness.state().settings.options().retrace_edges);
+        assert!(harness.state().settings.options().retrace_edges, "edges are retraced");
 
         // The buttons report their clicks to the app.
         harness.get_by_label("save pair (S)").click();
         harness.run();
-        assert!(harness.state().actions.save);
-        assert!(!harness.state().actions.reset);
+        assert!(harness.state().actions.save, "the save click is reported");
+        assert!(!harness.state().actions.reset, "and no other");
+
+        // Without lights the light section says so.
+        harness.get_by_label("light").click();
+        harness.run();
+        let _ = harness.get_by_label("the scene has no lights");
     }
 
+    /// The light section: its position sliders move the first light, its reset button is
+    /// reported, and the orbit-speed slider changes the speed.
     #[test]
-    fn the_light_starts_where_the_scene_puts_it_even_beyond_the_sliders() {
-        let src = "[[lights]]\nposition = [40.0, 2.0, -3.0]\n[[spheres]]\ncenter = [0.0, 0.0, 10.0]\nradius = 1.0\n";
-        let s = Settings::from_scene(&Scene::from_toml(src, "l.toml").unwrap());
-        assert_eq!(s.light, Some(Vec3::new(40.0, 2.0, -3.0)));
-        assert_eq!(s.orbit_speed, 1.0);
-    }
+    fn the_light_controls_move_the_light_and_change_the_orbit_speed() {
+        let scene = lit_scene();
+        let history = FrameTimes::default();
+        let mut harness = harness(&scene, idle_readout(&history));
+        let home = Settings::from_scene(&scene).light.unwrap();
+        harness.get_by_label("light").click();
+        harness.run();
 
-    #[test]
-    fn the_head_moves_along_its_own_axes_and_resets_to_the_scene() {
-        let scene = scene();
-        let mut s = Settings::from_scene(&scene);
-        assert_eq!(s.light, None, "this scene has no lights");
-        s.move_head(2.0, 0.0);
-        assert!((s.position - Vec3::new(0.0, 0.0, 2.0)).length() < 1e-6, "forward is +z: {:?}", s.position);
-        s.turn_head(90.0 / TURN_PER_PIXEL, 0.0);
-        assert!((s.yaw_deg - 90.0).abs() < 1e-3);
-        s.move_head(1.0, 0.0);
-        assert!(
-            (s.position - Vec3::new(1.0, 0.0, 2.0)).length() < 1e-5,
-            "turned right, forward is +x: {:?}",
-            s.position
-        );
-        s.move_head(0.0, 1.0);
-        assert!((s.position - Vec3::new(1.0, 0.0, 1.0)).length() < 1e-5, "and right is -z: {:?}", s.position);
-        s.turn_head(0.0, -1e6);
-        assert_eq!(s.pitch_deg, MAX_PITCH, "dragging up looks up, clamped");
-        let cam = s.camera(&scene.camera);
-        assert_eq!((cam.position, cam.pitch_deg, cam.fov_deg), (s.position, MAX_PITCH, scene.camera.fov_deg));
-        s.reset_camera(&scene);
-        assert_eq!((s.position, s.yaw_deg, s.pitch_deg), (Vec3::ZERO, 0.0, 0.0));
+        nudge(&mut harness, "x", egui::Key::ArrowRight);
+        nudge(&mut harness, "z", egui::Key::ArrowLeft);
+        let moved = harness.state().settings.light.unwrap();
+        assert!(moved.x > home.x, "x should grow: {home} -> {moved}");
+        assert!(moved.z < home.z, "z should shrink: {home} -> {moved}");
+        assert_eq!(moved.y, home.y, "y untouched");
+        assert!(moved.abs().max_element() <= LIGHT_RANGE, "within the sliders' reach: {moved}");
+
+        assert!(!harness.state().actions.reset_light, "no reset yet");
+        harness.get_by_label("reset").click();
+        harness.run();
+        assert!(harness.state().actions.reset_light, "the light's reset click is reported");
+        assert!(!harness.state().actions.reset, "the camera's reset is another button");
+
+        let speed = harness.state().settings.orbit_speed;
+        nudge(&mut harness, "orbit speed", egui::Key::ArrowLeft);
+        let slower = harness.state().settings.orbit_speed;
+        assert!(slower < speed && slower >= 0.0, "the orbit should slow down: {speed} -> {slower}");
+        assert_eq!(harness.state().settings.light, Some(moved), "the light stays where it was moved");
     }
 }

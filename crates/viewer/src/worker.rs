@@ -12,10 +12,10 @@ use std::thread::JoinHandle;
 use std::time::Instant;
 
 use glam::Vec3;
-use rayon::prelude::*;
+use stereo::{FrameStats, Layout, Options, PixelClass, Quality, StereoFrame};
+use tracer::{Camera, Scene, Tracer};
 
-use stereo::{FrameStats, Options, PixelClass, Quality, StereoFrame};
-use tracer::{Camera, Eye, Renderer, Scene, Tracer};
+use crate::reference::Reference;
 
 /// Everything that determines one stereo frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -88,18 +88,13 @@ impl Finished {
         self.right.extend_from_slice(&frame.right().rgb);
         self.mask.clear();
         self.mask.extend_from_slice(frame.mask());
-        self.anaglyph.clear();
         if info.request.anaglyph {
             // Dubois's matrices decode every channel to linear light: too slow for the UI
             // thread at 60 Hz, so it is done here, once per frame, on the rayon pool.
-            let w = (info.request.width as usize).max(1);
-            self.anaglyph.resize(self.left.len(), 0);
-            let (l, r) = if info.request.swap { (&self.right, &self.left) } else { (&self.left, &self.right) };
-            self.anaglyph.par_chunks_mut(w).zip(l.par_chunks(w).zip(r.par_chunks(w))).for_each(|(out, (l, r))| {
-                for (o, (&a, &b)) in out.iter_mut().zip(l.iter().zip(r)) {
-                    *o = stereo::anaglyph_pixel(a, b);
-                }
-            });
+            let (w, h, swap) = (info.request.width, info.request.height, info.request.swap);
+            stereo::compose(Layout::Anaglyph, swap, &self.left, &self.right, w, h, &mut self.anaglyph);
+        } else {
+            self.anaglyph.clear();
         }
         self.info = Some(*info);
     }
@@ -206,7 +201,7 @@ fn render_loop(mut scene: Scene, shared: &Shared) {
     let mut tracer = Tracer::new(&scene, 0.0);
     let scene_light = scene.lights.first().map(|l| l.position);
     let mut frame = StereoFrame::new();
-    let (mut reference, mut reference_renderer) = (Vec::new(), Renderer::new());
+    let mut reference = Reference::default();
     let mut back = Finished::default();
     let mut seq = 0u64;
     loop {
@@ -231,8 +226,8 @@ fn render_loop(mut scene: Scene, shared: &Shared) {
         let (w, h) = (request.width, request.height);
         let stats = frame.render(&tracer, &request.camera, w, h, request.opts);
         let quality = request.psnr.then(|| {
-            reference_renderer.render_rgb(&tracer, &request.camera.view(Eye::Right, w, h), &mut reference);
-            Quality::compare(&frame.right().rgb, &reference)
+            reference.trace(&tracer, &request.camera, w, h);
+            reference.compare(&frame.right().rgb)
         });
         seq += 1;
         back.fill_from(&frame, &FrameInfo { seq, request, stats, quality, wall_ms: 0.0 });
@@ -330,13 +325,28 @@ mod tests {
         assert_eq!(wait_for(&mut worker, 3).left, before, "no override: the scene's light again");
     }
 
+    /// A handle whose render thread never started: what `post` sends stays in the inbox,
+    /// where the test takes it out as the thread would.
+    fn unstarted() -> Worker {
+        Worker { shared: Arc::default(), thread: None, front: Finished::default(), last_posted: None }
+    }
+
+    /// The dedup happens where requests are sent, so it is checked there, without a thread
+    /// and without waiting: the render loop renders exactly what reaches its inbox.
     #[test]
-    fn an_unchanged_request_is_not_rendered_again() {
-        let mut worker = Worker::spawn(scene()).unwrap();
+    fn an_unchanged_request_is_not_sent_again() {
+        let mut worker = unstarted();
+        let take = |w: &Worker| lock(&w.shared.inbox).request.take();
         worker.post(request(16, false));
-        wait_for(&mut worker, 1);
+        assert_eq!(take(&worker), Some(request(16, false)), "the first request is sent");
         worker.post(request(16, false));
-        std::thread::sleep(Duration::from_millis(50));
-        assert_eq!(worker.latest().info.unwrap().seq, 1);
+        assert_eq!(take(&worker), None, "the same request again is not");
+        worker.post(request(17, false));
+        assert_eq!(take(&worker), Some(request(17, false)), "a changed one is");
+        worker.post(request(16, false));
+        worker.post(request(18, false));
+        assert_eq!(take(&worker), Some(request(18, false)), "a request not yet started is replaced");
+        worker.post(request(18, true));
+        assert_eq!(take(&worker), Some(request(18, true)), "any field counts as a change");
     }
 }

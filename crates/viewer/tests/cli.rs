@@ -9,35 +9,83 @@ fn root() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
 }
 
+/// Runs `stereotrace` from the workspace root with `env` set.
+fn stereotrace_with(env: &[(&str, &str)], args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_stereotrace"))
+        .args(args)
+        .envs(env.iter().copied())
+        .current_dir(root())
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run stereotrace: {e}"))
+}
+
 fn stereotrace(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_stereotrace")).args(args).current_dir(root()).output().expect("runs stereotrace")
+    stereotrace_with(&[], args)
 }
 
 fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("stereotrace-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
     dir.join(name)
 }
 
+/// Decodes an 8-bit RGB PNG: (width, height, `0x00RRGGBB` pixels).
+fn read_png(path: &Path) -> (u32, u32, Vec<u32>) {
+    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
+        .read_info()
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut buf = vec![0; reader.output_buffer_size().unwrap_or_default()];
+    let info = reader.next_frame(&mut buf).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert_eq!(info.color_type, png::ColorType::Rgb, "{}: the CLI writes RGB", path.display());
+    let pixels = buf[..info.buffer_size()]
+        .chunks_exact(3)
+        .map(|c| (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2]))
+        .collect();
+    (info.width, info.height, pixels)
+}
+
 fn png_size(path: &Path) -> (u32, u32) {
-    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).expect("PNG exists")));
-    let reader = decoder.read_info().expect("valid PNG");
-    (reader.info().width, reader.info().height)
+    let (w, h, _) = read_png(path);
+    (w, h)
 }
 
 fn json(out: &Output) -> Value {
     assert!(out.status.success(), "failed: {}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).expect("stdout is one JSON object")
+    serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("stdout is not one JSON object: {e}"))
 }
 
-fn rays_add_up(v: &Value) -> u64 {
-    let r = &v["rays"];
-    let total = r["total"].as_u64().unwrap();
-    assert_eq!(
-        total,
-        r["primary"].as_u64().unwrap() + r["shadow"].as_u64().unwrap() + r["reflection"].as_u64().unwrap()
-    );
-    total
+fn count(v: &Value, key: &str) -> u64 {
+    v[key].as_u64().unwrap_or_else(|| panic!("{key} is not a count in {v}"))
+}
+
+/// One mirror sphere on black, lit by three lights: at the eyes (IPD 0: both eyes see the
+/// same image), far behind them, and far beyond the sphere. Every pixel's rays follow from
+/// whether it sees the sphere: its primary ray, and where it hits, a shadow ray to each of the
+/// first two lights (every point the eyes see faces them) but none to the third (no point the
+/// eyes see faces it), and one mirror ray (which leaves the convex sphere and misses: nothing
+/// else is there). A hit is never black (the ambient term lights it), a miss always is.
+const ONE_MIRROR: &str = "[camera]\nipd = 0.0\ndistance = 10.0\nfov_deg = 40.0\n\
+                          [render]\nmax_depth = 4\nbackground = [0.0, 0.0, 0.0]\nambient = 0.2\n\
+                          [[lights]]\nposition = [0.0, 0.0, 0.0]\n\
+                          [[lights]]\nposition = [0.0, 0.0, -50.0]\n\
+                          [[lights]]\nposition = [0.0, 0.3, 1000.0]\n\
+                          [[spheres]]\ncenter = [0.0, 0.3, 10.0]\nradius = 2.5\ncolor = [0.8, 0.4, 0.3]\n\
+                          specular = 0.4\nreflectivity = 0.5\n";
+
+/// The rays an eye of `ONE_MIRROR` must cast, counted from its image: [primary, shadow,
+/// reflection, total].
+fn one_mirror_rays(image: &Path) -> [u64; 4] {
+    let (w, h, pixels) = read_png(image);
+    let pixels_n = u64::from(w * h);
+    let hits = pixels.iter().filter(|&&p| p != 0).count() as u64;
+    assert!(hits > 0 && hits < pixels_n, "the sphere should fill part of the image: {hits} hits");
+    [pixels_n, 2 * hits, hits, pixels_n + 3 * hits]
+}
+
+/// An eye's `rays` object as reported: [primary, shadow, reflection, total].
+fn rays(eye: &Value) -> [u64; 4] {
+    ["primary", "shadow", "reflection", "total"].map(|k| count(&eye["rays"], k))
 }
 
 #[test]
@@ -60,12 +108,11 @@ fn render_full_writes_both_eyes_and_a_consistent_report() {
         "--json",
     ]);
     let v = json(&out);
-    assert_eq!(png_size(&l), (160, 90));
-    assert_eq!(png_size(&r), (160, 90));
+    assert_eq!(png_size(&l), (160, 90), "the left eye's size");
+    assert_eq!(png_size(&r), (160, 90), "the right eye's size");
     for eye in ["left", "right"] {
-        assert_eq!(v[eye]["rays"]["primary"].as_u64(), Some(160 * 90), "{eye}");
-        rays_add_up(&v[eye]);
-        assert!(v[eye]["ms"].as_f64().unwrap() > 0.0);
+        assert_eq!(v[eye]["rays"]["primary"].as_u64(), Some(160 * 90), "{eye}: one primary ray per pixel");
+        assert!(v[eye]["ms"].as_f64().unwrap() > 0.0, "{eye}: timed");
     }
     assert_eq!(v["quality"]["share_not_identical"].as_f64(), Some(0.0));
     assert!(v["quality"]["psnr_db"].is_null(), "identical images have infinite PSNR, reported as null");
@@ -89,17 +136,66 @@ fn render_exact_with_mask_reprojects_most_pixels() {
         "--json",
     ]);
     let v = json(&out);
-    assert_eq!(png_size(&m), (320, 180));
+    assert_eq!(png_size(&m), (320, 180), "the mask's size");
     let px = &v["right"]["pixels"];
     let sum: u64 = ["reprojected", "retraced_gap", "retraced_edge", "retraced_shadow", "traced"]
         .iter()
-        .map(|k| px[k].as_u64().unwrap())
+        .map(|k| count(px, k))
         .sum();
-    assert_eq!(sum, 320 * 180);
-    assert!(px["reprojected"].as_u64().unwrap() > 320 * 180 / 2);
-    let (left, right) = (rays_add_up(&v["left"]), rays_add_up(&v["right"]));
+    assert_eq!(sum, 320 * 180, "every right pixel has one class: {px}");
+    assert!(count(px, "reprojected") > 320 * 180 / 2, "most pixels reproject: {px}");
+    let (left, right) = (count(&v["left"]["rays"], "total"), count(&v["right"]["rays"], "total"));
     assert!(right < left / 2, "exact mode should cost under half the left eye's rays: {right} vs {left}");
-    assert!(v["quality"]["share_not_identical"].as_f64().unwrap() < 0.001);
+    assert!(v["quality"]["share_not_identical"].as_f64().unwrap() < 0.001, "exact is exact: {}", v["quality"]);
+}
+
+/// The ray counts of the report against counts made independently: from the pixels the
+/// rendered images show hit, and what the scene's one material and one light imply for them.
+#[test]
+fn the_reported_rays_are_those_the_pixels_imply() {
+    let scene = tmp("one-mirror.toml");
+    std::fs::write(&scene, ONE_MIRROR).unwrap();
+    let (l, r) = (tmp("one-mirror-l.png"), tmp("one-mirror-r.png"));
+    let out = stereotrace(&[
+        "render",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--width",
+        "64",
+        "--height",
+        "36",
+        "--mode",
+        "full",
+        "--left",
+        l.to_str().unwrap(),
+        "--right",
+        r.to_str().unwrap(),
+        "--json",
+    ]);
+    let v = json(&out);
+    assert_eq!(rays(&v["left"]), one_mirror_rays(&l), "left eye: [primary, shadow, reflection, total]");
+    assert_eq!(rays(&v["right"]), one_mirror_rays(&r), "right eye, traced in full");
+    assert_eq!(count(&v["right"]["pixels"], "traced"), 64 * 36, "full mode traces every right pixel");
+
+    // The bench renders the same frame in every mode: the left eye is always traced in full.
+    let out = stereotrace(&[
+        "bench",
+        "--scene",
+        scene.to_str().unwrap(),
+        "--width",
+        "64",
+        "--height",
+        "36",
+        "--frames",
+        "1",
+        "--json",
+    ]);
+    let v = json(&out);
+    let expected = one_mirror_rays(&l);
+    for mode in ["full", "copy", "copy+edges", "reshade", "reshade+edges", "exact"] {
+        assert_eq!(rays(&v["modes"][mode]["left"]), expected, "{mode}: the left eye");
+    }
+    assert_eq!(rays(&v["modes"]["full"]["right"]), expected, "full: the right eye too");
 }
 
 #[test]
@@ -108,15 +204,15 @@ fn bench_reports_every_mode() {
     let v = json(&out);
     for mode in ["full", "copy", "copy+edges", "reshade", "reshade+edges", "exact"] {
         let m = &v["modes"][mode];
-        rays_add_up(&m["left"]);
-        rays_add_up(&m["right"]);
+        assert_eq!(rays(&m["left"])[0], 96 * 54, "{mode}: the left eye casts one primary ray per pixel");
+        assert!(rays(&m["right"])[0] <= 96 * 54, "{mode}: the right eye at most one per pixel");
         assert!(m["quality"]["share_over_2_255"].is_number(), "{mode}");
         // Each frame's stereo time includes its own left eye: never below one mono frame.
         assert!(m["stereo_over_mono"].as_f64().unwrap() >= 1.0, "{mode}");
         assert!(m["stereo_ms_over_mono_ms"].as_f64().unwrap() > 0.0, "{mode}");
     }
     let table = stereotrace(&["bench", "--width", "96", "--height", "54", "--frames", "1"]);
-    assert!(table.status.success());
+    assert!(table.status.success(), "the table: {}", String::from_utf8_lossy(&table.stderr));
     let text = String::from_utf8_lossy(&table.stdout);
     assert!(text.contains("reshade+edges") && text.contains("PSNR") && text.contains("reproject"), "{text}");
 }
@@ -126,7 +222,7 @@ fn a_bad_scene_file_names_file_line_and_field_and_exits_2() {
     let bad = tmp("bad.toml");
     std::fs::write(&bad, "[[spheres]]\ncenter = [0.0, 0.0, 15.0]\nradius = -2.0\n").unwrap();
     let out = stereotrace(&["render", "--scene", bad.to_str().unwrap(), "--json"]);
-    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(out.status.code(), Some(2), "bad input");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("bad.toml:1: spheres[0].radius = -2: must be > 0"), "{err}");
     assert!(!err.contains("panicked"), "{err}");
@@ -135,15 +231,17 @@ fn a_bad_scene_file_names_file_line_and_field_and_exits_2() {
 #[test]
 fn bad_arguments_exit_2_without_writing() {
     let out = stereotrace(&["render", "--width", "0", "--json"]);
-    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(out.status.code(), Some(2), "--width 0");
     let out = stereotrace(&["render", "--ipd", "-1", "--json"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--ipd -1"));
+    assert_eq!(out.status.code(), Some(2), "--ipd -1");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--ipd -1"), "{err}");
     let missing = tmp("no/such/dir/l.png");
     let out = stereotrace(&["render", "--width", "8", "--height", "8", "--left", missing.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("does not exist"));
-    assert!(!missing.exists());
+    assert_eq!(out.status.code(), Some(2), "an output in a missing directory");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("does not exist"), "{err}");
+    assert!(!missing.exists(), "nothing written");
 }
 
 #[test]
@@ -174,34 +272,59 @@ fn help_documents_every_flag() {
     }
 }
 
+/// The memory check, with the limit injected (`STEREOTRACE_MEMORY_AVAILABLE`) so the answer
+/// does not depend on this machine's free memory.
+#[test]
+fn a_frame_too_large_for_the_memory_is_refused_before_any_work() {
+    let limit = |bytes: &str| [("STEREOTRACE_MEMORY_AVAILABLE", bytes.to_owned())];
+    let run = |env: &[(&str, String)], args: &[&str]| {
+        let env: Vec<(&str, &str)> = env.iter().map(|(k, v)| (*k, v.as_str())).collect();
+        stereotrace_with(&env, args)
+    };
+    let out = run(&limit("17179869184"), &["render", "--width", "16384", "--height", "16384", "--json"]);
+    assert_eq!(out.status.code(), Some(2), "refused as bad input");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--width 16384 --height 16384: the frame needs 41.2 GiB but only 16.0 GiB of memory is available"),
+        "{err}"
+    );
+    // 165 bytes per eye pixel (three films, the source map and the mask): 64 × 64 needs 675840.
+    let small = ["render", "--width", "64", "--height", "64", "--json"];
+    assert!(run(&limit("675840"), &small).status.success(), "exactly enough memory");
+    let out = run(&limit("675839"), &small);
+    assert_eq!(out.status.code(), Some(2), "one byte short: {}", String::from_utf8_lossy(&out.stderr));
+    let out = run(&limit("lots"), &small);
+    assert_eq!(out.status.code(), Some(2), "a limit that is no number");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("STEREOTRACE_MEMORY_AVAILABLE=lots: must be a whole number of bytes"), "{err}");
+}
+
 #[test]
 fn limits_are_refused_before_any_work() {
-    // 16384² per eye cannot fit in this machine's memory: refused before allocating.
-    let out = stereotrace(&["render", "--width", "16384", "--height", "16384", "--json"]);
-    assert_eq!(out.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("GiB") && err.contains("--width 16384"), "{err}");
     let out = stereotrace(&["render", "--width", "20000", "--json"]);
     assert_eq!(out.status.code(), Some(2), "over the documented maximum side");
     let out = stereotrace(&["render", "--mode", "fast", "--json"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("expected one of full, copy, reshade, exact"));
+    assert_eq!(out.status.code(), Some(2), "an unknown mode");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("expected one of full, copy, reshade, exact"), "{err}");
     let out = stereotrace(&["render", "--layout", "over-under", "--out", "x.png"]);
-    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(out.status.code(), Some(2), "an unknown layout");
     let dir = tmp("anim-bad-fps");
     let out = stereotrace(&["render", "--frames", "2", "--fps", "0", "--out-dir", dir.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("--fps 0"));
+    assert_eq!(out.status.code(), Some(2), "--fps 0");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--fps 0"), "{err}");
     let out = stereotrace(&["render", "--scene", "no/such/scene.toml", "--json"]);
-    assert_eq!(out.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("no/such/scene.toml: cannot read scene file"));
+    assert_eq!(out.status.code(), Some(2), "a missing scene");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no/such/scene.toml: cannot read scene file"), "{err}");
 }
 
 #[test]
 fn an_unwritable_output_fails_cleanly_and_leaves_no_partial_file() {
     // /proc accepts no new files, even for root.
     let out = stereotrace(&["render", "--width", "8", "--height", "8", "--left", "/proc/stereotrace-left.png"]);
-    assert_eq!(out.status.code(), Some(1));
+    assert_eq!(out.status.code(), Some(1), "not bad input, a failure");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("cannot write /proc/stereotrace-left.png"), "{err}");
     let leftovers: Vec<_> = std::fs::read_dir("/proc")
@@ -209,7 +332,7 @@ fn an_unwritable_output_fails_cleanly_and_leaves_no_partial_file() {
         .filter_map(Result::ok)
         .filter(|e| e.file_name().to_string_lossy().contains("stereotrace-left"))
         .collect();
-    assert!(leftovers.is_empty());
+    assert!(leftovers.is_empty(), "no partial file: {leftovers:?}");
 }
 
 #[test]
@@ -246,12 +369,13 @@ fn layouts_and_an_animation_export() {
         dir.to_str().unwrap(),
     ]);
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    assert!(String::from_utf8_lossy(&out.stderr).contains("wrote 6 of 6 frames"));
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("wrote 6 of 6 frames"), "{err}");
     let mut names: Vec<String> =
         std::fs::read_dir(&dir).unwrap().map(|e| e.unwrap().file_name().to_string_lossy().into_owned()).collect();
     names.sort();
-    assert_eq!(names, (0..6).map(|k| format!("frame_{k:05}.png")).collect::<Vec<_>>());
+    assert_eq!(names, (0..6).map(|k| format!("frame_{k:05}.png")).collect::<Vec<_>>(), "numbered frames");
     for n in &names {
-        assert_eq!(png_size(&dir.join(n)), (64, 18));
+        assert_eq!(png_size(&dir.join(n)), (64, 18), "{n}: side by side");
     }
 }

@@ -1,0 +1,9 @@
+//! # viewer — what the `stereotrace` binary shares with the end-to-end tests
+//!
+//! The binary (`src/main.rs`: the window, `render` and `bench`) is this package's main
+//! target; this library holds the one piece the root `tests` crate needs as well, so that
+//! there is one PNG writer: [`write_png`], which never leaves a half-written file.
+
+mod png_out;
+
+pub use png_out::{parent_dir, write_png};

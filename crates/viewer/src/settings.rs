@@ -1,0 +1,299 @@
+//! The settings model: everything the user sets in the panel or with keys, the head's
+//! movement and turning, and the render request the settings ask for.
+//!
+//! The panel (`ui.rs`) edits a [`Settings`] value and the keys (`input.rs`) toggle it; the
+//! app turns it into a [`Request`] for the render worker every tick. Both eyes share the
+//! head pose, so moving never breaks the reprojection.
+
+use glam::Vec3;
+use stereo::{Layout, Mode};
+use tracer::{Camera, Scene};
+
+use crate::present::Look;
+use crate::worker::Request;
+
+/// Largest interpupillary distance the slider offers, scene units.
+pub const MAX_IPD: f32 = 2.0;
+
+/// The range of the distance to the zero-parallax window, scene units.
+pub const DISTANCE_RANGE: (f32, f32) = (1.0, 100.0);
+
+/// Largest reflection depth the slider offers.
+pub const MAX_REFLECTION_DEPTH: u32 = 8;
+
+/// Smallest share of the on-screen eye size an eye is traced at.
+pub const MIN_RENDER_SCALE: f32 = 0.25;
+
+/// How far the light sliders reach from the origin on each axis.
+pub const LIGHT_RANGE: f32 = 30.0;
+
+/// Largest orbit-speed factor.
+pub const MAX_ORBIT_SPEED: f32 = 4.0;
+
+/// Head speed while a movement key is held, scene units per second.
+pub const HEAD_SPEED: f32 = 2.0;
+
+/// Head turn per pixel of mouse drag, degrees.
+pub const TURN_PER_PIXEL: f32 = 0.2;
+
+/// Pitch limit, degrees: the head never looks straight up or down.
+pub const MAX_PITCH: f32 = 89.0;
+
+/// Everything the user sets in the panel or with keys.
+#[expect(
+    clippy::struct_excessive_bools,
+    reason = "each flag is an independent checkbox in the panel; an enum or bit set would only obscure that"
+)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    /// Interpupillary distance e, scene units (0..[`MAX_IPD`]).
+    pub ipd: f32,
+    /// Distance d from the eyes to the zero-parallax window ([`DISTANCE_RANGE`]).
+    pub distance: f32,
+    /// Reflection bounces (0..[`MAX_REFLECTION_DEPTH`]).
+    pub depth: u32,
+    /// How the right eye is made.
+    pub mode: Mode,
+    /// For copy and reshade: retrace object-edge pixels too.
+    pub retrace_edges: bool,
+    /// How the eyes are arranged.
+    pub layout: Layout,
+    /// Eyes are traced at this fraction of their on-screen size ([`MIN_RENDER_SCALE`]..1)
+    /// and scaled up.
+    pub render_scale: f32,
+    /// Blend the debug mask over the right eye (key M).
+    pub show_mask: bool,
+    /// Measure the right eye against a full trace every frame.
+    pub live_psnr: bool,
+    /// Scene time stands still (key Space).
+    pub paused: bool,
+    /// Exchange the eyes (key X).
+    pub swap_eyes: bool,
+    /// Head position (midpoint between the eyes), world space.
+    pub position: Vec3,
+    /// Head turn about +y, degrees.
+    pub yaw_deg: f32,
+    /// Head tilt, degrees, within ±[`MAX_PITCH`].
+    pub pitch_deg: f32,
+    /// Position of the scene's first light (the sliders reach ±[`LIGHT_RANGE`]); `None` when
+    /// the scene has no lights.
+    pub light: Option<Vec3>,
+    /// Scene seconds per wall second for the revolving spheres (0..[`MAX_ORBIT_SPEED`]).
+    pub orbit_speed: f32,
+}
+
+impl Settings {
+    /// The scene's own camera, depth and light, exact mode, nothing else on.
+    #[must_use]
+    pub fn from_scene(scene: &Scene) -> Self {
+        let mut s = Self {
+            ipd: 0.0,
+            distance: 1.0,
+            depth: 0,
+            mode: Mode::Exact,
+            retrace_edges: false,
+            layout: Layout::SideBySide,
+            render_scale: 1.0,
+            show_mask: false,
+            live_psnr: false,
+            paused: false,
+            swap_eyes: false,
+            position: Vec3::ZERO,
+            yaw_deg: 0.0,
+            pitch_deg: 0.0,
+            light: None,
+            orbit_speed: 1.0,
+        };
+        s.reset_camera(scene);
+        s.reset_light(scene);
+        s
+    }
+
+    /// Restores the head pose, IPD, distance and reflection depth from the scene (clamped to
+    /// the sliders' ranges).
+    pub fn reset_camera(&mut self, scene: &Scene) {
+        self.ipd = scene.camera.ipd.clamp(0.0, MAX_IPD);
+        self.distance = scene.camera.distance.clamp(DISTANCE_RANGE.0, DISTANCE_RANGE.1);
+        self.depth = scene.render.max_depth.min(MAX_REFLECTION_DEPTH);
+        self.position = scene.camera.position;
+        self.yaw_deg = scene.camera.yaw_deg;
+        self.pitch_deg = scene.camera.pitch_deg.clamp(-MAX_PITCH, MAX_PITCH);
+    }
+
+    /// Puts the first light back where the scene has it (even beyond the sliders' reach).
+    pub fn reset_light(&mut self, scene: &Scene) {
+        self.light = scene.lights.first().map(|l| l.position);
+    }
+
+    /// The camera these settings ask for: `base` (the scene's) with the head pose, IPD and
+    /// distance set here.
+    #[must_use]
+    pub fn camera(&self, base: &Camera) -> Camera {
+        Camera {
+            ipd: self.ipd,
+            distance: self.distance,
+            position: self.position,
+            yaw_deg: self.yaw_deg,
+            pitch_deg: self.pitch_deg,
+            ..*base
+        }
+    }
+
+    /// Moves the head (both eyes together) by `forward` and `right` scene units along its own
+    /// axes (forward follows the pitch too).
+    pub fn move_head(&mut self, forward: f32, right: f32) {
+        let rot = self.camera(&Camera::default()).world_from_head();
+        self.position += rot * Vec3::new(right, 0.0, forward);
+    }
+
+    /// Walks the head for `seconds` at [`HEAD_SPEED`] in the direction (`forward`, `right`),
+    /// each −1..=1 (movement keys held).
+    pub fn walk(&mut self, (forward, right): (f32, f32), seconds: f32) {
+        if forward != 0.0 || right != 0.0 {
+            let step = HEAD_SPEED * seconds;
+            self.move_head(forward * step, right * step);
+        }
+    }
+
+    /// Turns the head by a mouse drag of `dx`, `dy` pixels (right turns right, up looks up).
+    pub fn turn_head(&mut self, dx: f32, dy: f32) {
+        self.yaw_deg = (self.yaw_deg + dx * TURN_PER_PIXEL + 180.0).rem_euclid(360.0) - 180.0;
+        self.pitch_deg = (self.pitch_deg - dy * TURN_PER_PIXEL).clamp(-MAX_PITCH, MAX_PITCH);
+    }
+
+    /// The size to trace an eye at, for an eye of `width` × `height` on screen.
+    #[must_use]
+    pub fn render_size(&self, width: u32, height: u32) -> (u32, u32) {
+        let scale = self.render_scale.clamp(MIN_RENDER_SCALE, 1.0);
+        let scaled = |n: u32| ((n as f32 * scale).round() as u32).clamp(1, n.max(1));
+        (scaled(width), scaled(height))
+    }
+
+    /// The render options these settings ask for.
+    #[must_use]
+    pub fn options(&self) -> stereo::Options {
+        stereo::Options { mode: self.mode, retrace_edges: self.retrace_edges }
+    }
+
+    /// How the eyes are shown.
+    #[must_use]
+    pub fn look(&self) -> Look {
+        Look { layout: self.layout, swap: self.swap_eyes, show_mask: self.show_mask }
+    }
+
+    /// The render request these settings ask for, for `scene` at scene time `time` (a still
+    /// scene is always rendered at 0) and an eye of `width` × `height` on screen.
+    #[must_use]
+    pub fn request(&self, scene: &Scene, time: f32, width: u32, height: u32) -> Request {
+        let (width, height) = self.render_size(width, height);
+        let anaglyph = self.layout == Layout::Anaglyph;
+        Request {
+            camera: self.camera(&scene.camera),
+            depth: self.depth,
+            opts: self.options(),
+            time: if scene.is_animated() { time } else { 0.0 },
+            width,
+            height,
+            psnr: self.live_psnr,
+            anaglyph,
+            swap: anaglyph && self.swap_eyes,
+            light: self.light,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn scene() -> Scene {
+        let src = "[camera]\nipd = 0.5\ndistance = 9.0\n[render]\nmax_depth = 12\n\
+                   [[spheres]]\ncenter = [0.0, 0.0, 10.0]\nradius = 1.0\n";
+        Scene::from_toml(src, "s.toml").unwrap()
+    }
+
+    #[test]
+    fn reset_restores_the_scene_camera_within_the_slider_ranges() {
+        let scene = scene();
+        let mut s = Settings::from_scene(&scene);
+        assert_eq!(
+            (s.ipd, s.distance, s.depth, s.mode),
+            (0.5, 9.0, MAX_REFLECTION_DEPTH, Mode::Exact),
+            "the scene's camera, its depth clamped"
+        );
+        s.ipd = 1.7;
+        s.distance = 40.0;
+        s.show_mask = true;
+        s.reset_camera(&scene);
+        assert_eq!((s.ipd, s.distance), (0.5, 9.0), "reset restores the scene's IPD and distance");
+        assert!(s.show_mask, "reset touches only the camera values");
+        assert_eq!(s.render_size(800, 600), (800, 600), "full scale traces the eye size");
+        s.render_scale = 0.5;
+        assert_eq!(s.render_size(801, 600), (401, 300), "half scale, rounded");
+        s.render_scale = 0.0;
+        assert_eq!(s.render_size(3, 1), (1, 1), "never below one pixel");
+    }
+
+    #[test]
+    fn the_light_starts_where_the_scene_puts_it_even_beyond_the_sliders() {
+        let src = "[[lights]]\nposition = [40.0, 2.0, -3.0]\n[[spheres]]\ncenter = [0.0, 0.0, 10.0]\nradius = 1.0\n";
+        let scene = Scene::from_toml(src, "l.toml").unwrap();
+        let mut s = Settings::from_scene(&scene);
+        assert_eq!(s.light, Some(Vec3::new(40.0, 2.0, -3.0)), "the scene's first light");
+        assert_eq!(s.orbit_speed, 1.0, "the orbit at its own speed");
+        s.light = Some(Vec3::ZERO);
+        s.reset_light(&scene);
+        assert_eq!(s.light, Some(Vec3::new(40.0, 2.0, -3.0)), "reset puts it back");
+    }
+
+    #[test]
+    fn the_head_moves_along_its_own_axes_and_resets_to_the_scene() {
+        let scene = scene();
+        let mut s = Settings::from_scene(&scene);
+        assert_eq!(s.light, None, "this scene has no lights");
+        s.move_head(2.0, 0.0);
+        assert!((s.position - Vec3::new(0.0, 0.0, 2.0)).length() < 1e-6, "forward is +z: {:?}", s.position);
+        s.turn_head(90.0 / TURN_PER_PIXEL, 0.0);
+        assert!((s.yaw_deg - 90.0).abs() < 1e-3, "dragging right turns right: {}", s.yaw_deg);
+        s.move_head(1.0, 0.0);
+        assert!(
+            (s.position - Vec3::new(1.0, 0.0, 2.0)).length() < 1e-5,
+            "turned right, forward is +x: {:?}",
+            s.position
+        );
+        s.move_head(0.0, 1.0);
+        assert!((s.position - Vec3::new(1.0, 0.0, 1.0)).length() < 1e-5, "and right is -z: {:?}", s.position);
+        s.walk((-1.0, 0.0), 0.25);
+        let walked = Vec3::new(1.0 - 0.25 * HEAD_SPEED, 0.0, 1.0);
+        assert!((s.position - walked).length() < 1e-5, "walking back at the head speed: {:?}", s.position);
+        s.turn_head(0.0, -1e6);
+        assert_eq!(s.pitch_deg, MAX_PITCH, "dragging up looks up, clamped");
+        let cam = s.camera(&scene.camera);
+        assert_eq!(
+            (cam.position, cam.pitch_deg, cam.fov_deg),
+            (s.position, MAX_PITCH, scene.camera.fov_deg),
+            "the head pose over the scene's camera"
+        );
+        s.reset_camera(&scene);
+        assert_eq!((s.position, s.yaw_deg, s.pitch_deg), (Vec3::ZERO, 0.0, 0.0), "reset puts the head back");
+    }
+
+    #[test]
+    fn the_request_follows_the_settings() {
+        let scene = scene();
+        let mut s = Settings::from_scene(&scene);
+        s.render_scale = 0.5;
+        s.swap_eyes = true;
+        let r = s.request(&scene, 3.0, 400, 300);
+        assert_eq!((r.width, r.height), (200, 150), "traced at the render scale");
+        assert_eq!(r.time, 0.0, "a still scene is rendered at time 0");
+        assert!(!r.anaglyph && !r.swap, "side by side swaps on screen, not in the worker");
+        assert_eq!((r.camera.ipd, r.depth, r.opts), (0.5, MAX_REFLECTION_DEPTH, s.options()), "the settings' camera");
+        s.layout = Layout::Anaglyph;
+        let r = s.request(&scene, 3.0, 400, 300);
+        assert!(r.anaglyph && r.swap, "the worker makes the anaglyph, swapped");
+        let orbit = "[[spheres]]\norbit = { center = [0.0, 0.0, 10.0], radius = 2.0, period_s = 4.0 }\nradius = 1.0\n";
+        let animated = Scene::from_toml(orbit, "o.toml").unwrap();
+        assert_eq!(s.request(&animated, 3.0, 400, 300).time, 3.0, "a moving scene at the clock's time");
+    }
+}
