@@ -38,9 +38,9 @@ pub fn reflect(d: Vec3, n: Vec3) -> Vec3 {
 pub(crate) const SPAWN_ULPS_OUT: f32 = 16.0;
 /// How far [`spawn_ray`] moves a ray that goes into its sphere, in the same ULPs.
 pub(crate) const SPAWN_ULPS_IN: f32 = 128.0;
-/// The hit point's own distance from its sphere, in the same ULPs of the scene's reach, for a
-/// ray whose origin lies within that reach (see [`spawn_ray`]: ≲ 35u(|o − c| + r) + u|p|
-/// with |o − c| ≤ 2√3 reach and r ≤ reach, so about 75 ULPs).
+/// The hit point's own distance from its sphere, in ULPs of the scene's reach, for a ray
+/// whose origin lies within that reach (see [`spawn_ray`]: ≲ 43u·max(|o − c|, r) + u|p|
+/// with |o − c| ≤ 2√3·reach and r ≤ reach, so about 75 ULPs).
 const HIT_ULPS: f32 = 128.0;
 
 /// Whether a ray along `dir` leaves a surface of outward normal `n` outwards: the one test
@@ -78,21 +78,22 @@ pub(crate) fn spawn_bound(reach: f32) -> f32 {
 /// along the normal, on the side `dir` leaves towards (`leaves_outwards`), by a few ULPs
 /// of p's largest coordinate: s = K · ulp(‖p‖∞) with K = `SPAWN_ULPS_OUT` = 16 outwards
 /// and `SPAWN_ULPS_IN` = 128 inwards, so that origin = p ± s·n. Per component that is
-/// bit operations (the largest exponent of the three, see `ulp_of_largest`), one select and
-/// one multiply-add, as Wächter and Binder's integer-ULP offset ("A Fast and Robust Method
+/// bit operations (the largest exponent of the three, see `ulp_of_largest`), one select, and
+/// a multiply and an add, as Wächter and Binder's integer-ULP offset ("A Fast and Robust Method
 /// for Avoiding Self-Intersection", Ray Tracing Gems ch. 6), but scaled by the largest
 /// coordinate rather than each one's own: p's error is shared by its components (it comes
 /// from t, below), so a coordinate near zero is no more accurate than the others.
 ///
 /// **Error analysis** (first order; u = 2⁻²⁴, so u·‖p‖∞ < ulp(‖p‖∞) ≤ 2u·‖p‖∞). A hit point
-/// p = o + t·d of a ray (origin o, unit d) on the sphere (c, r), and n = normalize(p − c):
-/// - the stable test ([`crate::intersect_sphere`]) rounds oc = o − c, b = oc·d, the
-///   perpendicular oc − b·d, Δ = r² − |perp|² and the root; its t errs by up to
-///   ≈ (3u|oc| + 7.5u·r²/√Δ + …), but an error in t moves p along d, off the surface only by
-///   its component |d·n| = √Δ/r, which cancels the 1/√Δ growth at grazing: p lies off the
-///   sphere by ≲ 20u(|oc| + r) from the root, u|oc| from rounding oc, ≈ 2|η|·r·… from d being
-///   unit only to |η| ≲ 6u (a reflected direction), and u(|t| + |p|) from rounding o + t·d:
-///   in all ≲ 35u(|oc| + r) + u|p|;
+/// p = o + t·d of a ray (origin o, direction d) on the sphere (c, r), with oc = o − c, and
+/// n = normalize(p − c):
+/// - the stable test ([`crate::intersect_sphere`]) rounds oc, b = oc·d, the perpendicular
+///   oc − b·d, Δ = r² − |perp|² and the root, so t errs by up to ≈ 3u|oc| + 7.5u·r²/√Δ + …;
+///   but an error in t moves p along d, off the surface only by its component
+///   |d·n| = √Δ/r, which cancels the 1/√Δ growth at grazing. Adding the rounding of oc
+///   (u|oc|), d being unit only to |η| ≲ 6u (a reflected direction: |η|·|t|) and the
+///   rounding of o + t·d (u(|t| + |p|)), with |t| ≤ |oc| + r: p lies off the sphere by
+///   ≲ 43u·max(|oc|, r) + u|p| (≲ 36u·r + u|p| when o is inside the sphere);
 /// - n is normalised from p − c, so it is within a few u of the radial direction at p, and
 ///   an offset s·n moves the origin off the sphere by s to second order;
 /// - re-testing the spawned ray against its sphere decides the origin's side from the sign
@@ -103,20 +104,21 @@ pub(crate) fn spawn_bound(reach: f32) -> f32 {
 /// ([`crate::Tracer`]'s queries, the cube maps and the cones), so the offset does not have to
 /// clear it. Against another sphere no offset settles a point within rounding of both
 /// surfaces (where two spheres touch, one normal points into the other), so the outward
-/// offset is small: 16 ULPs clear p's rounding when p is placed near the surface from its
-/// own magnitude (p = c + r·n: 6.5u·r + 2u|p| ≤ 16 ulp(‖p‖∞) for r ≤ 1.9‖p‖∞), so that
-/// even the bare sphere test reports no hit, and they move shadow edges and reflections by
-/// ~2·10⁻⁶ of the distance from the origin, far below a pixel.
+/// offset is small: 16 ULPs clear p's rounding when p is placed from the centre
+/// (p = c + r·n: ≈ 6.5u·r + 2u|p| ≤ 16 ulp(‖p‖∞) for r ≤ 1.9‖p‖∞), so that even the bare
+/// sphere test reports no hit, and they move shadow edges and reflections by at most
+/// 2·10⁻⁶‖p‖∞ (times tan θ for light at θ from the normal), far below a pixel.
 ///
 /// *Inward* rays (an eye inside a sphere, and the mirror rays inside it after that) must
-/// start strictly inside the sphere: the origin o of the ray that found p was inside too
-/// (|oc| ≤ r), so the budget is ≲ 35u·r + u|p| + 3.5u·r + u|p| ≤ (39·r/‖p‖∞ + 3.5) ulp(‖p‖∞),
-/// which 128 ULPs cover for r ≤ 3.1‖p‖∞: any sphere whose surface keeps at least a third of
-/// its radius from the world origin in every coordinate, such as a dome around an eye at the
-/// origin (r ≤ √3‖p‖∞). Measured over 3·10⁶ random inward rays at scales 10⁻³ to 10⁴, the
-/// worst case needs ≈ (5·r/‖p‖∞ + 1) ULPs, so 128 hold to r ≈ 25‖p‖∞ in practice. Nearer
-/// the origin than that the offset falls short; scene files keep the eyes outside every
-/// sphere, so only a programmatic scene can get there.
+/// start strictly inside the sphere. The ray that found p started inside too, so the budget
+/// is ≲ 36u·r + u|p| + 3.5u·r + u|p| ≤ (40·r/‖p‖∞ + 3.5) ulp(‖p‖∞), which 128 ULPs cover
+/// for r ≤ 3.1‖p‖∞: wherever p lies outside the cube of half-side r/3.1 about the world
+/// origin, for instance everywhere on a dome centred on the origin (‖p‖∞ ≥ r/√3). Measured
+/// over 3·10⁶ random inward rays at scales 10⁻³ to 10⁴, the worst case needed 6 ULPs for
+/// r < ‖p‖∞, 32 for r < 8‖p‖∞ and 56 for r < 64‖p‖∞. The sphere must also be wider than
+/// the offset, r > 64 ulp(‖p‖∞) (≈ 10⁻⁵‖p‖∞), or the origin passes through it. Outside
+/// these bounds the inward offset can fall short or overshoot; scene files keep the eyes
+/// outside every sphere, so only a scene built in code gets there.
 #[inline]
 #[must_use]
 pub fn spawn_ray(p: Vec3, n: Vec3, dir: Vec3) -> Ray {
