@@ -288,22 +288,15 @@ fn retrace(
         .enumerate()
         .map(|(j, ((rgb, mask), src))| {
             let mut counts = RayCounts::default();
-            let j = j as u32;
-            let quads = rgb.chunks_mut(4).zip(mask.chunks(4)).zip(src.chunks(4)).enumerate();
-            for (i0, ((rgb, mask), src)) in quads.map(|(q, c)| (4 * q, c)) {
-                // Gaps come in strips: four in a row (one tile) are traced together.
-                if mask.iter().all(|&c| c != PixelClass::Reprojected) {
-                    right.trace4(i0 as u32, j, mask.len(), &mut counts, |k, c| rgb[k] = c);
-                    continue;
-                }
-                for (k, &class) in mask.iter().enumerate() {
-                    if class != PixelClass::Reprojected {
-                        rgb[k] = right.trace((i0 + k) as u32, j, &mut counts);
-                    } else if copy {
-                        rgb[k] = left[src[k] as usize];
+            if copy {
+                for i in 0..w {
+                    if mask[i] == PixelClass::Reprojected {
+                        rgb[i] = left[src[i] as usize];
                     }
                 }
             }
+            let traced = (0..w as u32).filter(|&i| mask[i as usize] != PixelClass::Reprojected);
+            right.trace_pixels(j as u32, traced, &mut counts, |i, c| rgb[i as usize] = c);
             counts
         })
         .sum()
@@ -329,53 +322,67 @@ fn fill(
         .enumerate()
         .map(|(j, ((rgb, mask), src))| {
             let mut counts = RayCounts::default();
-            let mut tests = 0u64;
-            let j32 = j as u32;
-            if mode == Mode::Reshade {
-                for i in 0..w {
-                    if mask[i] != PixelClass::Reprojected {
-                        continue;
-                    }
+            let j = j as u32;
+            // Reprojected pixels whose source saw background keep its colour; the rest are
+            // shaded as one list.
+            let mut named = 0u64;
+            for i in 0..w {
+                if mask[i] == PixelClass::Reprojected {
                     let s = src[i] as usize;
-                    rgb[i] = if left.object[s] == NO_OBJECT {
-                        left.rgb[s]
+                    if left.object[s] == NO_OBJECT {
+                        rgb[i] = left.rgb[s];
                     } else {
-                        right.reshade(i as u32, j32, &left.surface(s), &mut counts)
-                    };
-                }
-                return (counts, tests);
-            }
-            // Exact: the single-sphere tests four pixels at a time.
-            for i0 in (0..w).step_by(4) {
-                let n = (w - i0).min(4);
-                let (mut objects, mut lights) = ([NO_OBJECT; 4], [0; 4]);
-                for k in 0..n {
-                    let i = i0 + k;
-                    if mask[i] == PixelClass::Reprojected {
-                        let s = src[i] as usize;
-                        (objects[k], lights[k]) = (left.object[s], left.lights[s]);
-                        if objects[k] == NO_OBJECT {
-                            rgb[i] = left.rgb[s];
-                        }
+                        named += 1;
                     }
                 }
-                if objects == [NO_OBJECT; 4] {
-                    continue;
-                }
-                let shaded = right.shade_on4(i0 as u32, j32, objects, lights, &mut counts);
-                for (k, (object, shaded)) in objects.into_iter().zip(shaded).enumerate().take(n) {
-                    if object == NO_OBJECT {
-                        continue;
-                    }
-                    let i = i0 + k;
-                    tests += 1;
-                    rgb[i] = shaded.unwrap_or_else(|| {
-                        mask[i] = PixelClass::RetracedEdge;
-                        right.trace(i as u32, j32, &mut counts)
-                    });
-                }
             }
-            (counts, tests)
+            let mask = std::cell::Cell::from_mut(mask).as_slice_of_cells();
+            let sources = (0..w as u32).filter_map(|i| {
+                let s = src[i as usize] as usize;
+                (mask[i as usize].get() == PixelClass::Reprojected && left.object[s] != NO_OBJECT).then_some((i, s))
+            });
+            if mode == Mode::Reshade {
+                let items = sources.map(|(i, s)| (i, left.surface(s)));
+                right.reshade(j, items, &mut counts, |i, c| rgb[i as usize] = c);
+                return (counts, 0);
+            }
+            // Exact: each pixel's own ray against the sphere its source saw.
+            let items = sources.map(|(i, s)| (i, left.object[s], left.lights[s]));
+            right.shade_on(j, items, &mut counts, |i, c, retraced| {
+                rgb[i as usize] = c;
+                if retraced {
+                    mask[i as usize].set(PixelClass::RetracedEdge);
+                }
+            });
+            (counts, named)
         })
         .reduce(|| (RayCounts::default(), 0), |a, b| (a.0 + b.0, a.1 + b.1))
+}
+
+#[cfg(test)]
+mod equivalence;
+
+#[cfg(test)]
+mod tests {
+    use tracer::Scene;
+
+    use super::*;
+
+    #[test]
+    fn retracing_every_pixel_reproduces_the_full_trace() {
+        let scene = Scene::from_toml(include_str!("../../../assets/scenes/window.toml"), "window.toml").unwrap();
+        let tracer = Tracer::new(&scene, 0.7);
+        let (w, h) = (120, 68);
+        let mut frame = StereoFrame::new();
+        frame.render(&tracer, &scene.camera, w, h, Options { mode: Mode::Copy, retrace_edges: false });
+        frame.mask.fill(PixelClass::RetracedGap);
+        let rv = scene.camera.view(Eye::Right, w, h);
+        let mut renderer = Renderer::new();
+        let right = renderer.second_view(&tracer, &rv);
+        let counts = retrace(right, &frame.left, &mut frame.right, &frame.mask, &frame.src, false);
+        let mut full = Vec::new();
+        let full_counts = Renderer::new().render_rgb(&tracer, &rv, &mut full);
+        assert_eq!(frame.right.rgb, full);
+        assert_eq!(counts, full_counts);
+    }
 }

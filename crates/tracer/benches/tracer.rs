@@ -33,7 +33,8 @@ fn ray_sphere(c: &mut Criterion) {
 }
 
 /// Primary rays of a 160×90 view: BVH traversal alone (closest hit), and shading with the
-/// first hit found through the BVH or, one pixel at a time, through the screen bins.
+/// first hit found through the BVH one pixel at a time (the recursive plain path) or
+/// through the screen bins, a row at a time (the wavefront).
 fn traversal_and_shading(c: &mut Criterion) {
     for name in ["seed.toml", "thousand.toml"] {
         let s = scene(name);
@@ -65,7 +66,13 @@ fn traversal_and_shading(c: &mut Criterion) {
         });
         let binned = renderer.second_view(&tracer, &view);
         c.bench_function(&format!("shade_binned_160x90_{name}"), |b| {
-            b.iter(|| shade_all(|i, j, counts| binned.trace(i, j, counts)));
+            b.iter(|| {
+                let (mut counts, mut sum) = (RayCounts::default(), 0u32);
+                for j in 0..90 {
+                    binned.trace_pixels(j, 0..160, &mut counts, |_, c| sum = sum.wrapping_add(c));
+                }
+                (sum, counts)
+            });
         });
         c.bench_function(&format!("shade_160x90_{name}"), |b| {
             b.iter(|| shade_all(|i, j, counts| tracer.trace_pixel(&view, i, j, counts).rgb));

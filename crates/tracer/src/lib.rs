@@ -66,7 +66,9 @@ mod shadow;
 mod sphere;
 mod stats;
 mod surface;
+mod simd;
 mod tracer;
+mod wavefront;
 
 pub use camera::{Camera, Eye, EyeView};
 pub use color::{linear_to_srgb8, pack_rgb, srgb8_to_linear, unpack_rgb};
@@ -77,6 +79,7 @@ pub use ray::{reflect, spawn_ray, Ray};
 pub use render::Renderer;
 pub use scene::{Light, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
 pub use second_view::SecondView;
+pub use simd::{lane_width, LANES_VAR};
 pub use shade::Shaded;
 pub use sphere::{intersect_sphere, Sphere};
 pub use stats::RayCounts;

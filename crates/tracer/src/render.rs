@@ -18,6 +18,7 @@ use crate::shade::Shaded;
 use crate::stats::RayCounts;
 use crate::surface::{Shading, NO_OBJECT};
 use crate::tracer::Tracer;
+use crate::wavefront::{with_wavefront, Start};
 
 /// Renders one eye's views, keeping its screen bins from frame to frame.
 #[derive(Clone, Debug, Default)]
@@ -84,22 +85,36 @@ impl RowSink for RgbRow<'_> {
 /// Traces row `j` of `eye`, `w` pixels wide, into `sink`; the rays cast.
 ///
 /// The row goes tile by tile: a tile whose bin is empty is background without a sphere
-/// test, the others are traced four pixels at a time.
+/// test, the others find their first hits four pixels at a time. The hits are then shaded
+/// together, as one batch of this thread's wavefront.
 #[inline]
 fn trace_row(eye: &BinnedView<'_>, j: u32, w: usize, sink: &mut impl RowSink) -> RayCounts {
-    let mut counts = RayCounts::default();
+    let mut counts = RayCounts { primary: w as u64, ..RayCounts::default() };
     let tile = TILE as usize;
-    for span in (0..w.div_ceil(tile)).map(|t| t * tile..((t + 1) * tile).min(w)) {
-        if eye.bins.is_empty_at(span.start as u32, j) {
-            counts.primary += span.len() as u64;
-            sink.background(span, eye.tracer.background_rgb);
-            continue;
+    let (tracer, view) = (eye.tracer, eye.view);
+    with_wavefront(|wavefront| {
+        for span in (0..w.div_ceil(tile)).map(|t| t * tile..((t + 1) * tile).min(w)) {
+            if eye.bins.is_empty_at(span.start as u32, j) {
+                sink.background(span, tracer.background_rgb);
+                continue;
+            }
+            for i0 in span.clone().step_by(4) {
+                let n = (span.end - i0).min(4);
+                for (k, first) in eye.hits4(i0 as u32, j, n).into_iter().enumerate().take(n) {
+                    match first {
+                        Some((ray, hit)) => wavefront.push_hit(&ray, hit, None, (i0 + k) as u32),
+                        None => sink.sample(i0 + k, &tracer.miss_sample()),
+                    }
+                }
+            }
         }
-        for i0 in span.clone().step_by(4) {
-            let n = (span.end - i0).min(4);
-            eye.trace4(i0 as u32, j, n, &mut counts, |k, s| sink.sample(i0 + k, &s));
+        wavefront.shade(tracer, Start::Rays, &mut counts);
+        for e in 0..wavefront.len() {
+            let surface = wavefront.surface(e);
+            let sample = Shaded { rgb: wavefront.rgb(e), z: view.head_z(surface.point), surface };
+            sink.sample(wavefront.tag(e) as usize, &sample);
         }
-    }
+    });
     counts
 }
 

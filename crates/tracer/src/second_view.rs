@@ -2,15 +2,19 @@
 //! visible-surface record (Adelson & Hodges 1993, "Stereoscopic ray-tracing"), in one place.
 //!
 //! A [`SecondView`] is an eye's view with its screen bins built, made by
-//! [`crate::Renderer::second_view`]. For pixels of that view it gives:
-//! - [`SecondView::trace`] and [`SecondView::trace4`]: a full primary ray (the retrace of
-//!   gaps, borders, object edges and shadow boundaries), bit-for-bit the pixel that
-//!   [`crate::Renderer::render`] would make;
-//! - [`SecondView::reshade`]: a surface the other eye saw, re-lit for this pixel's ray. Its
-//!   view-independent light and light visibility are kept; highlights and mirror rays are
-//!   recomputed (`reshade` mode);
-//! - [`SecondView::shade_on4`]: this pixel's own ray against the one sphere the other eye
-//!   saw there, shaded with that eye's light visibility (`exact` mode).
+//! [`crate::Renderer::second_view`]. For a row's pixels, given as lists, it gives:
+//! - [`SecondView::trace_pixels`]: full primary rays (the retrace of gaps, borders, object
+//!   edges and shadow boundaries), bit-for-bit the pixels [`crate::Renderer::render`]
+//!   would make;
+//! - [`SecondView::reshade`]: surfaces the other eye saw, re-lit for these pixels' rays.
+//!   Their view-independent light and light visibility are kept; highlights and mirror rays
+//!   are recomputed (`reshade` mode);
+//! - [`SecondView::shade_on`]: each pixel's own ray against the one sphere the other eye saw
+//!   there, shaded with that eye's light visibility, and fully retraced where it misses
+//!   that sphere (`exact` mode).
+//!
+//! Every list is shaded as one batch of the thread's wavefront (`wavefront.rs`), so the
+//! pixels of a second view go through the very kernels a first view's do.
 //!
 //! And [`Tracer::nearest_depth`] bounds how near the eyes any sphere comes, which bounds
 //! how far anything can shift between the eyes.
@@ -27,13 +31,43 @@ use crate::primary::BinnedView;
 use crate::ray::Ray;
 use crate::sphere::hits_each;
 use crate::stats::RayCounts;
-use crate::surface::{Surface, NO_OBJECT};
+use crate::surface::{Hit, Surface, NO_OBJECT};
 use crate::tracer::Tracer;
+use crate::wavefront::{with_wavefront, Start, Wavefront};
 
-/// One eye's view, ready to trace and re-shade its pixels one by one (see the module doc).
+/// One eye's view, ready to trace and re-shade lists of its pixels (see the module doc).
 #[derive(Clone, Copy, Debug)]
 pub struct SecondView<'a> {
     eye: BinnedView<'a>,
+}
+
+/// Marks a tag of [`SecondView::shade_on`] whose pixel was retraced.
+const RETRACED: u32 = 1 << 31;
+
+/// Groups ascending pixel columns by the aligned quad of four they fall in: calls
+/// `quad(first column, lane mask, payloads)` once per quad.
+fn by_quads<T: Copy + Default>(items: impl IntoIterator<Item = (u32, T)>, mut quad: impl FnMut(u32, u32, [T; 4])) {
+    let mut current: Option<(u32, u32, [T; 4])> = None;
+    for (i, payload) in items {
+        let base = i & !3;
+        match &mut current {
+            Some((b, mask, payloads)) if *b == base => {
+                *mask |= 1 << (i - base);
+                payloads[(i - base) as usize] = payload;
+            }
+            _ => {
+                if let Some((b, mask, payloads)) = current.take() {
+                    quad(b, mask, payloads);
+                }
+                let mut payloads = [T::default(); 4];
+                payloads[(i - base) as usize] = payload;
+                current = Some((base, 1 << (i - base), payloads));
+            }
+        }
+    }
+    if let Some((b, mask, payloads)) = current {
+        quad(b, mask, payloads);
+    }
 }
 
 impl<'a> SecondView<'a> {
@@ -42,60 +76,132 @@ impl<'a> SecondView<'a> {
         Self { eye }
     }
 
-    /// Traces and shades pixel (i, j) with a full primary ray; its sRGB colour.
-    #[inline]
-    #[must_use]
-    pub fn trace(&self, i: u32, j: u32, counts: &mut RayCounts) -> u32 {
-        self.eye.trace(i, j, counts).rgb
+    /// Lanes of the quad from column `base` that lie in the image.
+    fn lanes_from(&self, base: u32) -> usize {
+        (self.eye.view.width.saturating_sub(base) as usize).min(4)
     }
 
-    /// Traces and shades pixels (i + k, j), k = 0..n (n ≤ 4, all in the tile of (i, j), so
-    /// i a multiple of 4), into `out(k, colour)`: [`SecondView::trace`] four at a time.
-    #[inline]
-    pub fn trace4(&self, i: u32, j: u32, n: usize, counts: &mut RayCounts, mut out: impl FnMut(usize, u32)) {
-        self.eye.trace4(i, j, n, counts, |k, s| out(k, s.rgb));
+    /// Pushes the pixels `mask` names of the quad from `base` with full primary rays; the
+    /// ones that see only background go straight to `out`. Tags are columns | `flag`.
+    fn push_traced(
+        &self,
+        wavefront: &mut Wavefront,
+        base: u32,
+        j: u32,
+        mask: u32,
+        flag: u32,
+        out: &mut impl FnMut(u32, u32),
+    ) {
+        let hits = self.eye.hits4(base, j, self.lanes_from(base));
+        for (k, first) in hits.into_iter().enumerate() {
+            if mask & (1 << k) == 0 {
+                continue;
+            }
+            let i = base + k as u32;
+            match first {
+                Some((ray, hit)) => wavefront.push_hit(&ray, hit, None, i | flag),
+                None => out(i | flag, self.eye.tracer.background_rgb),
+            }
+        }
     }
 
-    /// Re-shades `surface`, seen by the other eye, for the ray of pixel (i, j): its kept
-    /// view-independent light plus highlights and reflection recomputed for this ray. Casts
-    /// no shadow ray for the surface itself. Seen along the ray that found it, a surface
-    /// re-shades to bit-for-bit its own pixel.
-    #[inline]
-    #[must_use]
-    pub fn reshade(&self, i: u32, j: u32, surface: &Surface, counts: &mut RayCounts) -> u32 {
-        self.eye.tracer.reshade(self.eye.view.primary_ray(i, j).dir, surface, counts)
+    /// Traces the pixels `cols` (ascending columns) of row `j` with full primary rays, and
+    /// hands each pixel's sRGB colour to `out(column, colour)`.
+    pub fn trace_pixels(
+        &self,
+        j: u32,
+        cols: impl IntoIterator<Item = u32>,
+        counts: &mut RayCounts,
+        mut out: impl FnMut(u32, u32),
+    ) {
+        with_wavefront(|wavefront| {
+            by_quads(cols.into_iter().map(|i| (i, ())), |base, mask, _| {
+                counts.primary += u64::from(mask.count_ones());
+                self.push_traced(wavefront, base, j, mask, 0, &mut out);
+            });
+            wavefront.shade(self.eye.tracer, Start::Rays, counts);
+            for e in 0..wavefront.len() {
+                out(wavefront.tag(e), wavefront.rgb(e));
+            }
+        });
     }
 
-    /// For pixels (i + k, j), k = 0..4: the pixel's own primary ray against the one sphere
-    /// `objects[k]` alone, shaded with the light bits `lights[k]` where it hits. `None`
-    /// where `objects[k]` is [`NO_OBJECT`] (the lane is skipped) or the ray misses that
-    /// sphere (a silhouette: the caller retraces it).
+    /// Re-shades, for each `(column, surface)` of row `j` (ascending columns), the surface
+    /// the other eye saw, for the ray of this pixel: its kept view-independent light plus
+    /// highlights and reflection recomputed for this ray. Casts no shadow ray for the
+    /// surface itself. Hands each colour to `out(column, colour)`. Seen along the ray that
+    /// found it, a surface re-shades to bit-for-bit its own pixel.
+    pub fn reshade(
+        &self,
+        j: u32,
+        items: impl IntoIterator<Item = (u32, Surface)>,
+        counts: &mut RayCounts,
+        mut out: impl FnMut(u32, u32),
+    ) {
+        let view = self.eye.view;
+        with_wavefront(|wavefront| {
+            for (i, surface) in items {
+                wavefront.push_surface(view.primary_ray(i, j).dir, &surface, i);
+            }
+            wavefront.shade(self.eye.tracer, Start::Surfaces, counts);
+            for e in 0..wavefront.len() {
+                out(wavefront.tag(e), wavefront.rgb(e));
+            }
+        });
+    }
+
+    /// For each `(column, object, light bits)` of row `j` (ascending columns): the pixel's
+    /// own primary ray against the one sphere `object` alone, shaded with `lights` where it
+    /// hits; where it misses that sphere (a silhouette), the pixel is retraced with a full
+    /// primary ray. Hands `out(column, colour, retraced)` for each.
     ///
     /// With the sphere the pixel really sees and its true light bits, the colour is
-    /// bit-for-bit [`SecondView::trace`]'s: the ray, its `t` and the shading are the same
+    /// bit-for-bit the full trace's: the ray, its `t` and the shading are the same
     /// operations on the same values.
-    #[inline]
-    #[must_use]
-    pub fn shade_on4(
+    pub fn shade_on(
         &self,
-        i: u32,
         j: u32,
-        objects: [u32; 4],
-        lights: [u32; 4],
+        items: impl IntoIterator<Item = (u32, u32, u32)>,
         counts: &mut RayCounts,
-    ) -> [Option<u32>; 4] {
+        mut out: impl FnMut(u32, u32, bool),
+    ) {
         let (tracer, view) = (self.eye.tracer, self.eye.view);
-        let dirs = view.primary_dirs4(i, j);
-        let spheres = objects.map(|k| (k != NO_OBJECT).then(|| (tracer.centers[k as usize], tracer.radii[k as usize])));
-        let t = hits_each(view.origin, spheres, dirs).to_array();
-        let lane = |v: f32x4, k: usize| v.as_array()[k];
-        std::array::from_fn(|k| {
-            if objects[k] == NO_OBJECT || !t[k].is_finite() {
-                return None;
+        let mut out_tagged = |tag: u32, rgb: u32| out(tag & !RETRACED, rgb, tag & RETRACED != 0);
+        with_wavefront(|wavefront| {
+            let items = items.into_iter().map(|(i, object, lights)| (i, (object, lights)));
+            by_quads(items, |base, mask, named| {
+                let dirs = view.primary_dirs4(base, j);
+                let spheres: [_; 4] = std::array::from_fn(|k| {
+                    let object = named[k].0;
+                    (mask & (1 << k) != 0 && object != NO_OBJECT)
+                        .then(|| (tracer.centers[object as usize], tracer.radii[object as usize]))
+                });
+                let t = hits_each(view.origin, spheres, dirs).to_array();
+                let lane = |v: f32x4, k: usize| v.as_array()[k];
+                let mut missed = 0u32;
+                for k in 0..4 {
+                    if mask & (1 << k) == 0 {
+                        continue;
+                    }
+                    let (object, lights) = named[k];
+                    if spheres[k].is_some() && t[k].is_finite() {
+                        let dir = Vec3::new(lane(dirs[0], k), lane(dirs[1], k), lane(dirs[2], k));
+                        let ray = Ray::new(view.origin, dir);
+                        wavefront.push_hit(&ray, Hit { t: t[k], object }, Some(lights), base + k as u32);
+                    } else {
+                        missed |= 1 << k;
+                    }
+                }
+                if missed != 0 {
+                    counts.primary += u64::from(missed.count_ones());
+                    self.push_traced(wavefront, base, j, missed, RETRACED, &mut out_tagged);
+                }
+            });
+            wavefront.shade(tracer, Start::Rays, counts);
+            for e in 0..wavefront.len() {
+                out_tagged(wavefront.tag(e), wavefront.rgb(e));
             }
-            let ray = Ray::new(view.origin, Vec3::new(lane(dirs[0], k), lane(dirs[1], k), lane(dirs[2], k)));
-            Some(tracer.shade_known_visibility(view, &ray, t[k], objects[k], lights[k], counts).rgb)
-        })
+        });
     }
 }
 
@@ -130,42 +236,67 @@ mod tests {
     }
 
     #[test]
-    fn single_sphere_tests_equal_the_sphere_test_and_shade_like_a_full_trace() {
+    fn single_sphere_tests_retrace_where_the_sphere_test_misses_and_shade_like_a_full_trace() {
         let scene = scene("many.toml");
         let tracer = Tracer::new(&scene, 0.0);
-        let (w, h) = (96, 54);
+        let (w, h) = (94, 54); // a short last quad
         let view = scene.camera.view(Eye::Right, w, h);
         let mut renderer = Renderer::new();
         let second = renderer.second_view(&tracer, &view);
         let n = tracer.sphere_count() as u32;
-        let (mut hits, mut counts, mut plain) = (0, RayCounts::default(), RayCounts::default());
-        // Lanes aimed at arbitrary spheres hit exactly where the lone sphere test does.
+        let (mut counts, mut plain, mut hits, mut retraced) = (RayCounts::default(), RayCounts::default(), 0, 0);
         for j in 0..h {
-            for i in (0..w).step_by(4) {
-                let objects =
-                    [i % n, NO_OBJECT, (7 * j) % n, (i + j) % n].map(|k| if k == NO_OBJECT { k } else { (k * 13) % n });
-                for (k, rgb) in second.shade_on4(i, j, objects, [0; 4], &mut counts).into_iter().enumerate() {
-                    let ray = view.primary_ray(i + k as u32, j);
-                    let want = objects[k] != NO_OBJECT && tracer.intersect_object(&ray, objects[k]).is_some();
-                    assert_eq!(rgb.is_some(), want, "({i} + {k}, {j})");
+            // Aimed at arbitrary spheres: retraced exactly where the lone sphere test misses,
+            // and then with the full trace's colour.
+            let items: Vec<_> = (0..w).filter(|i| i % 3 != 1).map(|i| (i, (i * 13 + 7 * j) % n, 0)).collect();
+            let mut seen = Vec::new();
+            second.shade_on(j, items.iter().copied(), &mut counts, |i, rgb, again| seen.push((i, rgb, again)));
+            seen.sort_unstable();
+            assert_eq!(seen.len(), items.len(), "one answer per pixel");
+            for (&(i, object, _), &(col, rgb, again)) in items.iter().zip(&seen) {
+                let ray = view.primary_ray(i, j);
+                assert_eq!((col, again), (i, tracer.intersect_object(&ray, object).is_none()), "({i}, {j})");
+                if again {
+                    assert_eq!(rgb, tracer.trace_pixel(&view, i, j, &mut plain).rgb, "({i}, {j}) retraced");
+                    retraced += 1;
                 }
             }
+            // Aimed at what each pixel sees, with its true light bits: the full trace.
+            let truth: Vec<_> = (0..w).map(|i| tracer.trace_pixel(&view, i, j, &mut plain)).collect();
+            let items = (0..w).filter(|&i| truth[i as usize].surface.is_hit()).map(|i| {
+                let s = truth[i as usize].surface;
+                (i, s.object, s.lights)
+            });
+            second.shade_on(j, items, &mut counts, |i, rgb, again| {
+                assert_eq!((rgb, again), (truth[i as usize].rgb, false), "({i}, {j})");
+                hits += 1;
+            });
+            // And every pixel traced afresh.
+            second.trace_pixels(j, 0..w, &mut counts, |i, rgb| {
+                assert_eq!(rgb, truth[i as usize].rgb, "({i}, {j}) traced");
+            });
         }
-        // Lanes aimed at what each pixel sees, with its true light bits, give the full trace.
+        assert!(hits > 500 && retraced > 500, "the view sees spheres: {hits} hits, {retraced} retraced");
+    }
+
+    #[test]
+    fn pixel_lists_count_the_rays_a_full_trace_casts() {
+        let scene = scene("seed.toml");
+        let tracer = Tracer::new(&scene, 0.9);
+        let (w, h) = (61, 34);
+        let view = scene.camera.view(Eye::Right, w, h);
+        let mut renderer = Renderer::new();
+        let second = renderer.second_view(&tracer, &view);
+        let (mut listed, mut plain) = (RayCounts::default(), RayCounts::default());
         for j in 0..h {
-            for i in (0..w).step_by(4) {
-                let truth: [_; 4] = std::array::from_fn(|k| tracer.trace_pixel(&view, i + k as u32, j, &mut plain));
-                let objects = truth.map(|s| s.surface.object);
-                let lights = truth.map(|s| s.surface.lights);
-                for (k, rgb) in second.shade_on4(i, j, objects, lights, &mut counts).into_iter().enumerate() {
-                    if objects[k] != NO_OBJECT {
-                        assert_eq!(rgb, Some(truth[k].rgb), "({i} + {k}, {j})");
-                        hits += 1;
-                    }
-                }
+            // Every other pixel, then the rest: scattered lists, whole quads and lone pixels.
+            second.trace_pixels(j, (0..w).step_by(2), &mut listed, |_, _| {});
+            second.trace_pixels(j, (1..w).step_by(2), &mut listed, |_, _| {});
+            for i in 0..w {
+                let _ = tracer.trace_pixel(&view, i, j, &mut plain);
             }
         }
-        assert!(hits > 500, "the view sees spheres: {hits}");
+        assert_eq!(listed, plain, "primary, shadow and mirror rays");
     }
 
     #[test]
@@ -177,14 +308,12 @@ mod tests {
         let second = renderer.second_view(&tracer, &view);
         let (mut counts, mut reshaded) = (RayCounts::default(), 0);
         for j in 0..36 {
-            for i in 0..64 {
-                let s = tracer.trace_pixel(&view, i, j, &mut counts);
-                assert_eq!(second.trace(i, j, &mut counts), s.rgb, "({i}, {j})");
-                if s.surface.is_hit() {
-                    assert_eq!(second.reshade(i, j, &s.surface, &mut counts), s.rgb, "({i}, {j})");
-                    reshaded += 1;
-                }
-            }
+            let truth: Vec<_> = (0..64).map(|i| tracer.trace_pixel(&view, i, j, &mut counts)).collect();
+            let items = (0..64).filter(|&i| truth[i as usize].surface.is_hit()).map(|i| (i, truth[i as usize].surface));
+            second.reshade(j, items, &mut counts, |i, rgb| {
+                assert_eq!(rgb, truth[i as usize].rgb, "({i}, {j})");
+                reshaded += 1;
+            });
         }
         assert!(reshaded > 100, "the view sees spheres: {reshaded}");
     }

@@ -30,15 +30,6 @@ const KEPT_LIGHTS: usize = 4;
 /// Directions from a hit to the first [`KEPT_LIGHTS`] lights.
 type LightDirs = [Vec3; KEPT_LIGHTS];
 
-/// Where light visibility comes from when shading a hit.
-#[derive(Clone, Copy, Debug)]
-enum Visibility {
-    /// Cast a shadow ray to each light the surface faces.
-    Trace,
-    /// Reuse known visibility bits (bit k = light k reaches the point).
-    Known(u32),
-}
-
 /// One shaded primary sample: the pixel colour and its visible-surface record.
 #[derive(Clone, Copy, Debug)]
 pub struct Shaded {
@@ -55,7 +46,7 @@ impl Tracer {
     /// there), at depth `depth`.
     fn trace_reflection(&self, from: u32, n: Vec3, ray: &Ray, depth: u32, counts: &mut RayCounts) -> Vec3 {
         match self.intersect_from(from, n, ray) {
-            Some(Hit { t, object }) => self.shade_hit(ray, t, object, depth, Visibility::Trace, counts).0,
+            Some(Hit { t, object }) => self.shade_hit(ray, t, object, depth, counts).0,
             None => self.settings.background,
         }
     }
@@ -84,34 +75,7 @@ impl Tracer {
         object: u32,
         counts: &mut RayCounts,
     ) -> Shaded {
-        self.shaded_sample(view, ray, t, object, Visibility::Trace, counts)
-    }
-
-    /// Shades the hit of `ray` on sphere `object` at parameter `t` with known light
-    /// visibility `lights` (no shadow rays), recomputing everything else. With the right
-    /// visibility this is bit-for-bit what [`Tracer::trace_pixel`] would produce.
-    #[inline]
-    #[must_use]
-    pub(crate) fn shade_known_visibility(
-        &self,
-        view: &EyeView,
-        ray: &Ray,
-        t: f32,
-        object: u32,
-        lights: u32,
-        counts: &mut RayCounts,
-    ) -> Shaded {
-        self.shaded_sample(view, ray, t, object, Visibility::Known(lights), counts)
-    }
-
-    /// Re-shades a surface seen from another eye for a view along the unit direction `d`
-    /// (the new pixel's ray): keeps its view-independent light and recomputes the highlight
-    /// and reflection. Casts no shadow ray for the surface itself. With `d` equal to the
-    /// original ray's direction the result is bit-for-bit the original pixel.
-    #[inline]
-    #[must_use]
-    pub(crate) fn reshade(&self, d: Vec3, surface: &Surface, counts: &mut RayCounts) -> u32 {
-        pack_rgb(surface.diffuse + self.view_dependent(surface, d, None, 0, counts))
+        self.shaded_sample(view, ray, t, object, counts)
     }
 
     /// The sample of a pixel whose primary ray missed.
@@ -120,33 +84,17 @@ impl Tracer {
         Shaded { rgb: self.background_rgb, z: f32::INFINITY, surface: Surface::MISS }
     }
 
-    fn shaded_sample(
-        &self,
-        view: &EyeView,
-        ray: &Ray,
-        t: f32,
-        object: u32,
-        vis: Visibility,
-        counts: &mut RayCounts,
-    ) -> Shaded {
-        let (color, surface) = self.shade_hit(ray, t, object, 0, vis, counts);
+    fn shaded_sample(&self, view: &EyeView, ray: &Ray, t: f32, object: u32, counts: &mut RayCounts) -> Shaded {
+        let (color, surface) = self.shade_hit(ray, t, object, 0, counts);
         Shaded { rgb: pack_rgb(color), z: view.head_z(surface.point), surface }
     }
 
-    fn shade_hit(
-        &self,
-        ray: &Ray,
-        t: f32,
-        object: u32,
-        depth: u32,
-        vis: Visibility,
-        counts: &mut RayCounts,
-    ) -> (Vec3, Surface) {
+    fn shade_hit(&self, ray: &Ray, t: f32, object: u32, depth: u32, counts: &mut RayCounts) -> (Vec3, Surface) {
         let k = object as usize;
         let p = ray.at(t);
         // Normalised rather than divided by r: the hit lies on the sphere only to rounding.
         let n = (p - self.centers[k]).normalize();
-        let (diffuse, lights, dirs) = self.view_independent(object, p, n, vis, counts);
+        let (diffuse, lights, dirs) = self.view_independent(object, p, n, counts);
         let surface = Surface { point: p, normal: n, diffuse, object, lights };
         (diffuse + self.view_dependent(&surface, ray.dir, Some(&dirs), depth, counts), surface)
     }
@@ -154,7 +102,7 @@ impl Tracer {
     /// Unit direction and distance from `p` to light `k`: the one formula every shading
     /// path uses, so that a direction kept from one step equals one recomputed in another.
     #[inline]
-    fn to_light(&self, p: Vec3, k: usize) -> (Vec3, f32) {
+    pub(crate) fn to_light(&self, p: Vec3, k: usize) -> (Vec3, f32) {
         let v = self.lights[k].position - p;
         let dist = v.length();
         (v * dist.recip(), dist)
@@ -162,14 +110,7 @@ impl Tracer {
 
     /// Ambient + Lambert diffuse with hard shadows, the visibility bits it found, and the
     /// directions to the first [`KEPT_LIGHTS`] lights for the highlights.
-    fn view_independent(
-        &self,
-        object: u32,
-        p: Vec3,
-        n: Vec3,
-        vis: Visibility,
-        counts: &mut RayCounts,
-    ) -> (Vec3, u32, LightDirs) {
+    fn view_independent(&self, object: u32, p: Vec3, n: Vec3, counts: &mut RayCounts) -> (Vec3, u32, LightDirs) {
         let mut sum = Vec3::ZERO;
         let mut bits = 0u32;
         let mut dirs = [Vec3::ZERO; KEPT_LIGHTS];
@@ -182,14 +123,8 @@ impl Tracer {
             if ndl <= 0.0 {
                 continue;
             }
-            let visible = match vis {
-                Visibility::Trace => {
-                    counts.shadow += 1;
-                    !self.shadowed(k, object, p, n, &spawn_ray(p, n, l), dist)
-                }
-                Visibility::Known(known) => known & (1 << k) != 0,
-            };
-            if visible {
+            counts.shadow += 1;
+            if !self.shadowed(k, object, p, n, &spawn_ray(p, n, l), dist) {
                 bits |= 1 << k;
                 sum += ndl * light.color;
             }

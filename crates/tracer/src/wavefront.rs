@@ -1,0 +1,373 @@
+//! Batched Whitted shading: the recursion of `shade.rs` turned into a stream of queues
+//! (pbrt-v4's wavefront integrator), so that each stage runs over many hits at once.
+//!
+//! A batch starts with the first hits of many primary rays (level 0). Each level is shaded
+//! in three stages — the hit points and normals; the light at them (shadow rays, diffuse,
+//! highlights); the mirror rays they cast — and the mirror rays that hit something become
+//! the next level. A hit casts at most one mirror ray, so each sample's ray tree is a chain
+//! (its shadow rays are leaves): once the deepest level is shaded, radiance is folded back
+//! up the chain as `L = D + (S + kr · L_mirror)`, the very operations, in the very order, of
+//! the recursive [`Tracer::trace_pixel`]. Every result is therefore bit-for-bit the
+//! recursive one, which the tests check on every scene.
+//!
+//! The queues live in a [`Wavefront`] that each worker thread keeps from batch to batch, so
+//! a warm renderer allocates nothing.
+
+use fearless_simd::{dispatch, Simd};
+use glam::Vec3;
+
+use crate::color::pack_rgb;
+use crate::ray::{reflect, spawn_ray, Ray};
+use crate::stats::RayCounts;
+use crate::surface::{Hit, Surface};
+use crate::tracer::Tracer;
+
+mod lanes;
+
+/// What a batch's samples start from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Start {
+    /// First hits of rays ([`Wavefront::push_hit`]): shaded fully, each either casting a
+    /// shadow ray to every light its surface faces or reusing light bits known from
+    /// another view (`exact` mode: a light counts where its bit is set and the surface
+    /// faces it here).
+    Rays,
+    /// Surfaces already lit by another view ([`Wavefront::push_surface`], `reshade` mode):
+    /// their point, normal, view-independent light and light bits are kept; only highlights
+    /// and the mirror ray are made for the new direction of view.
+    Surfaces,
+}
+
+/// Structure-of-arrays columns of three.
+type Column3 = [Vec<f32>; 3];
+
+fn push3(c: &mut Column3, v: Vec3) {
+    c[0].push(v.x);
+    c[1].push(v.y);
+    c[2].push(v.z);
+}
+
+fn get3(c: &Column3, e: usize) -> Vec3 {
+    Vec3::new(c[0][e], c[1][e], c[2][e])
+}
+
+fn set3(c: &mut Column3, e: usize, v: Vec3) {
+    (c[0][e], c[1][e], c[2][e]) = (v.x, v.y, v.z);
+}
+
+/// The hits of one reflection depth, one entry per hit in each column.
+#[derive(Clone, Debug, Default)]
+struct Level {
+    /// The ray's direction (unit).
+    d: Column3,
+    /// The ray's origin.
+    o: Column3,
+    /// The ray's hit parameter.
+    t: Vec<f32>,
+    /// The sphere hit.
+    object: Vec<u32>,
+    /// Level 0: the caller's tag of the sample; deeper: the entry of the level above whose
+    /// mirror ray this is.
+    parent: Vec<u32>,
+    /// Level 0: whether the entry's light bits are known (not traced).
+    known: Vec<bool>,
+    /// Hit point.
+    p: Column3,
+    /// Unit outward normal.
+    n: Column3,
+    /// Light bits: given (level 0 of `Known` and `Surface` batches) or found.
+    lights: Vec<u32>,
+    /// View-independent light D.
+    diffuse: Column3,
+    /// Highlights S.
+    spec: Column3,
+    /// Radiance of the mirror ray, once known (background until a hit is shaded).
+    mirror: Column3,
+    /// Whether the entry cast a mirror ray.
+    reflects: Vec<bool>,
+    /// The entry's radiance, once folded.
+    radiance: Column3,
+}
+
+impl Level {
+    fn clear(&mut self) {
+        let columns = [
+            &mut self.d,
+            &mut self.o,
+            &mut self.p,
+            &mut self.n,
+            &mut self.diffuse,
+            &mut self.spec,
+            &mut self.mirror,
+            &mut self.radiance,
+        ];
+        for c in columns.into_iter().flatten() {
+            c.clear();
+        }
+        self.t.clear();
+        self.object.clear();
+        self.parent.clear();
+        self.lights.clear();
+        self.known.clear();
+        self.reflects.clear();
+    }
+
+    fn len(&self) -> usize {
+        self.t.len()
+    }
+
+    /// Adds a hit: ray (`o`, `d`) meets `object` at `t`; `lights` as [`Level::lights`].
+    fn push(&mut self, o: Vec3, d: Vec3, t: f32, object: u32, parent: u32, known: Option<u32>) {
+        push3(&mut self.o, o);
+        push3(&mut self.d, d);
+        self.t.push(t);
+        self.object.push(object);
+        self.parent.push(parent);
+        self.lights.push(known.unwrap_or(0));
+        self.known.push(known.is_some());
+    }
+
+    /// Room for the stage outputs of every entry.
+    fn size_outputs(&mut self) {
+        let n = self.len();
+        for c in [&mut self.p, &mut self.n, &mut self.diffuse, &mut self.spec, &mut self.mirror, &mut self.radiance] {
+            for x in c {
+                x.resize(n, 0.0);
+            }
+        }
+        self.reflects.resize(n, false);
+    }
+}
+
+/// The queues of one worker, reused from batch to batch.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Wavefront {
+    /// `levels[k]`: the hits at reflection depth k; only the first `depth` are in use.
+    levels: Vec<Level>,
+    /// Levels in use.
+    depth: usize,
+}
+
+impl Wavefront {
+    /// Empties the batch.
+    pub(crate) fn clear(&mut self) {
+        if self.levels.is_empty() {
+            self.levels.push(Level::default());
+        }
+        self.levels[0].clear();
+        self.depth = 1;
+    }
+
+    /// Samples in the batch.
+    pub(crate) fn len(&self) -> usize {
+        self.levels.first().map_or(0, Level::len)
+    }
+
+    /// Adds a sample whose primary ray `ray` first meets `hit`, for a [`Start::Rays`]
+    /// batch; `known` are its light bits if they are known, and `tag` is the caller's
+    /// (a pixel column, say).
+    pub(crate) fn push_hit(&mut self, ray: &Ray, hit: Hit, known: Option<u32>, tag: u32) {
+        self.levels[0].push(ray.origin, ray.dir, hit.t, hit.object, tag, known);
+    }
+
+    /// Adds a sample that sees `surface` (lit by another view) along the unit direction
+    /// `d`, for a [`Start::Surfaces`] batch.
+    pub(crate) fn push_surface(&mut self, d: Vec3, surface: &Surface, tag: u32) {
+        let level = &mut self.levels[0];
+        level.push(surface.point, d, 0.0, surface.object, tag, Some(surface.lights));
+        push3(&mut level.p, surface.point);
+        push3(&mut level.n, surface.normal);
+        push3(&mut level.diffuse, surface.diffuse);
+    }
+
+    /// Shades every sample of the batch, counting the shadow and mirror rays cast.
+    pub(crate) fn shade(&mut self, tracer: &Tracer, start: Start, counts: &mut RayCounts) {
+        dispatch!(crate::simd::level(), simd => self.shade_in(simd, tracer, start, counts));
+    }
+
+    /// [`Wavefront::shade`] with the lanes of `simd`: each stage runs over whole vectors,
+    /// then the scalar stage takes the entries left over.
+    #[inline(always)]
+    fn shade_in<S: Simd>(&mut self, simd: S, tracer: &Tracer, start: Start, counts: &mut RayCounts) {
+        let max_depth = tracer.settings.max_depth as usize;
+        self.depth = 0;
+        for k in 0.. {
+            if self.levels.len() < k + 2 {
+                self.levels.push(Level::default());
+            }
+            self.levels[k + 1].clear();
+            let (upper, lower) = self.levels.split_at_mut(k + 1);
+            let (level, next) = (&mut upper[k], &mut lower[0]);
+            if level.len() == 0 {
+                break;
+            }
+            self.depth = k + 1;
+            level.size_outputs();
+            if k > 0 || start == Start::Rays {
+                let done = lanes::surfaces(simd, tracer, level);
+                surfaces(tracer, level, done);
+                let done = lanes::light(simd, tracer, level, k == 0, counts);
+                light(tracer, level, k == 0, counts, done);
+            }
+            let done = lanes::highlights(simd, tracer, level);
+            highlights(tracer, level, done);
+            if k < max_depth {
+                let done = lanes::mirrors(simd, tracer, level, next, counts);
+                mirrors(tracer, level, next, counts, done);
+            }
+        }
+        // Radiance folds up each sample's chain, deepest level first.
+        for k in (0..self.depth).rev() {
+            let (upper, lower) = self.levels.split_at_mut(k);
+            let level = &mut lower[0];
+            let done = lanes::radiance(simd, tracer, level);
+            radiance(tracer, level, done);
+            if let Some(above) = upper.last_mut() {
+                for e in 0..level.len() {
+                    set3(&mut above.mirror, level.parent[e] as usize, get3(&level.radiance, e));
+                }
+            }
+        }
+    }
+
+    /// Sample `e`'s tag.
+    pub(crate) fn tag(&self, e: usize) -> u32 {
+        self.levels[0].parent[e]
+    }
+
+    /// Sample `e`'s packed sRGB colour, once shaded.
+    pub(crate) fn rgb(&self, e: usize) -> u32 {
+        pack_rgb(get3(&self.levels[0].radiance, e))
+    }
+
+    /// Sample `e`'s visible-surface record, once shaded.
+    pub(crate) fn surface(&self, e: usize) -> Surface {
+        let level = &self.levels[0];
+        Surface {
+            point: get3(&level.p, e),
+            normal: get3(&level.n, e),
+            diffuse: get3(&level.diffuse, e),
+            object: level.object[e],
+            lights: level.lights[e],
+        }
+    }
+}
+
+/// Stage 1: hit points and normals, of the entries from `from` on (the scalar stages below
+/// are the lanes' reference and take what is left over from whole vectors).
+fn surfaces(tracer: &Tracer, level: &mut Level, from: usize) {
+    for e in from..level.len() {
+        let p = get3(&level.o, e) + level.t[e] * get3(&level.d, e);
+        // Normalised rather than divided by r: the hit lies on the sphere only to rounding.
+        let n = (p - tracer.centers[level.object[e] as usize]).normalize();
+        set3(&mut level.p, e, p);
+        set3(&mut level.n, e, n);
+    }
+}
+
+/// Stage 2: the light bits (from shadow rays, or known at level 0) and the view-independent
+/// light.
+fn light(tracer: &Tracer, level: &mut Level, first: bool, counts: &mut RayCounts, from: usize) {
+    for e in from..level.len() {
+        let known = first && level.known[e];
+        let (p, n, object) = (get3(&level.p, e), get3(&level.n, e), level.object[e]);
+        let mut sum = Vec3::ZERO;
+        let mut bits = 0u32;
+        for (k, light) in tracer.lights.iter().enumerate() {
+            let (l, dist) = tracer.to_light(p, k);
+            let ndl = n.dot(l);
+            if ndl <= 0.0 {
+                continue;
+            }
+            let visible = if known {
+                level.lights[e] & (1 << k) != 0
+            } else {
+                counts.shadow += 1;
+                !tracer.shadowed(k, object, p, n, &spawn_ray(p, n, l), dist)
+            };
+            if visible {
+                bits |= 1 << k;
+                sum += ndl * light.color;
+            }
+        }
+        let m = &tracer.materials[object as usize];
+        level.lights[e] = bits;
+        set3(&mut level.diffuse, e, m.color * (tracer.settings.ambient + m.diffuse * sum));
+    }
+}
+
+/// Stage 3: Blinn–Phong highlights from the lights the bits name, seen along the ray.
+fn highlights(tracer: &Tracer, level: &mut Level, from: usize) {
+    for e in from..level.len() {
+        let object = level.object[e] as usize;
+        let (m, exponent) = (&tracer.materials[object], tracer.exponents[object]);
+        let mut out = Vec3::ZERO;
+        if m.specular > 0.0 {
+            let (p, n, d, bits) = (get3(&level.p, e), get3(&level.n, e), get3(&level.d, e), level.lights[e]);
+            for (k, light) in tracer.lights.iter().enumerate() {
+                if bits & (1 << k) == 0 {
+                    continue;
+                }
+                let l = tracer.to_light(p, k).0;
+                let ndh = n.dot((l - d).normalize_or_zero());
+                if ndh > 0.0 {
+                    out += m.specular * exponent.power(ndh, m.shininess) * light.color;
+                }
+            }
+        }
+        set3(&mut level.spec, e, out);
+    }
+}
+
+/// Stage 4: the mirror rays of reflective hits; those that meet a sphere join `next`.
+fn mirrors(tracer: &Tracer, level: &mut Level, next: &mut Level, counts: &mut RayCounts, from: usize) {
+    for e in from..level.len() {
+        let object = level.object[e];
+        if tracer.materials[object as usize].reflectivity <= 0.0 {
+            continue;
+        }
+        counts.reflection += 1;
+        level.reflects[e] = true;
+        set3(&mut level.mirror, e, tracer.settings.background);
+        let (p, n, d) = (get3(&level.p, e), get3(&level.n, e), get3(&level.d, e));
+        // d and n are unit, so r is too, to rounding: no normalisation needed.
+        let ray = spawn_ray(p, n, reflect(d, n));
+        if let Some(hit) = tracer.intersect_from(object, n, &ray) {
+            next.push(ray.origin, ray.dir, hit.t, hit.object, e as u32, None);
+        }
+    }
+}
+
+thread_local! {
+    /// This thread's queues.
+    static WAVEFRONT: std::cell::RefCell<Wavefront> = std::cell::RefCell::new(Wavefront::default());
+}
+
+/// Runs `f` with this thread's [`Wavefront`], emptied. A nested call (from inside `f`) gets
+/// a fresh one of its own rather than failing.
+pub(crate) fn with_wavefront<R>(f: impl FnOnce(&mut Wavefront) -> R) -> R {
+    WAVEFRONT.with(|cell| {
+        if let Ok(mut wavefront) = cell.try_borrow_mut() {
+            wavefront.clear();
+            f(&mut wavefront)
+        } else {
+            let mut wavefront = Wavefront::default();
+            wavefront.clear();
+            f(&mut wavefront)
+        }
+    })
+}
+
+/// The fold: entry radiance `D + (S + kr·L_mirror)`, or `D + S` where no mirror ray was cast.
+fn radiance(tracer: &Tracer, level: &mut Level, from: usize) {
+    for e in from..level.len() {
+        let (d, s) = (get3(&level.diffuse, e), get3(&level.spec, e));
+        let radiance = if level.reflects[e] {
+            let kr = tracer.materials[level.object[e] as usize].reflectivity;
+            d + (s + kr * get3(&level.mirror, e))
+        } else {
+            d + s
+        };
+        set3(&mut level.radiance, e, radiance);
+    }
+}

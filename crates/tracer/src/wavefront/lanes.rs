@@ -1,0 +1,408 @@
+//! The wavefront's stages over SIMD lanes: `S::f32s::LEN` entries at a time (8 with AVX2,
+//! 4 on the baseline), generic over `fearless_simd`'s [`Simd`] token so that one dispatch
+//! (in `Wavefront::shade`) picks the instruction set for all of them.
+//!
+//! Each lane repeats the scalar stage's operations in the scalar stage's order: glam's dot
+//! product `(x·x' + y·y') + z·z'`, normalisation as `v · (1/√(v·v))`, a separate multiply
+//! and add where glam has them, never `mul_add`. IEEE arithmetic then gives every lane the
+//! scalar result bit for bit, which the tests check against the recursive path. What
+//! cannot run in lanes — shadow and mirror queries through the acceleration structures, and
+//! `powf` for exponents that are not whole — runs per lane on the values the lanes made.
+//! A batch's last entries, fewer than a vector, take the scalar stages.
+
+use fearless_simd::{prelude::*, Simd};
+use glam::Vec3;
+
+use super::{Column3, Level};
+use crate::material::Exponent;
+use crate::ray::{spawn_ray, Ray};
+use crate::stats::RayCounts;
+use crate::surface::Hit;
+use crate::tracer::Tracer;
+
+type F<S> = <S as Simd>::f32s;
+type U<S> = <S as Simd>::u32s;
+type M<S> = <S as Simd>::mask32s;
+
+/// `[f(0), f(1), f(2)]`, kept inline (`array::map` may not be, and an out-of-line call
+/// loses the dispatched target features).
+#[inline(always)]
+fn each3<T>(f: impl Fn(usize) -> T) -> [T; 3] {
+    [f(0), f(1), f(2)]
+}
+
+/// Lanes `j..` of a column.
+#[inline(always)]
+fn load<S: Simd>(simd: S, column: &[f32], j: usize) -> F<S> {
+    F::<S>::from_slice(simd, &column[j..j + F::<S>::LEN])
+}
+
+/// Lanes `j..` of three columns.
+#[inline(always)]
+fn load3<S: Simd>(simd: S, c: &Column3, j: usize) -> [F<S>; 3] {
+    each3(|a| load(simd, &c[a], j))
+}
+
+/// Stores a vector of three into lanes `j..` of three columns.
+#[inline(always)]
+fn store3<S: Simd>(v: [F<S>; 3], c: &mut Column3, j: usize) {
+    for (a, x) in v.iter().enumerate() {
+        x.store_slice(&mut c[a][j..j + F::<S>::LEN]);
+    }
+}
+
+/// glam's `Vec3::dot`, lane by lane.
+#[inline(always)]
+fn dot<S: Simd>(a: [F<S>; 3], b: [F<S>; 3]) -> F<S> {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// A vector splatted across the lanes.
+#[inline(always)]
+fn splat3<S: Simd>(simd: S, v: Vec3) -> [F<S>; 3] {
+    [F::<S>::splat(simd, v.x), F::<S>::splat(simd, v.y), F::<S>::splat(simd, v.z)]
+}
+
+/// Lane `l` of a vector of three.
+#[inline(always)]
+fn lane3<S: Simd>(v: &[F<S>; 3], l: usize) -> Vec3 {
+    Vec3::new(v[0].as_slice()[l], v[1].as_slice()[l], v[2].as_slice()[l])
+}
+
+/// A per-entry value of the material of each lane's sphere.
+#[inline(always)]
+fn material<S: Simd>(simd: S, tracer: &Tracer, objects: &[u32], f: impl Fn(&crate::material::Material) -> f32) -> F<S> {
+    F::<S>::from_fn(simd, |l| f(&tracer.materials[objects[l] as usize]))
+}
+
+/// The direction to light `k` and its distance, as [`Tracer::to_light`] computes them.
+#[inline(always)]
+fn to_light<S: Simd>(simd: S, light: Vec3, p: [F<S>; 3]) -> ([F<S>; 3], F<S>) {
+    let light = splat3(simd, light);
+    let v = each3(|a| light[a] - p[a]);
+    let dist = dot::<S>(v, v).sqrt();
+    let recip = F::<S>::splat(simd, 1.0) / dist;
+    (each3(|a| v[a] * recip), dist)
+}
+
+/// A mask from bit l of `bits` for each lane l.
+#[inline(always)]
+fn mask_of<S: Simd>(simd: S, bits: u64) -> M<S> {
+    U::<S>::from_fn(simd, |l| u32::from(bits & (1 << l) != 0)).simd_eq(U::<S>::splat(simd, 1))
+}
+
+/// Scenes of up to this many spheres answer shadow and mirror rays by testing every sphere
+/// against a vector of rays at once, instead of one ray at a time through the cube maps
+/// and cones. Either way the answer is the same: each sphere's `t` is the same operations
+/// on the same values (`sphere.rs`'s `nearest_root`).
+pub(super) const ALL_SPHERES_MAX: usize = 16;
+
+/// Each lane's ray (origin `o`, unit direction `d`) against the sphere (`center`, `radius`):
+/// its nearest `t` in `(0, t_max)`, +∞ where there is none. Lane by lane the operations of
+/// `sphere.rs`'s `SpherePacket::hits`, so bit-for-bit the `t` every other query reports.
+#[inline(always)]
+fn sphere_t<S: Simd>(simd: S, o: [F<S>; 3], d: [F<S>; 3], center: Vec3, radius: f32, t_max: F<S>) -> F<S> {
+    let (zero, inf) = (F::<S>::splat(simd, 0.0), F::<S>::splat(simd, f32::INFINITY));
+    let c = splat3(simd, center);
+    let oc = each3(|a| o[a] - c[a]);
+    let r = F::<S>::splat(simd, radius);
+    let r2 = r * r;
+    let cc = dot::<S>(oc, oc) - r2;
+    let b = dot::<S>(oc, d);
+    let p = each3(|a| oc[a] - b * d[a]);
+    let disc = r2 - dot::<S>(p, p);
+    let touched = disc.simd_ge(zero);
+    if !touched.any_true() {
+        return inf;
+    }
+    let sq = disc.sqrt();
+    let q = b.simd_gt(zero).select(-b - sq, -b + sq);
+    let t0 = cc / q;
+    let (near, far) = (t0.min_precise(q), t0.max_precise(q));
+    let near_ok = near.simd_gt(zero) & near.simd_lt(t_max);
+    let far_ok = far.simd_gt(zero) & far.simd_lt(t_max);
+    let t = near_ok.select(near, far_ok.select(far, inf));
+    touched.select(t, inf)
+}
+
+/// The lanes whose object is sphere `s`.
+#[inline(always)]
+fn is_object<S: Simd>(simd: S, objects: U<S>, s: usize) -> M<S> {
+    objects.simd_eq(U::<S>::splat(simd, s as u32))
+}
+
+/// Which lanes' shadow rays (from `origin` along `l`, to `dist`) some sphere blocks, of
+/// the lanes in `need`; a ray is not tested against its own sphere (`objects`), which it
+/// leaves outwards.
+#[inline(always)]
+fn blocked_all<S: Simd>(
+    simd: S,
+    tracer: &Tracer,
+    (origin, l, dist): ([F<S>; 3], [F<S>; 3], F<S>),
+    objects: U<S>,
+    need: M<S>,
+) -> u64 {
+    let inf = F::<S>::splat(simd, f32::INFINITY);
+    let mut blocked = M::<S>::splat(simd, false);
+    for (s, (&center, &radius)) in tracer.centers.iter().zip(&tracer.radii).enumerate() {
+        let t = sphere_t(simd, origin, l, center, radius, dist);
+        blocked = blocked | (t.simd_lt(inf) & !is_object(simd, objects, s));
+        if (need & !blocked).all_false() {
+            break;
+        }
+    }
+    (need & blocked).to_bitmask()
+}
+
+/// Each lane's closest hit of the ray from `origin` along `dir`, among every sphere but
+/// its own where it leaves that sphere outwards (as `Tracer::intersect_from` answers): the
+/// hit parameter (+∞ for none) and the sphere.
+#[inline(always)]
+fn closest_all<S: Simd>(simd: S, tracer: &Tracer, origin: [F<S>; 3], dir: [F<S>; 3], objects: U<S>, outwards: M<S>) -> (F<S>, U<S>) {
+    let mut t_best = F::<S>::splat(simd, f32::INFINITY);
+    let mut best = U::<S>::splat(simd, crate::surface::NO_OBJECT);
+    for (s, (&center, &radius)) in tracer.centers.iter().zip(&tracer.radii).enumerate() {
+        let t = sphere_t(simd, origin, dir, center, radius, t_best);
+        let nearer = t.simd_lt(t_best) & !(is_object(simd, objects, s) & outwards);
+        t_best = nearer.select(t, t_best);
+        best = nearer.select(U::<S>::splat(simd, s as u32), best);
+    }
+    (t_best, best)
+}
+
+/// Stage 1 over whole vectors: hit points and normals. Returns how many entries it did.
+#[inline(always)]
+pub(super) fn surfaces<S: Simd>(simd: S, tracer: &Tracer, level: &mut Level) -> usize {
+    let lanes = F::<S>::LEN;
+    let whole = level.len() / lanes * lanes;
+    let one = F::<S>::splat(simd, 1.0);
+    for j in (0..whole).step_by(lanes) {
+        let (o, d, t) = (load3(simd, &level.o, j), load3(simd, &level.d, j), load(simd, &level.t, j));
+        let objects = &level.object[j..j + lanes];
+        let c = each3(|a| F::<S>::from_fn(simd, |l| tracer.centers[objects[l] as usize][a]));
+        let p = each3(|a| o[a] + t * d[a]);
+        let v = each3(|a| p[a] - c[a]);
+        let recip = one / dot::<S>(v, v).sqrt();
+        store3::<S>(p, &mut level.p, j);
+        store3::<S>(each3(|a| v[a] * recip), &mut level.n, j);
+    }
+    whole
+}
+
+/// Stage 2 over whole vectors: light bits (shadow rays per lane, or the known bits at level
+/// 0) and the view-independent light. Returns how many entries it did.
+#[inline(always)]
+pub(super) fn light<S: Simd>(simd: S, tracer: &Tracer, level: &mut Level, first: bool, counts: &mut RayCounts) -> usize {
+    let lanes = F::<S>::LEN;
+    let whole = level.len() / lanes * lanes;
+    let zero = F::<S>::splat(simd, 0.0);
+    let all_spheres = tracer.centers.len() <= ALL_SPHERES_MAX;
+    for j in (0..whole).step_by(lanes) {
+        let (p, n) = (load3(simd, &level.p, j), load3(simd, &level.n, j));
+        let objects = &level.object[j..j + lanes];
+        let objects_u = U::<S>::from_slice(simd, objects);
+        let (mut sum, mut bits) = ([zero; 3], [0u32; 16]);
+        for (k, light) in tracer.lights.iter().enumerate() {
+            let (l, dist) = to_light(simd, light.position, p);
+            let ndl = dot::<S>(n, l);
+            let faces = ndl.simd_gt(zero).to_bitmask();
+            // Lanes whose bits are known take them; the others cast a shadow ray.
+            let (mut known, mut visible) = (0u64, 0u64);
+            if first {
+                for lane in 0..lanes {
+                    if level.known[j + lane] {
+                        known |= 1 << lane;
+                        visible |= u64::from(level.lights[j + lane] >> k & 1) << lane;
+                    }
+                }
+                visible &= faces;
+            }
+            let mut need = faces & !known;
+            counts.shadow += u64::from(need.count_ones());
+            if need != 0 && all_spheres {
+                let origin = spawn_origins(simd, p, n, l);
+                visible |= need & !blocked_all(simd, tracer, (origin, l, dist), objects_u, mask_of(simd, need));
+                need = 0;
+            }
+            while need != 0 {
+                let lane = need.trailing_zeros() as usize;
+                need &= need - 1;
+                let (pl, nl) = (lane3::<S>(&p, lane), lane3::<S>(&n, lane));
+                let ray = spawn_ray(pl, nl, lane3::<S>(&l, lane));
+                if !tracer.shadowed(k, objects[lane], pl, nl, &ray, dist.as_slice()[lane]) {
+                    visible |= 1 << lane;
+                }
+            }
+            for (lane, b) in bits.iter_mut().enumerate().take(lanes) {
+                *b |= u32::from(visible >> lane & 1 != 0) << k;
+            }
+            if visible != 0 {
+                let visible = mask_of(simd, visible);
+                let color = splat3(simd, light.color);
+                sum = each3(|a| visible.select(sum[a] + ndl * color[a], sum[a]));
+            }
+        }
+        let ambient = F::<S>::splat(simd, tracer.settings.ambient);
+        let kd = material(simd, tracer, objects, |m| m.diffuse);
+        let c = each3(|a| material(simd, tracer, objects, |m| m.color[a]));
+        store3::<S>(each3(|a| c[a] * (ambient + kd * sum[a])), &mut level.diffuse, j);
+        level.lights[j..j + lanes].copy_from_slice(&bits[..lanes]);
+    }
+    whole
+}
+
+/// Stage 3 over whole vectors: Blinn–Phong highlights from the lights the bits name.
+/// Returns how many entries it did.
+#[inline(always)]
+pub(super) fn highlights<S: Simd>(simd: S, tracer: &Tracer, level: &mut Level) -> usize {
+    let lanes = F::<S>::LEN;
+    let whole = level.len() / lanes * lanes;
+    let (zero, one) = (F::<S>::splat(simd, 0.0), F::<S>::splat(simd, 1.0));
+    let (u0, inf) = (U::<S>::splat(simd, 0), F::<S>::splat(simd, f32::INFINITY));
+    for j in (0..whole).step_by(lanes) {
+        let objects = &level.object[j..j + lanes];
+        let ks = material(simd, tracer, objects, |m| m.specular);
+        let shiny = ks.simd_gt(zero);
+        let mut out = [zero; 3];
+        if shiny.any_true() {
+            let (p, n, d) = (load3(simd, &level.p, j), load3(simd, &level.n, j), load3(simd, &level.d, j));
+            let bits = U::<S>::from_slice(simd, &level.lights[j..j + lanes]);
+            // Per lane the whole exponent (0 for one evaluated by `powf`), and which lanes
+            // need `powf`.
+            let (mut whole_e, mut real) = ([0u32; 16], 0u64);
+            for (l, &object) in objects.iter().enumerate() {
+                match tracer.exponents[object as usize] {
+                    Exponent::Whole(e) => whole_e[l] = e,
+                    Exponent::Real => real |= 1 << l,
+                }
+            }
+            let steps = 32 - whole_e[..lanes].iter().fold(0, |a, &e| a | e).leading_zeros();
+            let e = U::<S>::from_slice(simd, &whole_e[..lanes]);
+            for (k, light) in tracer.lights.iter().enumerate() {
+                let bit = U::<S>::splat(simd, 1 << k);
+                let lit = shiny & (bits & bit).simd_ne(u0);
+                if !lit.any_true() {
+                    continue;
+                }
+                let l = to_light(simd, light.position, p).0;
+                // `normalize_or_zero`: v · (1/|v|) where that factor is finite and > 0.
+                let v = each3(|a| l[a] - d[a]);
+                let recip = one / dot::<S>(v, v).sqrt();
+                let ok = recip.simd_gt(zero) & recip.simd_lt(inf);
+                let h = each3(|a| ok.select(v[a] * recip, zero));
+                let ndh = dot::<S>(n, h);
+                let shine = lit & ndh.simd_gt(zero);
+                // ndh^e by repeated squaring, as `Exponent::power` does for each lane.
+                let (mut base, mut acc) = (ndh, one);
+                for step in 0..steps {
+                    let take = (e & U::<S>::splat(simd, 1 << step)).simd_ne(u0);
+                    acc = take.select(acc * base, acc);
+                    base = base * base;
+                }
+                if real != 0 {
+                    let mut lanes_real = real & shine.to_bitmask();
+                    let mut powers = [0f32; 16];
+                    powers[..lanes].copy_from_slice(acc.as_slice());
+                    while lanes_real != 0 {
+                        let lane = lanes_real.trailing_zeros() as usize;
+                        lanes_real &= lanes_real - 1;
+                        let shininess = tracer.materials[objects[lane] as usize].shininess;
+                        powers[lane] = ndh.as_slice()[lane].powf(shininess);
+                    }
+                    acc = F::<S>::from_slice(simd, &powers[..lanes]);
+                }
+                let strength = ks * acc;
+                let color = splat3(simd, light.color);
+                out = each3(|a| shine.select(out[a] + strength * color[a], out[a]));
+            }
+        }
+        store3::<S>(out, &mut level.spec, j);
+    }
+    whole
+}
+
+/// Stage 4 over whole vectors: the mirror rays of reflective hits, spawned in lanes and
+/// traced per lane; those that meet a sphere join `next`. Returns how many entries it did.
+#[inline(always)]
+pub(super) fn mirrors<S: Simd>(
+    simd: S,
+    tracer: &Tracer,
+    level: &mut Level,
+    next: &mut Level,
+    counts: &mut RayCounts,
+) -> usize {
+    let lanes = F::<S>::LEN;
+    let whole = level.len() / lanes * lanes;
+    let zero = F::<S>::splat(simd, 0.0);
+    let background = tracer.settings.background;
+    let all_spheres = tracer.centers.len() <= ALL_SPHERES_MAX;
+    for j in (0..whole).step_by(lanes) {
+        let objects = &level.object[j..j + lanes];
+        let kr = material(simd, tracer, objects, |m| m.reflectivity);
+        let mut reflective = kr.simd_gt(zero).to_bitmask();
+        if reflective == 0 {
+            continue;
+        }
+        let (p, n, d) = (load3(simd, &level.p, j), load3(simd, &level.n, j), load3(simd, &level.d, j));
+        // r = d − 2(d·n)n, as `reflect`; then `spawn_ray`'s origin, offset along ±n.
+        let twice = F::<S>::splat(simd, 2.0) * dot::<S>(d, n);
+        let r = each3(|a| d[a] - twice * n[a]);
+        let origin = spawn_origins(simd, p, n, r);
+        let found = all_spheres.then(|| {
+            let outwards = dot::<S>(r, n).simd_ge(zero);
+            let (t, best) = closest_all(simd, tracer, origin, r, U::<S>::from_slice(simd, objects), outwards);
+            let mut hits = ([0f32; 16], [0u32; 16]);
+            t.store_slice(&mut hits.0[..lanes]);
+            best.store_slice(&mut hits.1[..lanes]);
+            hits
+        });
+        while reflective != 0 {
+            let lane = reflective.trailing_zeros() as usize;
+            reflective &= reflective - 1;
+            let e = j + lane;
+            counts.reflection += 1;
+            level.reflects[e] = true;
+            super::set3(&mut level.mirror, e, background);
+            let ray = Ray::new(lane3::<S>(&origin, lane), lane3::<S>(&r, lane));
+            let hit = match &found {
+                Some((t, best)) => (best[lane] != crate::surface::NO_OBJECT).then(|| Hit { t: t[lane], object: best[lane] }),
+                None => tracer.intersect_from(objects[lane], lane3::<S>(&n, lane), &ray),
+            };
+            if let Some(hit) = hit {
+                next.push(ray.origin, ray.dir, hit.t, hit.object, e as u32, None);
+            }
+        }
+    }
+    whole
+}
+
+/// [`spawn_ray`]'s origins for rays leaving the points `p` (normals `n`) along `dir`, lane
+/// by lane.
+#[inline(always)]
+fn spawn_origins<S: Simd>(simd: S, p: [F<S>; 3], n: [F<S>; 3], dir: [F<S>; 3]) -> [F<S>; 3] {
+    let zero = F::<S>::splat(simd, 0.0);
+    // glam's `max_element`: max(x, max(y, z)) with `if a > b { a } else { b }`.
+    let max = |a: F<S>, b: F<S>| a.simd_gt(b).select(a, b);
+    let abs = each3(|a| p[a].abs());
+    let largest = max(abs[0], max(abs[1], abs[2]));
+    let offset = F::<S>::splat(simd, crate::ray::SPAWN_EPSILON) * (F::<S>::splat(simd, 1.0) + largest);
+    let outwards = dot::<S>(dir, n).simd_ge(zero);
+    each3(|a| p[a] + offset * outwards.select(n[a], -n[a]))
+}
+
+/// Stage "fold" over whole vectors: each entry's radiance `D + (S + kr·L_mirror)`, or
+/// `D + S` where it cast no mirror ray. Returns how many entries it did.
+#[inline(always)]
+pub(super) fn radiance<S: Simd>(simd: S, tracer: &Tracer, level: &mut Level) -> usize {
+    let lanes = F::<S>::LEN;
+    let whole = level.len() / lanes * lanes;
+    for j in (0..whole).step_by(lanes) {
+        let objects = &level.object[j..j + lanes];
+        let (d, s, m) = (load3(simd, &level.diffuse, j), load3(simd, &level.spec, j), load3(simd, &level.mirror, j));
+        let kr = material(simd, tracer, objects, |m| m.reflectivity);
+        let reflects = mask_of(simd, level.reflects[j..j + lanes].iter().rev().fold(0u64, |b, &r| b << 1 | u64::from(r)));
+        let l = each3(|a| reflects.select(d[a] + (s[a] + kr * m[a]), d[a] + s[a]));
+        store3::<S>(l, &mut level.radiance, j);
+    }
+    whole
+}
