@@ -175,33 +175,41 @@ impl Bvh {
         self.leaf(first, (link & !LEAF) >> COUNT_SHIFT)
     }
 
-    /// Narrows `(t_best, best)` to the closest hit among a leaf's spheres.
+    /// Narrows `(t_best, best)` to the closest hit among a leaf's spheres other than `skip`.
     #[inline]
-    fn leaf_closest(leaf: &[SpherePacket], o: [f32x4; 3], d: [f32x4; 3], t_best: &mut f32, best: &mut Option<u32>) {
+    fn leaf_closest(
+        leaf: &[SpherePacket],
+        o: [f32x4; 3],
+        d: [f32x4; 3],
+        skip: u32,
+        t_best: &mut f32,
+        best: &mut Option<u32>,
+    ) {
         for p in leaf {
             for (lane, t) in p.hits(o, d, *t_best).into_iter().enumerate() {
-                if t < *t_best {
+                if t < *t_best && p.ids[lane] != skip {
                     (*t_best, *best) = (t, Some(p.ids[lane]));
                 }
             }
         }
     }
 
-    /// Whether any of a leaf's spheres is hit before `t_max`.
+    /// Whether any of a leaf's spheres other than `skip` is hit before `t_max`.
     #[inline]
-    fn leaf_blocks(leaf: &[SpherePacket], o: [f32x4; 3], d: [f32x4; 3], t_max: f32) -> bool {
-        leaf.iter().any(|p| p.hits(o, d, t_max).iter().any(|t| t.is_finite()))
+    fn leaf_blocks(leaf: &[SpherePacket], o: [f32x4; 3], d: [f32x4; 3], t_max: f32, skip: u32) -> bool {
+        leaf.iter().any(|p| p.blocks(o, d, t_max, skip))
     }
 
-    /// Closest hit in `(0, t_max)`.
-    pub(crate) fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
+    /// Closest hit in `(0, t_max)` among the spheres other than `skip` (`NO_OBJECT`: none
+    /// left out).
+    pub(crate) fn intersect(&self, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         let (mut t_best, mut best) = (t_max, None);
         match self.root {
             Root::Empty => return None,
             Root::Leaf { count } => {
                 // A small scene is one leaf: its packets are the whole test, no box needed.
-                Self::leaf_closest(self.leaf(0, count), o, d, &mut t_best, &mut best);
+                Self::leaf_closest(self.leaf(0, count), o, d, skip, &mut t_best, &mut best);
                 return best.map(|object| Hit { t: t_best, object });
             }
             Root::Node => {}
@@ -230,7 +238,7 @@ impl Bvh {
                 hit &= hit - 1;
                 let entry = Entry { link: node.child[lane], near: near[lane] };
                 if entry.link & LEAF != 0 {
-                    Self::leaf_closest(self.leaf_at(entry.link), o, d, &mut t_best, &mut best);
+                    Self::leaf_closest(self.leaf_at(entry.link), o, d, skip, &mut t_best, &mut best);
                     continue;
                 }
                 let mut k = sp;
@@ -245,12 +253,12 @@ impl Bvh {
         best.map(|object| Hit { t: t_best, object })
     }
 
-    /// Whether any sphere blocks the ray before `t_max` (early exit).
-    pub(crate) fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
+    /// Whether any sphere other than `skip` blocks the ray before `t_max` (early exit).
+    pub(crate) fn occluded(&self, ray: &Ray, t_max: f32, skip: u32) -> bool {
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         match self.root {
             Root::Empty => return false,
-            Root::Leaf { count } => return Self::leaf_blocks(self.leaf(0, count), o, d, t_max),
+            Root::Leaf { count } => return Self::leaf_blocks(self.leaf(0, count), o, d, t_max, skip),
             Root::Node => {}
         }
         let br = BoxRay::new(ray);
@@ -265,7 +273,7 @@ impl Bvh {
                 hit &= hit - 1;
                 let link = node.child[lane];
                 if link & LEAF != 0 {
-                    if Self::leaf_blocks(self.leaf_at(link), o, d, t_max) {
+                    if Self::leaf_blocks(self.leaf_at(link), o, d, t_max, skip) {
                         return true;
                     }
                 } else {
@@ -282,6 +290,7 @@ impl Bvh {
 mod tests {
     use super::*;
     use crate::sphere::intersect_sphere;
+    use crate::surface::NO_OBJECT;
 
     /// A deterministic cloud of spheres.
     fn cloud(n: usize) -> (Vec<Vec3>, Vec<f32>) {
@@ -298,10 +307,14 @@ mod tests {
         (centers, radii)
     }
 
-    fn brute(ray: &Ray, t_max: f32, centers: &[Vec3], radii: &[f32]) -> Option<Hit> {
+    /// The closest hit among all spheres but `skip`, one by one.
+    fn brute(ray: &Ray, t_max: f32, centers: &[Vec3], radii: &[f32], skip: u32) -> Option<Hit> {
         let mut best = None;
         let mut t_best = t_max;
         for (k, (&c, &r)) in centers.iter().zip(radii).enumerate() {
+            if k as u32 == skip {
+                continue;
+            }
             if let Some(t) = intersect_sphere(ray, c, r, t_best) {
                 (t_best, best) = (t, Some(Hit { t, object: k as u32 }));
             }
@@ -319,19 +332,30 @@ mod tests {
                 let a = k as f32 * 0.618_034;
                 let dir = Vec3::new((a * 7.3).sin() * 0.6, (a * 3.1).cos() * 0.35, 1.0).normalize();
                 let ray = Ray::new(Vec3::new(0.0, 0.0, -2.0), dir);
-                let got = bvh.intersect(&ray, f32::INFINITY);
-                let want = brute(&ray, f32::INFINITY, &centers, &radii);
+                let got = bvh.intersect(&ray, f32::INFINITY, NO_OBJECT);
+                let want = brute(&ray, f32::INFINITY, &centers, &radii, NO_OBJECT);
                 assert_eq!(
                     got.map(|h| (h.t.to_bits(), h.object)),
                     want.map(|h| (h.t.to_bits(), h.object)),
                     "n = {n}, ray {k}"
                 );
+                // Leaving out the sphere hit (as for a ray leaving it outwards) gives the
+                // next one behind it, and leaves the occlusion answer to the others.
+                if let Some(first) = want {
+                    let skip = first.object;
+                    let behind = brute(&ray, f32::INFINITY, &centers, &radii, skip);
+                    let got = bvh.intersect(&ray, f32::INFINITY, skip);
+                    assert_eq!(got.map(|h| (h.t.to_bits(), h.object)), behind.map(|h| (h.t.to_bits(), h.object)));
+                    let blocked = brute(&ray, 30.0, &centers, &radii, skip).is_some();
+                    assert_eq!(bvh.occluded(&ray, 30.0, skip), blocked, "n = {n}, ray {k}, skipping {skip}");
+                }
                 for s in 0..n as u32 {
                     let one = bvh.intersect_one(&ray, s).map(f32::to_bits);
                     let scalar = intersect_sphere(&ray, centers[s as usize], radii[s as usize], f32::INFINITY);
                     assert_eq!(one, scalar.map(f32::to_bits), "n = {n}, ray {k}, sphere {s}");
                 }
-                assert_eq!(bvh.occluded(&ray, 30.0), brute(&ray, 30.0, &centers, &radii).is_some(), "n = {n}, ray {k}");
+                let blocked = brute(&ray, 30.0, &centers, &radii, NO_OBJECT).is_some();
+                assert_eq!(bvh.occluded(&ray, 30.0, NO_OBJECT), blocked, "n = {n}, ray {k}");
             }
         }
     }
@@ -351,10 +375,10 @@ mod tests {
         for k in 0..200 {
             let a = k as f32 * 1e-4;
             let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, a.sin(), a.cos() * 1e-3).normalize());
-            let got = bvh.intersect(&ray, f32::INFINITY);
-            let want = brute(&ray, f32::INFINITY, &centers, &radii);
+            let got = bvh.intersect(&ray, f32::INFINITY, NO_OBJECT);
+            let want = brute(&ray, f32::INFINITY, &centers, &radii, NO_OBJECT);
             assert_eq!(got.map(|h| (h.t.to_bits(), h.object)), want.map(|h| (h.t.to_bits(), h.object)), "ray {k}");
-            assert_eq!(bvh.occluded(&ray, 1e30), want.is_some(), "ray {k}");
+            assert_eq!(bvh.occluded(&ray, 1e30, NO_OBJECT), want.is_some(), "ray {k}");
         }
     }
 
@@ -363,8 +387,8 @@ mod tests {
         let mut bvh = Bvh::default();
         bvh.build(&[], &[]);
         let ray = Ray::new(Vec3::ZERO, Vec3::Z);
-        assert_eq!(bvh.intersect(&ray, f32::INFINITY), None);
-        assert!(!bvh.occluded(&ray, f32::INFINITY));
+        assert_eq!(bvh.intersect(&ray, f32::INFINITY, NO_OBJECT), None);
+        assert!(!bvh.occluded(&ray, f32::INFINITY, NO_OBJECT));
         let (c, r) = cloud(50);
         bvh.build(&c, &r);
         let cap = bvh.nodes.capacity();

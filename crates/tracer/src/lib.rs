@@ -33,7 +33,7 @@
 //! - `scene` (camera, material, sphere), then `scene_file` (scene, material, camera, error);
 //! - `bvh` (its child `bvh::build` makes the tree), `cones`, `shadow` (ray, sphere, surface,
 //!   scene): the acceleration structures;
-//! - `tracer` (the structures, scene, material, color, ray, surface): the scene at one
+//! - `tracer` (the structures, scene, camera, material, color, ray, surface): the scene at one
 //!   instant and its two queries, `intersect` and `occluded`;
 //! - `shade` (tracer, camera, ray, color, stats, surface): Whitted shading;
 //! - `primary` (tracer, shade, camera, sphere, ray, stats): screen bins for primary rays;

@@ -8,8 +8,8 @@
 //! instead of walking the BVH. This is the shadow-ray counterpart of
 //! [`crate::PrimaryBins`], close in spirit to Haines and Greenberg's light buffer (1986).
 //!
-//! **The bound.** A shadow ray leaves p + ε·n (see [`crate::spawn_ray`], ε ≤ the largest
-//! spawn offset in the scene) along the exact direction to the light, so it stays within ε
+//! **The bound.** A shadow ray leaves p + ε·n (see [`crate::spawn_ray`]; ε is at most the
+//! bound on spawn offsets the tracer hands to [`ShadowBins::build`]) along the exact direction to the light, so it stays within ε
 //! of the segment from p to the light, which lies on the ray from the light through p. A
 //! sphere it hits therefore meets that ray once grown by ε. For a cube face with major axis
 //! m and minor axis a, the ray's direction w has u = w_a / |w_m|; projecting onto the
@@ -134,12 +134,12 @@ impl ShadowBins {
         }
     }
 
-    /// Whether a sphere blocks `ray`, a shadow ray spawned from surface point `p` towards
-    /// light `k`, before `t_max`. A packet holding only sphere `own` (one the ray cannot
-    /// hit; `NO_OBJECT` for none) is skipped. `None` if the bins cannot answer (no bins for
-    /// the light, or `p` at the light).
+    /// Whether a sphere other than `skip` (the ray's own sphere when it leaves outwards;
+    /// `NO_OBJECT` for none) blocks `ray`, a shadow ray spawned from surface point `p`
+    /// towards light `k`, before `t_max`. A packet holding only `skip` is not tested at all.
+    /// `None` if the bins cannot answer (no bins for the light, or `p` at the light).
     #[inline]
-    pub(crate) fn occluded(&self, k: usize, light: Vec3, p: Vec3, ray: &Ray, t_max: f32, own: u32) -> Option<bool> {
+    pub(crate) fn occluded(&self, k: usize, light: Vec3, p: Vec3, ray: &Ray, t_max: f32, skip: u32) -> Option<bool> {
         let w = p - light;
         let abs = w.abs();
         let m = if abs.x >= abs.y && abs.x >= abs.z {
@@ -161,8 +161,8 @@ impl ShadowBins {
         let index = k * CELLS + face * (RES * RES) as usize + (cell(v) * RES + cell(u)) as usize;
         let packets = &self.packets[self.first[index] as usize..self.first[index + 1] as usize];
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
-        let only_own = |p: &SpherePacket| p.ids[0] == own && p.ids[1] == u32::MAX;
-        Some(packets.iter().any(|p| !only_own(p) && p.hits(o, d, t_max).iter().any(|t| t.is_finite())))
+        let only_skipped = |p: &SpherePacket| p.ids[0] == skip && p.ids[1] == u32::MAX;
+        Some(packets.iter().any(|p| !only_skipped(p) && p.blocks(o, d, t_max, skip)))
     }
 }
 
@@ -185,7 +185,8 @@ mod tests {
     }
 
     /// Shadow rays from points spread over every sphere to every light: the bins answer as
-    /// the BVH does. Returns how many of the rays were blocked.
+    /// the BVH does (both leaving out the sphere a ray leaves outwards). Returns how many of
+    /// the rays were blocked.
     fn assert_same_as_bvh(scene: &Scene, t: f32) -> usize {
         let tracer = Tracer::new(scene, t);
         let mut blocked = 0;
@@ -201,7 +202,7 @@ mod tests {
                     let to_light = light.position - p;
                     let dist = to_light.length();
                     let ray = spawn_ray(p, n, to_light * dist.recip());
-                    let want = tracer.occluded(&ray, dist);
+                    let want = tracer.occluded_skipping(&ray, dist, Tracer::skipped(s as u32, n, ray.dir));
                     assert_eq!(
                         tracer.shadowed(k, s as u32, p, n, &ray, dist),
                         want,

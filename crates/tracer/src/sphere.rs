@@ -106,6 +106,13 @@ impl SpherePacket {
         let c = (ox * ox + oy * oy + oz * oz) - r2;
         nearest_root([ox, oy, oz], d, r2, c, f32x4::splat(t_max)).to_array()
     }
+
+    /// Whether the ray (splatted as for [`SpherePacket::hits`]) meets one of the packet's
+    /// spheres other than `skip` in `(0, t_max)`.
+    #[inline]
+    pub(crate) fn blocks(&self, o: [f32x4; 3], d: [f32x4; 3], t_max: f32, skip: u32) -> bool {
+        self.hits(o, d, t_max).iter().zip(self.ids).any(|(t, id)| t.is_finite() && id != skip)
+    }
 }
 
 /// One sphere seen from a fixed ray origin, ready to test four rays from there at once:
@@ -229,21 +236,65 @@ mod tests {
         assert!((t - 9_999.99).abs() < 1e-2, "t = {t}");
     }
 
-    #[test]
-    fn spawned_ray_does_not_hit_its_own_sphere() {
-        let s = Sphere { center: Vec3::new(3.0, -2.0, 40.0), radius: 2.5 };
-        // Many points over the sphere, rays leaving in directions over the outer hemisphere.
-        for k in 0..500 {
+    /// 500 points spread over the sphere (a Fibonacci lattice) and their outward normals,
+    /// placed from the centre as c + r·n.
+    fn lattice(s: Sphere) -> impl Iterator<Item = (Vec3, Vec3)> {
+        (0..500).map(move |k| {
             let a = k as f32 * 0.618_034 * std::f32::consts::TAU;
             let z = 1.0 - 2.0 * ((k as f32 + 0.5) / 500.0);
             let r = (1.0 - z * z).sqrt();
             let n = Vec3::new(r * a.cos(), r * a.sin(), z);
-            let p = s.center + s.radius * n;
-            // A direction grazing the surface is the hardest case.
-            let tangent = n.any_orthonormal_vector();
-            for dir in [n, (tangent + 0.01 * n).normalize(), (n + tangent).normalize()] {
-                let ray = spawn_ray(p, n, dir);
-                assert_eq!(s.intersect(&ray, f32::INFINITY), None, "self-hit at {p} along {dir}");
+            (s.center + s.radius * n, n)
+        })
+    }
+
+    /// Spheres near and far from the origin, large and tiny, a dome around the origin.
+    const SPHERES: [Sphere; 7] = [
+        Sphere { center: Vec3::new(3.0, -2.0, 40.0), radius: 2.5 },
+        Sphere { center: Vec3::new(1000.0, -20.0, 30.0), radius: 2.5 },
+        Sphere { center: Vec3::new(-300.0, 1e4, 2000.0), radius: 2.5 },
+        Sphere { center: Vec3::new(3.0, -2.0, 40.0), radius: 1e-3 },
+        Sphere { center: Vec3::new(1000.0, 1000.0, 1000.0), radius: 1e-2 },
+        Sphere { center: Vec3::new(0.0, 0.0, 1e4), radius: 1e-2 },
+        Sphere { center: Vec3::ZERO, radius: 50.0 },
+    ];
+
+    #[test]
+    fn spawned_ray_does_not_hit_its_own_sphere() {
+        // Rays leaving outwards in directions over the outer hemisphere miss the sphere, even
+        // the bare sphere test that does not skip it; a direction grazing the surface is the
+        // hardest case.
+        for s in SPHERES {
+            for (p, n) in lattice(s) {
+                let tangent = n.any_orthonormal_vector();
+                for dir in [n, (tangent + 0.01 * n).normalize(), (n + tangent).normalize()] {
+                    let ray = spawn_ray(p, n, dir);
+                    assert_eq!(s.intersect(&ray, f32::INFINITY), None, "self-hit of {s:?} at {p} along {dir}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_ray_spawned_inwards_meets_the_far_side() {
+        // Rays going into the sphere (an eye inside it) start inside: their hit is the far
+        // side, about a chord of 2r·|d·n| away, never the surface they start on. The tiny spheres
+        // far out are too small for it: 128 ULPs of their coordinates exceed their radius.
+        for s in SPHERES.into_iter().filter(|s| s.radius > 0.1) {
+            for (p, n) in lattice(s) {
+                let tangent = n.any_orthonormal_vector();
+                for dir in [-n, (tangent - 0.05 * n).normalize(), (tangent - n).normalize()] {
+                    let ray = spawn_ray(p, n, dir);
+                    // The far root from the spawned origin, in double precision.
+                    let (oc, d) = ((ray.origin - s.center).as_dvec3(), dir.as_dvec3());
+                    let b = oc.dot(d);
+                    let far = -b + (b * b - oc.length_squared() + f64::from(s.radius).powi(2)).sqrt();
+                    let t = s.intersect(&ray, f32::INFINITY).map(f64::from);
+                    assert!(
+                        t.is_some_and(|t| (t - far).abs() < 1e-4 * far),
+                        "{s:?} at {p} along {dir}: {t:?}, not {far}"
+                    );
+                }
             }
         }
     }

@@ -302,14 +302,20 @@ pub(super) fn mirrors<S: Simd>(
 /// by lane.
 #[inline(always)]
 fn spawn_origins<S: Simd>(simd: S, p: [F<S>; 3], n: [F<S>; 3], dir: [F<S>; 3]) -> [F<S>; 3] {
+    use crate::ray::{SPAWN_ULPS_IN, SPAWN_ULPS_OUT};
     let zero = F::<S>::splat(simd, 0.0);
-    // glam's `max_element`: max(x, max(y, z)) with `if a > b { a } else { b }`.
+    // The largest |pᵢ| (as the largest bit pattern, for finite p), its exponent field at
+    // least the smallest normal's, times 2⁻²³: ulp(‖p‖∞), as `ray::ulp_of_largest`.
     let max = |a: F<S>, b: F<S>| a.simd_gt(b).select(a, b);
     let abs = each3(|a| p[a].abs());
-    let largest = max(abs[0], max(abs[1], abs[2]));
-    let offset = F::<S>::splat(simd, crate::ray::SPAWN_EPSILON) * (F::<S>::splat(simd, 1.0) + largest);
+    let largest: U<S> = max(abs[0], max(abs[1], abs[2])).bitcast();
+    let exponent = largest & 0x7f80_0000;
+    let floor = U::<S>::splat(simd, f32::MIN_POSITIVE.to_bits());
+    let ulp = exponent.simd_gt(floor).select(exponent, floor).bitcast::<F<S>>() * f32::EPSILON;
     let outwards = dot::<S>(dir, n).simd_ge(zero);
-    each3(|a| p[a] + offset * outwards.select(n[a], -n[a]))
+    let ulps = outwards.select(F::<S>::splat(simd, SPAWN_ULPS_OUT), F::<S>::splat(simd, -SPAWN_ULPS_IN));
+    let offset = ulps * ulp;
+    each3(|a| p[a] + offset * n[a])
 }
 
 /// Stage "fold" over whole vectors: each entry's radiance `D + (S + kr·L_mirror)`, or
