@@ -227,6 +227,10 @@ impl BinnedView<'_> {
     /// tile (and the image, where lanes are wanted): per lane the hit parameter (+∞ for
     /// none), the sphere, and the ray's direction. Lane by lane the operations of
     /// [`BinnedView::hits4`], so bit for bit its answers.
+    #[expect(
+        clippy::inline_always,
+        reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+    )]
     #[inline(always)]
     pub(crate) fn hits_lanes<S: Simd>(&self, simd: S, i: u32, j: u32) -> (F<S>, U<S>, [F<S>; 3]) {
         let d = self.view.primary_dirs_lanes(simd, i, j);

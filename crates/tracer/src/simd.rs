@@ -13,6 +13,11 @@
 //!
 //! [`Simd`]: fearless_simd::Simd
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 use std::sync::OnceLock;
 
 use fearless_simd::{prelude::*, Level, Simd};

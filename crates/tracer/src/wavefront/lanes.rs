@@ -10,6 +10,11 @@
 //! `powf` for exponents that are not whole — runs per lane on the values the lanes made.
 //! A batch's last entries, fewer than a vector, take the scalar stages.
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 use fearless_simd::{prelude::*, Simd};
 
 use super::Level;
@@ -53,7 +58,7 @@ fn blocked_all<S: Simd>(
     let mut blocked = M::<S>::splat(simd, false);
     for (s, (&center, &radius)) in tracer.centers.iter().zip(&tracer.radii).enumerate() {
         let t = sphere_t(simd, origin, l, center, radius, dist);
-        blocked = blocked | (t.simd_lt(inf) & !is_object(simd, objects, s));
+        blocked |= t.simd_lt(inf) & !is_object(simd, objects, s);
         if (need & !blocked).all_false() {
             break;
         }
