@@ -13,5 +13,8 @@ cargo clippy --workspace --all-targets --locked -- -D warnings
 echo "== cargo doc (warnings are errors)"
 RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked --quiet
 
+echo "== image tests on the 4-lane fallback (STEREOTRACE_LANES=4)"
+STEREOTRACE_LANES=4 cargo test --locked -p tracer -p stereo -p stereotrace-tests
+
 echo "== cargo test --workspace"
 cargo test --workspace --locked

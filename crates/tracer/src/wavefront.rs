@@ -41,12 +41,6 @@ pub(crate) enum Start {
 /// Structure-of-arrays columns of three.
 type Column3 = [Vec<f32>; 3];
 
-fn push3(c: &mut Column3, v: Vec3) {
-    c[0].push(v.x);
-    c[1].push(v.y);
-    c[2].push(v.z);
-}
-
 fn get3(c: &Column3, e: usize) -> Vec3 {
     Vec3::new(c[0][e], c[1][e], c[2][e])
 }
@@ -56,8 +50,14 @@ fn set3(c: &mut Column3, e: usize, v: Vec3) {
 }
 
 /// The hits of one reflection depth, one entry per hit in each column.
+///
+/// Every column is as long as the level's capacity; the first [`Level::len`] entries are
+/// in use. Entries are written in place (no per-column push), and the columns only ever
+/// grow, so a warm level allocates nothing.
 #[derive(Clone, Debug, Default)]
 struct Level {
+    /// Entries in use.
+    used: usize,
     /// The ray's direction (unit).
     d: Column3,
     /// The ray's origin.
@@ -91,6 +91,19 @@ struct Level {
 
 impl Level {
     fn clear(&mut self) {
+        self.used = 0;
+    }
+
+    fn len(&self) -> usize {
+        self.used
+    }
+
+    /// Makes every column at least `n` entries long (doubling, so growth is rare).
+    fn reserve(&mut self, n: usize) {
+        if self.t.len() >= n {
+            return;
+        }
+        let n = n.max(2 * self.t.len()).max(64);
         let columns = [
             &mut self.d,
             &mut self.o,
@@ -102,40 +115,30 @@ impl Level {
             &mut self.radiance,
         ];
         for c in columns.into_iter().flatten() {
-            c.clear();
+            c.resize(n, 0.0);
         }
-        self.t.clear();
-        self.object.clear();
-        self.parent.clear();
-        self.lights.clear();
-        self.known.clear();
-        self.reflects.clear();
-    }
-
-    fn len(&self) -> usize {
-        self.t.len()
-    }
-
-    /// Adds a hit: ray (`o`, `d`) meets `object` at `t`; `lights` as [`Level::lights`].
-    fn push(&mut self, o: Vec3, d: Vec3, t: f32, object: u32, parent: u32, known: Option<u32>) {
-        push3(&mut self.o, o);
-        push3(&mut self.d, d);
-        self.t.push(t);
-        self.object.push(object);
-        self.parent.push(parent);
-        self.lights.push(known.unwrap_or(0));
-        self.known.push(known.is_some());
-    }
-
-    /// Room for the stage outputs of every entry.
-    fn size_outputs(&mut self) {
-        let n = self.len();
-        for c in [&mut self.p, &mut self.n, &mut self.diffuse, &mut self.spec, &mut self.mirror, &mut self.radiance] {
-            for x in c {
-                x.resize(n, 0.0);
-            }
-        }
+        self.t.resize(n, 0.0);
+        self.object.resize(n, 0);
+        self.parent.resize(n, 0);
+        self.lights.resize(n, 0);
+        self.known.resize(n, false);
         self.reflects.resize(n, false);
+    }
+
+    /// Adds a hit: ray (`o`, `d`) meets `object` at `t`; `known` light bits, if any.
+    #[inline]
+    fn push(&mut self, o: Vec3, d: Vec3, t: f32, object: u32, parent: u32, known: Option<u32>) {
+        let e = self.used;
+        self.reserve(e + 1);
+        set3(&mut self.o, e, o);
+        set3(&mut self.d, e, d);
+        self.t[e] = t;
+        self.object[e] = object;
+        self.parent[e] = parent;
+        self.lights[e] = known.unwrap_or(0);
+        self.known[e] = known.is_some();
+        self.reflects[e] = false;
+        self.used = e + 1;
     }
 }
 
@@ -174,10 +177,11 @@ impl Wavefront {
     /// `d`, for a [`Start::Surfaces`] batch.
     pub(crate) fn push_surface(&mut self, d: Vec3, surface: &Surface, tag: u32) {
         let level = &mut self.levels[0];
+        let e = level.len();
         level.push(surface.point, d, 0.0, surface.object, tag, Some(surface.lights));
-        push3(&mut level.p, surface.point);
-        push3(&mut level.n, surface.normal);
-        push3(&mut level.diffuse, surface.diffuse);
+        set3(&mut level.p, e, surface.point);
+        set3(&mut level.n, e, surface.normal);
+        set3(&mut level.diffuse, e, surface.diffuse);
     }
 
     /// Shades every sample of the batch, counting the shadow and mirror rays cast.
@@ -202,23 +206,16 @@ impl Wavefront {
                 break;
             }
             self.depth = k + 1;
-            level.size_outputs();
-            if k > 0 || start == Start::Rays {
-                let done = simd.vectorize(
-                    #[inline(always)]
-                    || lanes::surfaces(simd, tracer, level),
-                );
-                surfaces(tracer, level, done);
-                let done = simd.vectorize(
-                    #[inline(always)]
-                    || lanes::light(simd, tracer, level, k == 0, counts),
-                );
-                light(tracer, level, k == 0, counts, done);
-            }
+            next.reserve(level.len());
+            let rays = k > 0 || start == Start::Rays;
             let done = simd.vectorize(
                 #[inline(always)]
-                || lanes::highlights(simd, tracer, level),
+                || lanes::shade(simd, tracer, level, (rays, k == 0), counts),
             );
+            if rays {
+                surfaces(tracer, level, done);
+                light(tracer, level, k == 0, counts, done);
+            }
             highlights(tracer, level, done);
             if k < max_depth {
                 let done = simd.vectorize(

@@ -83,6 +83,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             "height": h,
             "frames": args.frames,
             "threads": threads,
+            "lanes": tracer::lane_width(),
             "spheres": setup.scene.spheres.len(),
             "mono_ms": mono_ms,
             "modes": modes,
@@ -205,7 +206,8 @@ fn table(scene: &str, w: u32, h: u32, frames: u32, threads: usize, mono_ms: f64,
     let mut out = String::new();
     let _ = writeln!(
         out,
-        "{scene}: {w}×{h} per eye, {frames} frames, {threads} threads; medians (quality: worst frame); mono frame {mono_ms:.1} ms"
+        "{scene}: {w}×{h} per eye, {frames} frames, {threads} threads, {lanes}-lane shading; medians (quality: worst frame); mono frame {mono_ms:.1} ms",
+        lanes = tracer::lane_width()
     );
     let _ = writeln!(
         out,

@@ -70,6 +70,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             "depth": setup.scene.render.max_depth,
             "time": shortest(args.frame.time),
             "threads": rayon::current_num_threads(),
+            "lanes": tracer::lane_width(),
             "quality": report::quality(&q),
         });
         if let (Some(o), serde_json::Value::Object(f)) = (out.as_object_mut(), report::frame(&stats)) {

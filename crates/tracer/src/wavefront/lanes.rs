@@ -18,7 +18,7 @@
 use fearless_simd::{prelude::*, Simd};
 
 use super::Level;
-use crate::material::Exponent;
+use crate::material::{Exponent, TINY};
 use crate::ray::{spawn_ray, Ray};
 use crate::simd::{dot, each3, lane3, load, load3, mask_of, sphere_t, splat3, store3, to_light, F, M, U};
 use crate::stats::RayCounts;
@@ -89,120 +89,142 @@ fn closest_all<S: Simd>(
     (t_best, best)
 }
 
-/// Stage 1 over whole vectors: hit points and normals. Returns how many entries it did.
-#[inline(always)]
-pub(super) fn surfaces<S: Simd>(simd: S, tracer: &Tracer, level: &mut Level) -> usize {
-    let lanes = F::<S>::LEN;
-    let whole = level.len() / lanes * lanes;
-    let one = F::<S>::splat(simd, 1.0);
-    for j in (0..whole).step_by(lanes) {
-        let (o, d, t) = (load3(simd, &level.o, j), load3(simd, &level.d, j), load(simd, &level.t, j));
-        let objects = &level.object[j..j + lanes];
-        let c = each3(|a| F::<S>::from_fn(simd, |l| tracer.centers[objects[l] as usize][a]));
-        let p = each3(|a| o[a] + t * d[a]);
-        let v = each3(|a| p[a] - c[a]);
-        let recip = one / dot::<S>(v, v).sqrt();
-        store3::<S>(p, &mut level.p, j);
-        store3::<S>(each3(|a| v[a] * recip), &mut level.n, j);
-    }
-    whole
+/// The per-lane values of a vector's spheres and materials, gathered once.
+struct Gathered {
+    center: [[f32; 16]; 3],
+    color: [[f32; 16]; 3],
+    diffuse: [f32; 16],
+    specular: [f32; 16],
+    /// The whole highlight exponent (0 where it is evaluated by `powf`).
+    exponent: [u32; 16],
+    /// Lanes whose exponent is evaluated by `powf`.
+    real: u64,
 }
 
-/// Stage 2 over whole vectors: light bits (shadow rays per lane, or the known bits at level
-/// 0) and the view-independent light. Returns how many entries it did.
+impl Gathered {
+    #[inline(always)]
+    fn of(tracer: &Tracer, objects: &[u32]) -> Self {
+        let mut g = Self {
+            center: [[0.0; 16]; 3],
+            color: [[0.0; 16]; 3],
+            diffuse: [0.0; 16],
+            specular: [0.0; 16],
+            exponent: [0; 16],
+            real: 0,
+        };
+        for (l, &object) in objects.iter().enumerate() {
+            let (c, m) = (tracer.centers[object as usize], &tracer.materials[object as usize]);
+            for a in 0..3 {
+                g.center[a][l] = c[a];
+                g.color[a][l] = m.color[a];
+            }
+            (g.diffuse[l], g.specular[l]) = (m.diffuse, m.specular);
+            match tracer.exponents[object as usize] {
+                Exponent::Whole(e) => g.exponent[l] = e,
+                Exponent::Real => g.real |= 1 << l,
+            }
+        }
+        g
+    }
+}
+
+/// Stages 1–3 over whole vectors, in one pass: hit points and normals (where `rays`: the
+/// entries are rays' hits, not surfaces given), light bits (shadow rays per vector or per
+/// lane, or the bits known at level 0) and the view-independent light, then Blinn–Phong
+/// highlights from the lights the bits name. Returns how many entries it did.
 #[inline(always)]
-pub(super) fn light<S: Simd>(
+pub(super) fn shade<S: Simd>(
     simd: S,
     tracer: &Tracer,
     level: &mut Level,
-    first: bool,
+    (rays, first): (bool, bool),
     counts: &mut RayCounts,
 ) -> usize {
     let lanes = F::<S>::LEN;
     let whole = level.len() / lanes * lanes;
-    let zero = F::<S>::splat(simd, 0.0);
-    let all_spheres = tracer.centers.len() <= ALL_SPHERES_MAX;
-    for j in (0..whole).step_by(lanes) {
-        let (p, n) = (load3(simd, &level.p, j), load3(simd, &level.n, j));
-        let objects = &level.object[j..j + lanes];
-        let objects_u = U::<S>::from_slice(simd, objects);
-        let (mut sum, mut bits) = ([zero; 3], [0u32; 16]);
-        for (k, light) in tracer.lights.iter().enumerate() {
-            let (l, dist) = to_light(simd, light.position, p);
-            let ndl = dot::<S>(n, l);
-            let faces = ndl.simd_gt(zero).to_bitmask();
-            // Lanes whose bits are known take them; the others cast a shadow ray.
-            let (mut known, mut visible) = (0u64, 0u64);
-            if first {
-                for lane in 0..lanes {
-                    if level.known[j + lane] {
-                        known |= 1 << lane;
-                        visible |= u64::from(level.lights[j + lane] >> k & 1) << lane;
-                    }
-                }
-                visible &= faces;
-            }
-            let mut need = faces & !known;
-            counts.shadow += u64::from(need.count_ones());
-            if need != 0 && all_spheres {
-                let origin = spawn_origins(simd, p, n, l);
-                visible |= need & !blocked_all(simd, tracer, (origin, l, dist), objects_u, mask_of(simd, need));
-                need = 0;
-            }
-            while need != 0 {
-                let lane = need.trailing_zeros() as usize;
-                need &= need - 1;
-                let (pl, nl) = (lane3::<S>(&p, lane), lane3::<S>(&n, lane));
-                let ray = spawn_ray(pl, nl, lane3::<S>(&l, lane));
-                if !tracer.shadowed(k, objects[lane], pl, nl, &ray, dist.as_slice()[lane]) {
-                    visible |= 1 << lane;
-                }
-            }
-            for (lane, b) in bits.iter_mut().enumerate().take(lanes) {
-                *b |= u32::from(visible >> lane & 1 != 0) << k;
-            }
-            if visible != 0 {
-                let visible = mask_of(simd, visible);
-                let color = splat3(simd, light.color);
-                sum = each3(|a| visible.select(sum[a] + ndl * color[a], sum[a]));
-            }
-        }
-        let ambient = F::<S>::splat(simd, tracer.settings.ambient);
-        let kd = material(simd, tracer, objects, |m| m.diffuse);
-        let c = each3(|a| material(simd, tracer, objects, |m| m.color[a]));
-        store3::<S>(each3(|a| c[a] * (ambient + kd * sum[a])), &mut level.diffuse, j);
-        level.lights[j..j + lanes].copy_from_slice(&bits[..lanes]);
-    }
-    whole
-}
-
-/// Stage 3 over whole vectors: Blinn–Phong highlights from the lights the bits name.
-/// Returns how many entries it did.
-#[inline(always)]
-pub(super) fn highlights<S: Simd>(simd: S, tracer: &Tracer, level: &mut Level) -> usize {
-    let lanes = F::<S>::LEN;
-    let whole = level.len() / lanes * lanes;
     let (zero, one) = (F::<S>::splat(simd, 0.0), F::<S>::splat(simd, 1.0));
     let (u0, inf) = (U::<S>::splat(simd, 0), F::<S>::splat(simd, f32::INFINITY));
+    let all_spheres = tracer.centers.len() <= ALL_SPHERES_MAX;
+    let load16 = |a: &[f32; 16]| F::<S>::from_slice(simd, &a[..lanes]);
     for j in (0..whole).step_by(lanes) {
         let objects = &level.object[j..j + lanes];
-        let ks = material(simd, tracer, objects, |m| m.specular);
+        let g = Gathered::of(tracer, &level.object[j..j + lanes]);
+        let d = load3(simd, &level.d, j);
+        // Stage 1.
+        let (p, n) = if rays {
+            let (o, t) = (load3(simd, &level.o, j), load(simd, &level.t, j));
+            let c = [load16(&g.center[0]), load16(&g.center[1]), load16(&g.center[2])];
+            let p = each3(|a| o[a] + t * d[a]);
+            let v = each3(|a| p[a] - c[a]);
+            let recip = one / dot::<S>(v, v).sqrt();
+            let n = each3(|a| v[a] * recip);
+            store3::<S>(p, &mut level.p, j);
+            store3::<S>(n, &mut level.n, j);
+            (p, n)
+        } else {
+            (load3(simd, &level.p, j), load3(simd, &level.n, j))
+        };
+        // Stage 2, where the entries are rays' hits.
+        let mut bits = [0u32; 16];
+        if rays {
+            let objects_u = U::<S>::from_slice(simd, objects);
+            let mut sum = [zero; 3];
+            for (k, light) in tracer.lights.iter().enumerate() {
+                let (l, dist) = to_light(simd, light.position, p);
+                let ndl = dot::<S>(n, l);
+                let faces = ndl.simd_gt(zero).to_bitmask();
+                // Lanes whose bits are known take them; the others cast a shadow ray.
+                let (mut known, mut visible) = (0u64, 0u64);
+                if first {
+                    for lane in 0..lanes {
+                        if level.known[j + lane] {
+                            known |= 1 << lane;
+                            visible |= u64::from(level.lights[j + lane] >> k & 1) << lane;
+                        }
+                    }
+                    visible &= faces;
+                }
+                let mut need = faces & !known;
+                counts.shadow += u64::from(need.count_ones());
+                if need != 0 && all_spheres {
+                    let origin = spawn_origins(simd, p, n, l);
+                    visible |= need & !blocked_all(simd, tracer, (origin, l, dist), objects_u, mask_of(simd, need));
+                    need = 0;
+                }
+                while need != 0 {
+                    let lane = need.trailing_zeros() as usize;
+                    need &= need - 1;
+                    let (pl, nl) = (lane3::<S>(&p, lane), lane3::<S>(&n, lane));
+                    let ray = spawn_ray(pl, nl, lane3::<S>(&l, lane));
+                    if !tracer.shadowed(k, objects[lane], pl, nl, &ray, dist.as_slice()[lane]) {
+                        visible |= 1 << lane;
+                    }
+                }
+                for (lane, b) in bits.iter_mut().enumerate().take(lanes) {
+                    *b |= u32::from(visible >> lane & 1 != 0) << k;
+                }
+                if visible != 0 {
+                    let visible = mask_of(simd, visible);
+                    let color = splat3(simd, light.color);
+                    sum = each3(|a| visible.select(sum[a] + ndl * color[a], sum[a]));
+                }
+            }
+            let ambient = F::<S>::splat(simd, tracer.settings.ambient);
+            let kd = load16(&g.diffuse);
+            let c = [load16(&g.color[0]), load16(&g.color[1]), load16(&g.color[2])];
+            store3::<S>(each3(|a| c[a] * (ambient + kd * sum[a])), &mut level.diffuse, j);
+            level.lights[j..j + lanes].copy_from_slice(&bits[..lanes]);
+        } else {
+            bits[..lanes].copy_from_slice(&level.lights[j..j + lanes]);
+        }
+        // Stage 3.
+        let ks = load16(&g.specular);
         let shiny = ks.simd_gt(zero);
         let mut out = [zero; 3];
         if shiny.any_true() {
-            let (p, n, d) = (load3(simd, &level.p, j), load3(simd, &level.n, j), load3(simd, &level.d, j));
-            let bits = U::<S>::from_slice(simd, &level.lights[j..j + lanes]);
-            // Per lane the whole exponent (0 for one evaluated by `powf`), and which lanes
-            // need `powf`.
-            let (mut whole_e, mut real) = ([0u32; 16], 0u64);
-            for (l, &object) in objects.iter().enumerate() {
-                match tracer.exponents[object as usize] {
-                    Exponent::Whole(e) => whole_e[l] = e,
-                    Exponent::Real => real |= 1 << l,
-                }
-            }
-            let steps = 32 - whole_e[..lanes].iter().fold(0, |a, &e| a | e).leading_zeros();
-            let e = U::<S>::from_slice(simd, &whole_e[..lanes]);
+            let bits = U::<S>::from_slice(simd, &bits[..lanes]);
+            let steps = 32 - g.exponent[..lanes].iter().fold(0, |a, &e| a | e).leading_zeros();
+            let e = U::<S>::from_slice(simd, &g.exponent[..lanes]);
             for (k, light) in tracer.lights.iter().enumerate() {
                 let bit = U::<S>::splat(simd, 1 << k);
                 let lit = shiny & (bits & bit).simd_ne(u0);
@@ -217,15 +239,18 @@ pub(super) fn highlights<S: Simd>(simd: S, tracer: &Tracer, level: &mut Level) -
                 let h = each3(|a| ok.select(v[a] * recip, zero));
                 let ndh = dot::<S>(n, h);
                 let shine = lit & ndh.simd_gt(zero);
-                // ndh^e by repeated squaring, as `Exponent::power` does for each lane.
-                let (mut base, mut acc) = (ndh, one);
+                // ndh^e by repeated squaring, as `Exponent::power` does for each lane: a
+                // factor or product below TINY counts as 0.
+                let tiny = F::<S>::splat(simd, TINY);
+                let flush = |x: F<S>| x.simd_lt(tiny).select(zero, x);
+                let (mut base, mut acc) = (flush(ndh), one);
                 for step in 0..steps {
                     let take = (e & U::<S>::splat(simd, 1 << step)).simd_ne(u0);
-                    acc = take.select(acc * base, acc);
-                    base = base * base;
+                    acc = take.select(flush(acc * base), acc);
+                    base = flush(base * base);
                 }
-                if real != 0 {
-                    let mut lanes_real = real & shine.to_bitmask();
+                if g.real != 0 {
+                    let mut lanes_real = g.real & shine.to_bitmask();
                     let mut powers = [0f32; 16];
                     powers[..lanes].copy_from_slice(acc.as_slice());
                     while lanes_real != 0 {
