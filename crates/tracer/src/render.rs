@@ -17,7 +17,6 @@ use crate::film::Film;
 use crate::primary::{BinnedView, PrimaryBins, TILE};
 use crate::ray::Ray;
 use crate::second_view::SecondView;
-use crate::shade::Shaded;
 use crate::simd::F;
 use crate::stats::RayCounts;
 use crate::surface::{Hit, Shading, NO_OBJECT};
@@ -34,8 +33,9 @@ pub struct Renderer {
 trait RowSink {
     /// Pixels `span` saw only background, of colour `rgb`.
     fn background(&mut self, span: Range<usize>, rgb: u32);
-    /// Pixel `i` of the row is `sample`.
-    fn sample(&mut self, i: usize, sample: &Shaded);
+    /// Pixel `i` saw a sphere: its colour, and (called only by a sink that keeps the
+    /// visible-surface record) its depth and record.
+    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> (f32, u32, u32, Shading));
 }
 
 /// One row of a [`Film`]: colour and the visible-surface record.
@@ -59,15 +59,13 @@ impl RowSink for FilmRow<'_> {
     }
 
     #[inline]
-    fn sample(&mut self, i: usize, s: &Shaded) {
-        self.rgb[i] = s.rgb;
-        self.z[i] = s.z;
-        self.object[i] = s.surface.object;
-        self.lights[i] = s.surface.lights;
-        if s.surface.is_hit() {
-            let surface = &s.surface;
-            self.shading[i] = Shading { point: surface.point, normal: surface.normal, diffuse: surface.diffuse };
-        }
+    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> (f32, u32, u32, Shading)) {
+        let (z, object, lights, shading) = record();
+        self.rgb[i] = rgb;
+        self.z[i] = z;
+        self.object[i] = object;
+        self.lights[i] = lights;
+        self.shading[i] = shading;
     }
 }
 
@@ -81,8 +79,8 @@ impl RowSink for RgbRow<'_> {
     }
 
     #[inline]
-    fn sample(&mut self, i: usize, s: &Shaded) {
-        self.0[i] = s.rgb;
+    fn hit(&mut self, i: usize, rgb: u32, _: impl FnOnce() -> (f32, u32, u32, Shading)) {
+        self.0[i] = rgb;
     }
 }
 
@@ -128,16 +126,17 @@ fn trace_row_in<S: Simd>(
                     let ray = Ray::new(view.origin, Vec3::new(d[0][l], d[1][l], d[2][l]));
                     wavefront.push_hit(&ray, Hit { t: t[l], object: ids[l] }, None, (i0 + l) as u32);
                 } else {
-                    sink.sample(i0 + l, &tracer.miss_sample());
+                    sink.background(i0 + l..i0 + l + 1, tracer.background_rgb);
                 }
             }
         }
     }
     wavefront.shade_in(simd, tracer, Start::Rays, &mut counts);
     for e in 0..wavefront.len() {
-        let surface = wavefront.surface(e);
-        let sample = Shaded { rgb: wavefront.rgb(e), z: view.head_z(surface.point), surface };
-        sink.sample(wavefront.tag(e) as usize, &sample);
+        sink.hit(wavefront.tag(e) as usize, wavefront.rgb(e), || {
+            let s = wavefront.surface(e);
+            (view.head_z(s.point), s.object, s.lights, Shading { point: s.point, normal: s.normal, diffuse: s.diffuse })
+        });
     }
     counts
 }
