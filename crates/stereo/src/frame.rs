@@ -6,7 +6,7 @@
 
 use std::time::Instant;
 
-use tracer::{Camera, Eye, Film, Renderer, Tracer};
+use tracer::{Camera, Eye, Film, Record, Renderer, Tracer};
 
 use crate::fill::{fill, Fill};
 use crate::image::Image;
@@ -95,7 +95,13 @@ impl StereoFrame {
 
         // Stage 1: the left eye, with its visible-surface record.
         let t = Instant::now();
-        stats.left.rays = self.left_renderer.render(tracer, &lv, &mut self.left);
+        // Each mode keeps only what its later stages read of the left eye's record.
+        let record = match opts.mode {
+            Mode::Full => Record::Colour,
+            Mode::Copy | Mode::Exact => Record::Keys,
+            Mode::Reshade => Record::Full,
+        };
+        stats.left.rays = self.left_renderer.render_keeping(tracer, &lv, &mut self.left, record);
         stats.stages.trace_left = ms_since(t);
         stats.left.ms = stats.stages.trace_left;
 

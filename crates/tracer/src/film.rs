@@ -3,6 +3,19 @@
 
 use crate::surface::{Shading, Surface, NO_OBJECT};
 
+/// Which parts of a [`Film`]'s visible-surface record a render keeps.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Record {
+    /// Colour only: a mono image, or an eye nothing is reprojected from.
+    Colour,
+    /// Colour, depth, object and light bits: what reprojection, edge and shadow-boundary
+    /// classification and `exact` mode read.
+    Keys,
+    /// Everything, shading entries too: what `reshade` mode reads.
+    #[default]
+    Full,
+}
+
 /// A `width` × `height` image plus its per-pixel visible-surface records, row-major, row 0
 /// at the top.
 ///
@@ -13,6 +26,8 @@ use crate::surface::{Shading, Surface, NO_OBJECT};
 pub struct Film {
     width: u32,
     height: u32,
+    /// What the last render kept; the other planes are stale.
+    record: Record,
     /// sRGB pixels packed `0x00RRGGBB`.
     pub rgb: Vec<u32>,
     /// Head-space depth beyond the window (the paper's z) of each pixel's hit; +∞ for a miss.
@@ -47,10 +62,22 @@ impl Film {
         self.shading.resize(n, Shading::MISS);
     }
 
+    /// What the last render kept of the record ([`Record::Full`] for a new film).
+    #[must_use]
+    pub fn record(&self) -> Record {
+        self.record
+    }
+
+    /// Notes what a render is about to keep.
+    pub(crate) fn set_record(&mut self, record: Record) {
+        self.record = record;
+    }
+
     /// The whole visible-surface record of pixel `k` (row-major index); [`Surface::MISS`]
-    /// for a pixel that saw only background.
+    /// for a pixel that saw only background. Needs a film rendered with [`Record::Full`].
     #[must_use]
     pub fn surface(&self, k: usize) -> Surface {
+        debug_assert_eq!(self.record, Record::Full, "the film's shading entries were not kept");
         if self.object[k] == NO_OBJECT {
             return Surface::MISS;
         }

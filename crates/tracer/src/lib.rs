@@ -73,7 +73,7 @@ mod wavefront;
 pub use camera::{Camera, Disparity, Eye, EyeView};
 pub use color::{linear_to_srgb8, pack_rgb, srgb8_to_linear, unpack_rgb};
 pub use error::SceneError;
-pub use film::Film;
+pub use film::{Film, Record};
 pub use material::Material;
 pub use ray::{reflect, spawn_ray, Ray};
 pub use render::Renderer;

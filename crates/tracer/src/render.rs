@@ -13,7 +13,7 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 use crate::camera::EyeView;
-use crate::film::Film;
+use crate::film::{Film, Record};
 use crate::primary::{BinnedView, PrimaryBins, TILE};
 use crate::ray::Ray;
 use crate::second_view::SecondView;
@@ -66,6 +66,33 @@ impl RowSink for FilmRow<'_> {
         self.object[i] = object;
         self.lights[i] = lights;
         self.shading[i] = shading;
+    }
+}
+
+/// One row of a [`Film`] without its shading entries: colour, depth, object and light bits.
+struct KeysRow<'a> {
+    rgb: &'a mut [u32],
+    z: &'a mut [f32],
+    object: &'a mut [u32],
+    lights: &'a mut [u32],
+}
+
+impl RowSink for KeysRow<'_> {
+    #[inline]
+    fn background(&mut self, span: Range<usize>, rgb: u32) {
+        self.rgb[span.clone()].fill(rgb);
+        self.z[span.clone()].fill(f32::INFINITY);
+        self.object[span.clone()].fill(NO_OBJECT);
+        self.lights[span].fill(0);
+    }
+
+    #[inline]
+    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> (f32, u32, u32, Shading)) {
+        let (z, object, lights, _) = record();
+        self.rgb[i] = rgb;
+        self.z[i] = z;
+        self.object[i] = object;
+        self.lights[i] = lights;
     }
 }
 
@@ -148,8 +175,8 @@ impl Renderer {
         Self::default()
     }
 
-    /// Traces every pixel of `view` into `film` (resized to the view if needed) and returns
-    /// the rays cast.
+    /// Traces every pixel of `view` into `film` (resized to the view if needed), keeping its
+    /// whole visible-surface record, and returns the rays cast.
     ///
     /// First hits are found through screen-space bins, rebuilt for `view`, the rest through
     /// the BVH. Rows are independent work items; each row counts its own rays and the
@@ -157,26 +184,54 @@ impl Renderer {
     /// any thread count. Nothing is allocated per pixel or per ray, nor per frame once the
     /// film has its size.
     pub fn render(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film) -> RayCounts {
+        self.render_keeping(tracer, view, film, Record::Full)
+    }
+
+    /// [`Renderer::render`], keeping only the parts of the record that `record` names (the
+    /// rest of the film is left as it was): the same pixels and rays, without writing what
+    /// nobody will read.
+    pub fn render_keeping(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film, record: Record) -> RayCounts {
         film.resize(view.width, view.height);
+        film.set_record(record);
         let w = view.width as usize;
         if w == 0 || view.height == 0 {
             return RayCounts::default();
         }
         self.bins.build(tracer, view);
         let eye = BinnedView { tracer, view, bins: &self.bins };
-        (
-            film.rgb.par_chunks_mut(w),
-            film.z.par_chunks_mut(w),
-            film.object.par_chunks_mut(w),
-            film.lights.par_chunks_mut(w),
-            film.shading.par_chunks_mut(w),
-        )
-            .into_par_iter()
-            .enumerate()
-            .map(|(j, (rgb, z, object, lights, shading))| {
-                trace_row(&eye, j as u32, w, &mut FilmRow { rgb, z, object, lights, shading })
-            })
-            .sum()
+        match record {
+            Record::Colour => film
+                .rgb
+                .par_chunks_mut(w)
+                .enumerate()
+                .map(|(j, rgb)| trace_row(&eye, j as u32, w, &mut RgbRow(rgb)))
+                .sum(),
+            Record::Keys => (
+                film.rgb.par_chunks_mut(w),
+                film.z.par_chunks_mut(w),
+                film.object.par_chunks_mut(w),
+                film.lights.par_chunks_mut(w),
+            )
+                .into_par_iter()
+                .enumerate()
+                .map(|(j, (rgb, z, object, lights))| {
+                    trace_row(&eye, j as u32, w, &mut KeysRow { rgb, z, object, lights })
+                })
+                .sum(),
+            Record::Full => (
+                film.rgb.par_chunks_mut(w),
+                film.z.par_chunks_mut(w),
+                film.object.par_chunks_mut(w),
+                film.lights.par_chunks_mut(w),
+                film.shading.par_chunks_mut(w),
+            )
+                .into_par_iter()
+                .enumerate()
+                .map(|(j, (rgb, z, object, lights, shading))| {
+                    trace_row(&eye, j as u32, w, &mut FilmRow { rgb, z, object, lights, shading })
+                })
+                .sum(),
+        }
     }
 
     /// Traces every pixel of `view` for colour only into `rgb` (resized to the view), for
@@ -207,6 +262,7 @@ mod tests {
 
     use super::*;
     use crate::camera::{Camera, Eye};
+    use crate::film::Record;
     use crate::material::Material;
     use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere};
     use crate::surface::Surface;
@@ -272,6 +328,36 @@ mod tests {
             let mut rgb = Vec::new();
             assert_eq!(renderer.render_rgb(&tracer, &view, &mut rgb), counts, "{name}");
             assert_eq!(rgb, film.rgb, "{name}: colour only is the film's colour");
+        }
+    }
+
+    #[test]
+    fn keeping_less_of_the_record_changes_nothing_that_is_kept() {
+        let scene = seed();
+        let tracer = Tracer::new(&scene, 0.4);
+        let view = scene.camera.view(Eye::Left, 97, 55);
+        let mut renderer = Renderer::new();
+        let mut full = Film::new(1, 1);
+        let counts = renderer.render(&tracer, &view, &mut full);
+        assert_eq!(full.record(), Record::Full, "render keeps everything");
+        for record in [Record::Colour, Record::Keys] {
+            // A film last filled by another view: what is not kept stays as it was.
+            let mut film = Film::new(1, 1);
+            renderer.render(&tracer, &scene.camera.view(Eye::Right, 97, 55), &mut film);
+            let stale = film.z.clone();
+            assert_eq!(renderer.render_keeping(&tracer, &view, &mut film, record), counts, "{record:?}: the same rays");
+            assert_eq!((film.record(), &film.rgb), (record, &full.rgb), "{record:?}: the same colours");
+            if record == Record::Keys {
+                let bits = |z: &[f32]| z.iter().map(|z| z.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&film.z), bits(&full.z), "depths kept");
+                assert_eq!((&film.object, &film.lights), (&full.object, &full.lights), "objects and light bits kept");
+            } else {
+                assert_eq!(
+                    film.z.iter().map(|z| z.to_bits()).collect::<Vec<_>>(),
+                    stale.iter().map(|z| z.to_bits()).collect::<Vec<_>>(),
+                    "depths not written"
+                );
+            }
         }
     }
 
