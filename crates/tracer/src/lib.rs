@@ -5,12 +5,15 @@
 //! (ambient + Lambert diffuse with hard shadows + Blinn–Phong highlights + mirror
 //! reflection; Whitted 1980), and the parallel renderer that fills a [`Film`].
 //!
-//! Rays are answered by the cheapest structure that is exact for them: primary rays by
-//! screen-space tile bins (four rays per SIMD test), shadow rays by a cube
-//! map of sphere lists around each light, mirror rays in small scenes by direction cones
-//! between spheres, and anything else by a 4-wide BVH (four child boxes per SIMD slab test)
-//! with SIMD leaves. Each gives bit-for-bit the
-//! BVH's answer (tests compare them on every scene).
+//! Shading runs as a wavefront (pbrt-v4's wavefront integrator): a row's hits, then their
+//! mirror rays' hits, each reflection depth a queue shaded in SIMD lanes (8 with AVX2, 4
+//! otherwise, chosen at run time; [`lane_width`]), bit-for-bit the recursive path of
+//! [`Tracer::trace_pixel`]. Rays are answered by the cheapest structure that is exact for
+//! them: primary rays by screen-space tile bins (a vector of rays per SIMD test), shadow and
+//! mirror rays of small scenes by every sphere in lanes, otherwise shadow rays by a cube map
+//! of sphere lists around each light, mirror rays by direction cones between spheres, and
+//! anything else by a 4-wide BVH (four child boxes per SIMD slab test) with SIMD leaves. Each
+//! gives bit-for-bit the BVH's answer (tests compare them on every scene).
 //!
 //! Besides colour, the film keeps a per-pixel *visible-surface record*
 //! ([`Surface`]): hit point, normal, depth, object id, per-light visibility and the
@@ -24,24 +27,28 @@
 //!
 //! ## Modules, in dependency order
 //!
-//! Each uses only modules above it, so the graph has no cycle:
-//! - `ray`, `color`, `stats`, `error`, `surface`, `material`: leaves (rays and spawning,
-//!   sRGB, ray counters, the scene error, the hit and visible-surface records, materials
-//!   and their highlight exponents);
+//! Each uses only modules above it, so the graph has no cycle (test modules may also use
+//! modules below, to build scenes and oracles):
+//! - `ray`, `color`, `stats`, `error`, `surface`, `material`, `simd`: leaves (rays and
+//!   spawning, sRGB, ray counters, the scene error, the hit and visible-surface records,
+//!   materials and their highlight exponents, the SIMD level and lane helpers);
 //! - `sphere` (ray): the ray–sphere test and its SIMD packets;
-//! - `camera` (ray): the stereo camera and each eye's view;
+//! - `camera` (ray, simd): the stereo camera, each eye's view, the disparity law;
 //! - `scene` (camera, material, sphere), then `scene_file` (scene, material, camera, error);
 //! - `bvh` (its child `bvh::build` makes the tree), `cones`, `shadow` (ray, sphere, surface,
 //!   scene): the acceleration structures;
 //! - `tracer` (the structures, scene, camera, material, color, ray, surface): the scene at one
-//!   instant and its two queries, `intersect` and `occluded`;
-//! - `shade` (tracer, camera, ray, color, stats, surface): Whitted shading;
-//! - `primary` (tracer, shade, camera, sphere, ray, stats): screen bins for primary rays;
+//!   instant and its queries, `intersect` and `occluded`;
+//! - `shade` (tracer, camera, ray, color, stats, surface): Whitted shading, recursively,
+//!   pixel by pixel: the plain path every fast one is tested against;
+//! - `wavefront` (its child `wavefront::lanes` has the SIMD stages; tracer, material, ray,
+//!   simd, stats, surface, color): the same shading as a stream of queues;
+//! - `primary` (tracer, camera, simd, sphere, ray, surface): screen bins for primary rays;
 //! - `film` (surface): the image and its visible-surface record;
-//! - `second_view` (primary, tracer, sphere, ray, stats, surface): services for a second view;
-//! - `render` (film, primary, second_view, shade, camera, stats, surface, tracer): the
-//!   parallel renderer.
-
+//! - `second_view` (primary, wavefront, tracer, sphere, ray, stats, surface): services for a
+//!   second view;
+//! - `render` (film, primary, second_view, wavefront, simd, camera, ray, stats, surface,
+//!   tracer): the parallel renderer.
 //!
 //! Conventions (see the README): left-handed, +x right, +y up, +z into the scene; world
 //! units are arbitrary but shared by positions and radii; light is linear inside and
