@@ -142,12 +142,9 @@ pub(super) fn shade<S: Simd>(
 ) -> usize {
     let lanes = F::<S>::LEN;
     let whole = level.len() / lanes * lanes;
-    let (zero, one) = (F::<S>::splat(simd, 0.0), F::<S>::splat(simd, 1.0));
-    let (u0, inf) = (U::<S>::splat(simd, 0), F::<S>::splat(simd, f32::INFINITY));
-    let all_spheres = tracer.centers.len() <= ALL_SPHERES_MAX;
+    let one = F::<S>::splat(simd, 1.0);
     let load16 = |a: &[f32; 16]| F::<S>::from_slice(simd, &a[..lanes]);
     for j in (0..whole).step_by(lanes) {
-        let objects = &level.object[j..j + lanes];
         let g = Gathered::of(tracer, &level.object[j..j + lanes]);
         let d = load3(simd, &level.d, j);
         // Stage 1.
@@ -164,111 +161,153 @@ pub(super) fn shade<S: Simd>(
         } else {
             (load3(simd, &level.p, j), load3(simd, &level.n, j))
         };
-        // Stage 2, where the entries are rays' hits.
+        // Stage 2, where the entries are rays' hits; else the bits given.
         let mut bits = [0u32; 16];
         if rays {
-            let objects_u = U::<S>::from_slice(simd, objects);
-            let mut sum = [zero; 3];
-            for (k, light) in tracer.lights.iter().enumerate() {
-                let (l, dist) = to_light(simd, light.position, p);
-                let ndl = dot::<S>(n, l);
-                let faces = ndl.simd_gt(zero).to_bitmask();
-                // Lanes whose bits are known take them; the others cast a shadow ray.
-                let (mut known, mut visible) = (0u64, 0u64);
-                if first {
-                    for lane in 0..lanes {
-                        if level.known[j + lane] {
-                            known |= 1 << lane;
-                            visible |= u64::from(level.lights[j + lane] >> k & 1) << lane;
-                        }
-                    }
-                    visible &= faces;
-                }
-                let mut need = faces & !known;
-                counts.shadow += u64::from(need.count_ones());
-                if need != 0 && all_spheres {
-                    let origin = spawn_origins(simd, p, n, l);
-                    visible |= need & !blocked_all(simd, tracer, (origin, l, dist), objects_u, mask_of(simd, need));
-                    need = 0;
-                }
-                while need != 0 {
-                    let lane = need.trailing_zeros() as usize;
-                    need &= need - 1;
-                    let (pl, nl) = (lane3::<S>(&p, lane), lane3::<S>(&n, lane));
-                    let ray = spawn_ray(pl, nl, lane3::<S>(&l, lane));
-                    if !tracer.shadowed(k, objects[lane], pl, nl, &ray, dist.as_slice()[lane]) {
-                        visible |= 1 << lane;
-                    }
-                }
-                for (lane, b) in bits.iter_mut().enumerate().take(lanes) {
-                    *b |= u32::from(visible >> lane & 1 != 0) << k;
-                }
-                if visible != 0 {
-                    let visible = mask_of(simd, visible);
-                    let color = splat3(simd, light.color);
-                    sum = each3(|a| visible.select(sum[a] + ndl * color[a], sum[a]));
-                }
-            }
-            let ambient = F::<S>::splat(simd, tracer.settings.ambient);
-            let kd = load16(&g.diffuse);
-            let c = [load16(&g.color[0]), load16(&g.color[1]), load16(&g.color[2])];
-            store3::<S>(each3(|a| c[a] * (ambient + kd * sum[a])), &mut level.diffuse, j);
-            level.lights[j..j + lanes].copy_from_slice(&bits[..lanes]);
+            bits = light_vector(simd, tracer, level, j, (p, n, &g), first, counts);
         } else {
             bits[..lanes].copy_from_slice(&level.lights[j..j + lanes]);
         }
         // Stage 3.
-        let ks = load16(&g.specular);
-        let shiny = ks.simd_gt(zero);
-        let mut out = [zero; 3];
-        if shiny.any_true() {
-            let bits = U::<S>::from_slice(simd, &bits[..lanes]);
-            let steps = 32 - g.exponent[..lanes].iter().fold(0, |a, &e| a | e).leading_zeros();
-            let e = U::<S>::from_slice(simd, &g.exponent[..lanes]);
-            for (k, light) in tracer.lights.iter().enumerate() {
-                let bit = U::<S>::splat(simd, 1 << k);
-                let lit = shiny & (bits & bit).simd_ne(u0);
-                if !lit.any_true() {
-                    continue;
-                }
-                let l = to_light(simd, light.position, p).0;
-                // `normalize_or_zero`: v · (1/|v|) where that factor is finite and > 0.
-                let v = each3(|a| l[a] - d[a]);
-                let recip = one / dot::<S>(v, v).sqrt();
-                let ok = recip.simd_gt(zero) & recip.simd_lt(inf);
-                let h = each3(|a| ok.select(v[a] * recip, zero));
-                let ndh = dot::<S>(n, h);
-                let shine = lit & ndh.simd_gt(zero);
-                // ndh^e by repeated squaring, as `Exponent::power` does for each lane: a
-                // factor or product below TINY counts as 0.
-                let tiny = F::<S>::splat(simd, TINY);
-                let flush = |x: F<S>| x.simd_lt(tiny).select(zero, x);
-                let (mut base, mut acc) = (flush(ndh), one);
-                for step in 0..steps {
-                    let take = (e & U::<S>::splat(simd, 1 << step)).simd_ne(u0);
-                    acc = take.select(flush(acc * base), acc);
-                    base = flush(base * base);
-                }
-                if g.real != 0 {
-                    let mut lanes_real = g.real & shine.to_bitmask();
-                    let mut powers = [0f32; 16];
-                    powers[..lanes].copy_from_slice(acc.as_slice());
-                    while lanes_real != 0 {
-                        let lane = lanes_real.trailing_zeros() as usize;
-                        lanes_real &= lanes_real - 1;
-                        let shininess = tracer.materials[objects[lane] as usize].shininess;
-                        powers[lane] = ndh.as_slice()[lane].powf(shininess);
-                    }
-                    acc = F::<S>::from_slice(simd, &powers[..lanes]);
-                }
-                let strength = ks * acc;
-                let color = splat3(simd, light.color);
-                out = each3(|a| shine.select(out[a] + strength * color[a], out[a]));
-            }
-        }
+        let out = highlight_vector(simd, tracer, &level.object[j..j + lanes], [p, n, d], &bits, &g);
         store3::<S>(out, &mut level.spec, j);
     }
     whole
+}
+
+/// Stage 2 of the vector of entries from `j`: light bits (shadow rays per vector or per
+/// lane, or the bits known at level 0) and the view-independent light, stored; returns the
+/// bits.
+#[inline(always)]
+fn light_vector<S: Simd>(
+    simd: S,
+    tracer: &Tracer,
+    level: &mut Level,
+    j: usize,
+    (p, n, g): ([F<S>; 3], [F<S>; 3], &Gathered),
+    first: bool,
+    counts: &mut RayCounts,
+) -> [u32; 16] {
+    let lanes = F::<S>::LEN;
+    let zero = F::<S>::splat(simd, 0.0);
+    let all_spheres = tracer.centers.len() <= ALL_SPHERES_MAX;
+    let load16 = |a: &[f32; 16]| F::<S>::from_slice(simd, &a[..lanes]);
+    let objects = &level.object[j..j + lanes];
+    let mut bits = [0u32; 16];
+    let objects_u = U::<S>::from_slice(simd, objects);
+    let mut sum = [zero; 3];
+    for (k, light) in tracer.lights.iter().enumerate() {
+        let (l, dist) = to_light(simd, light.position, p);
+        let ndl = dot::<S>(n, l);
+        let faces = ndl.simd_gt(zero).to_bitmask();
+        // Lanes whose bits are known take them; the others cast a shadow ray.
+        let (mut known, mut visible) = (0u64, 0u64);
+        if first {
+            for lane in 0..lanes {
+                if level.known[j + lane] {
+                    known |= 1 << lane;
+                    visible |= u64::from(level.lights[j + lane] >> k & 1) << lane;
+                }
+            }
+            visible &= faces;
+        }
+        let mut need = faces & !known;
+        counts.shadow += u64::from(need.count_ones());
+        if need != 0 && all_spheres {
+            let origin = spawn_origins(simd, p, n, l);
+            visible |= need & !blocked_all(simd, tracer, (origin, l, dist), objects_u, mask_of(simd, need));
+            need = 0;
+        }
+        while need != 0 {
+            let lane = need.trailing_zeros() as usize;
+            need &= need - 1;
+            let (pl, nl) = (lane3::<S>(&p, lane), lane3::<S>(&n, lane));
+            let ray = spawn_ray(pl, nl, lane3::<S>(&l, lane));
+            if !tracer.shadowed(k, objects[lane], pl, nl, &ray, dist.as_slice()[lane]) {
+                visible |= 1 << lane;
+            }
+        }
+        for (lane, b) in bits.iter_mut().enumerate().take(lanes) {
+            *b |= u32::from(visible >> lane & 1 != 0) << k;
+        }
+        if visible != 0 {
+            let visible = mask_of(simd, visible);
+            let color = splat3(simd, light.color);
+            sum = each3(|a| visible.select(sum[a] + ndl * color[a], sum[a]));
+        }
+    }
+    let ambient = F::<S>::splat(simd, tracer.settings.ambient);
+    let kd = load16(&g.diffuse);
+    let c = [load16(&g.color[0]), load16(&g.color[1]), load16(&g.color[2])];
+    store3::<S>(each3(|a| c[a] * (ambient + kd * sum[a])), &mut level.diffuse, j);
+    level.lights[j..j + lanes].copy_from_slice(&bits[..lanes]);
+    bits
+}
+
+/// Stage 3 of a vector of entries: Blinn–Phong highlights from the lights the bits name,
+/// seen along `d`.
+#[inline(always)]
+fn highlight_vector<S: Simd>(
+    simd: S,
+    tracer: &Tracer,
+    objects: &[u32],
+    [p, n, d]: [[F<S>; 3]; 3],
+    bits: &[u32; 16],
+    g: &Gathered,
+) -> [F<S>; 3] {
+    let lanes = F::<S>::LEN;
+    let (zero, one) = (F::<S>::splat(simd, 0.0), F::<S>::splat(simd, 1.0));
+    let (u0, inf) = (U::<S>::splat(simd, 0), F::<S>::splat(simd, f32::INFINITY));
+    let ks = F::<S>::from_slice(simd, &g.specular[..lanes]);
+    let shiny = ks.simd_gt(zero);
+    let mut out = [zero; 3];
+    if !shiny.any_true() {
+        return out;
+    }
+    let bits = U::<S>::from_slice(simd, &bits[..lanes]);
+    let steps = 32 - g.exponent[..lanes].iter().fold(0, |a, &e| a | e).leading_zeros();
+    let e = U::<S>::from_slice(simd, &g.exponent[..lanes]);
+    for (k, light) in tracer.lights.iter().enumerate() {
+        let bit = U::<S>::splat(simd, 1 << k);
+        let lit = shiny & (bits & bit).simd_ne(u0);
+        if !lit.any_true() {
+            continue;
+        }
+        let l = to_light(simd, light.position, p).0;
+        // `normalize_or_zero`: v · (1/|v|) where that factor is finite and > 0.
+        let v = each3(|a| l[a] - d[a]);
+        let recip = one / dot::<S>(v, v).sqrt();
+        let ok = recip.simd_gt(zero) & recip.simd_lt(inf);
+        let h = each3(|a| ok.select(v[a] * recip, zero));
+        let ndh = dot::<S>(n, h);
+        let shine = lit & ndh.simd_gt(zero);
+        // ndh^e by repeated squaring, as `Exponent::power` does for each lane: a factor or
+        // product below TINY counts as 0.
+        let tiny = F::<S>::splat(simd, TINY);
+        let flush = |x: F<S>| x.simd_lt(tiny).select(zero, x);
+        let (mut base, mut acc) = (flush(ndh), one);
+        for step in 0..steps {
+            let take = (e & U::<S>::splat(simd, 1 << step)).simd_ne(u0);
+            acc = take.select(flush(acc * base), acc);
+            base = flush(base * base);
+        }
+        if g.real != 0 {
+            let mut lanes_real = g.real & shine.to_bitmask();
+            let mut powers = [0f32; 16];
+            powers[..lanes].copy_from_slice(acc.as_slice());
+            while lanes_real != 0 {
+                let lane = lanes_real.trailing_zeros() as usize;
+                lanes_real &= lanes_real - 1;
+                let shininess = tracer.materials[objects[lane] as usize].shininess;
+                powers[lane] = ndh.as_slice()[lane].powf(shininess);
+            }
+            acc = F::<S>::from_slice(simd, &powers[..lanes]);
+        }
+        let strength = ks * acc;
+        let color = splat3(simd, light.color);
+        out = each3(|a| shine.select(out[a] + strength * color[a], out[a]));
+    }
+    out
 }
 
 /// Stage 4 over whole vectors: the mirror rays of reflective hits, spawned in lanes and

@@ -1,0 +1,76 @@
+//! Criterion benchmarks of the shading wavefront's lane kernels, batch by batch, through the
+//! services a second view uses (each call shades one row's list of pixels as one batch):
+//! full traces (first hits, shadow rays, highlights, the mirror chain), re-shading of known
+//! surfaces (highlights and the mirror chain only) and `exact` mode's single-sphere shading
+//! (known light bits, then the mirror chain). The lane width is the process's
+//! (`tracer::lane_width`, in each bench's name); run once more with `STEREOTRACE_LANES=4`
+//! for the 4-lane fallback.
+#![expect(missing_docs, reason = "criterion_group! and criterion_main! generate undocumented items")]
+#![expect(clippy::expect_used, reason = "a benchmark whose scene does not load has nothing to measure")]
+
+use std::hint::black_box;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use tracer::{lane_width, Eye, RayCounts, Renderer, Scene, Shaded, Tracer};
+
+fn scene(name: &str) -> Scene {
+    let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+    Scene::load(path).expect("scene loads")
+}
+
+const W: u32 = 320;
+const H: u32 = 180;
+
+fn batches(c: &mut Criterion) {
+    let lanes = lane_width();
+    for name in ["seed.toml", "thousand.toml"] {
+        let s = scene(name);
+        let tracer = Tracer::new(&s, 0.0);
+        let view = s.camera.view(Eye::Right, W, H);
+        // What each pixel sees, traced the plain way: the inputs of the re-shading batches.
+        let mut plain = RayCounts::default();
+        let truth: Vec<Shaded> = (0..H)
+            .flat_map(|j| (0..W).map(move |i| (i, j)))
+            .map(|(i, j)| tracer.trace_pixel(&view, i, j, &mut plain))
+            .collect();
+        let truth = &truth;
+        let hit = move |j: u32| (0..W).filter(move |&i| truth[(j * W + i) as usize].surface.is_hit());
+        let mut renderer = Renderer::new();
+        let second = renderer.second_view(&tracer, &view);
+        c.bench_function(&format!("lanes{lanes}_trace_rows_{W}x{H}_{name}"), |b| {
+            b.iter(|| {
+                let (mut counts, mut sum) = (RayCounts::default(), 0u32);
+                for j in 0..H {
+                    second.trace_pixels(j, 0..W, &mut counts, |_, c| sum = sum.wrapping_add(c));
+                }
+                black_box((sum, counts))
+            });
+        });
+        c.bench_function(&format!("lanes{lanes}_reshade_rows_{W}x{H}_{name}"), |b| {
+            b.iter(|| {
+                let (mut counts, mut sum) = (RayCounts::default(), 0u32);
+                for j in 0..H {
+                    let items = hit(j).map(|i| (i, truth[(j * W + i) as usize].surface));
+                    second.reshade(j, items, &mut counts, |_, c| sum = sum.wrapping_add(c));
+                }
+                black_box((sum, counts))
+            });
+        });
+        c.bench_function(&format!("lanes{lanes}_exact_rows_{W}x{H}_{name}"), |b| {
+            b.iter(|| {
+                let (mut counts, mut sum) = (RayCounts::default(), 0u32);
+                for j in 0..H {
+                    let items = hit(j).map(|i| {
+                        let s = truth[(j * W + i) as usize].surface;
+                        (i, s.object, s.lights)
+                    });
+                    second.shade_on(j, items, &mut counts, |_, c, _| sum = sum.wrapping_add(c));
+                }
+                black_box((sum, counts))
+            });
+        });
+    }
+}
+
+criterion_group!(benches, batches);
+criterion_main!(benches);
