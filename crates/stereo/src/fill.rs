@@ -14,7 +14,7 @@ use std::cell::Cell;
 use std::ops::Add;
 
 use rayon::prelude::*;
-use tracer::{Film, RayCounts, SecondView, NO_OBJECT};
+use tracer::{EyeView, Film, RayCounts, SecondView, NO_OBJECT};
 
 use crate::image::Image;
 use crate::mode::Mode;
@@ -69,11 +69,11 @@ struct Row<'a> {
 }
 
 /// Stage 5 over the image: every right pixel that `mask` marks [`PixelClass::Reprojected`]
-/// is filled into `out` from its source in `src` on the `left` film, as `how` says, by
-/// `right`, the right eye's view.
+/// is filled into `out` from its source in `src` on the `left` film (rendered for the view
+/// `lv`), as `how` says, by `right`, the right eye's view.
 pub(crate) fn fill(
     right: SecondView<'_>,
-    left: &Film,
+    (lv, left): (&EyeView, &Film),
     how: Fill,
     mask: &mut [PixelClass],
     src: &[u32],
@@ -92,7 +92,7 @@ pub(crate) fn fill(
         .map(|(j, ((rgb, mask), src))| {
             let row = Row { j: j as u32, rgb, mask, src };
             match how {
-                Fill::Reshade => reshade_row(right, left, row),
+                Fill::Reshade => reshade_row(right, (lv, left), row),
                 Fill::Exact => exact_row(right, left, row),
             }
         })
@@ -123,14 +123,14 @@ fn keep_background(left: &Film, rgb: &mut [u32], mask: &[PixelClass], src: &[u32
 }
 
 /// One row of [`Fill::Reshade`]: the surfaces seen, re-shaded as one list.
-fn reshade_row(right: SecondView<'_>, left: &Film, row: Row<'_>) -> Filled {
+fn reshade_row(right: SecondView<'_>, (lv, left): (&EyeView, &Film), row: Row<'_>) -> Filled {
     let Row { j, rgb, mask, src } = row;
     keep_background(left, rgb, mask, src);
     let mut rays = RayCounts::default();
     let items = (0..rgb.len() as u32)
         .filter(|&i| sees_surface(left, mask[i as usize], src[i as usize]))
-        .map(|i| (i, left.surface(src[i as usize] as usize)));
-    right.reshade(j, items, &mut rays, |i, c| rgb[i as usize] = c);
+        .map(|i| (i, src[i as usize]));
+    right.reshade(j, (lv, left), items, &mut rays, |i, c| rgb[i as usize] = c);
     Filled { rays, sphere_tests: 0 }
 }
 

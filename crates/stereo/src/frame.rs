@@ -98,8 +98,7 @@ impl StereoFrame {
         // Each mode keeps only what its later stages read of the left eye's record.
         let record = match opts.mode {
             Mode::Full => Record::Colour,
-            Mode::Copy | Mode::Exact => Record::Keys,
-            Mode::Reshade => Record::Full,
+            Mode::Copy | Mode::Exact | Mode::Reshade => Record::Keys,
         };
         stats.left.rays = self.left_renderer.render_keeping(tracer, &lv, &mut self.left, record);
         stats.stages.trace_left = ms_since(t);
@@ -134,7 +133,7 @@ impl StereoFrame {
             // Stage 5.
             if let Some(how) = Fill::of(opts.mode) {
                 let t = Instant::now();
-                let filled = fill(right, &self.left, how, &mut self.mask, &self.src, &mut self.right);
+                let filled = fill(right, (&lv, &self.left), how, &mut self.mask, &self.src, &mut self.right);
                 stats.stages.reshade = ms_since(t);
                 stats.right.rays += filled.rays;
                 stats.sphere_tests = filled.sphere_tests;

@@ -11,7 +11,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use tracer::{lane_width, Eye, RayCounts, Renderer, Scene, Shaded, Tracer};
+use tracer::{lane_width, Eye, Film, RayCounts, Record, Renderer, Scene, Shaded, Tracer};
 
 fn scene(name: &str) -> Scene {
     let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -35,6 +35,9 @@ fn batches(c: &mut Criterion) {
             .collect();
         let truth = &truth;
         let hit = move |j: u32| (0..W).filter(move |&i| truth[(j * W + i) as usize].surface.is_hit());
+        let mut film = Film::new(1, 1);
+        Renderer::new().render_keeping(&tracer, &view, &mut film, Record::Keys);
+        let film = &film;
         let mut renderer = Renderer::new();
         let second = renderer.second_view(&tracer, &view);
         c.bench_function(&format!("lanes{lanes}_trace_rows_{W}x{H}_{name}"), |b| {
@@ -50,8 +53,9 @@ fn batches(c: &mut Criterion) {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
                 for j in 0..H {
-                    let items = hit(j).map(|i| (i, truth[(j * W + i) as usize].surface));
-                    second.reshade(j, items, &mut counts, |_, c| sum = sum.wrapping_add(c));
+                    second.reshade(j, (&view, film), hit(j).map(|i| (i, j * W + i)), &mut counts, |_, c| {
+                        sum = sum.wrapping_add(c);
+                    });
                 }
                 black_box((sum, counts))
             });

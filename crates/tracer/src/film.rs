@@ -8,10 +8,10 @@ use crate::surface::{Shading, Surface, NO_OBJECT};
 pub enum Record {
     /// Colour only: a mono image, or an eye nothing is reprojected from.
     Colour,
-    /// Colour, depth, object and light bits: what reprojection, edge and shadow-boundary
-    /// classification and `exact` mode read.
+    /// Colour, depth, hit parameter, object and light bits: what reprojection, edge and
+    /// shadow-boundary classification, `exact` and `reshade` modes read.
     Keys,
-    /// Everything, shading entries too: what `reshade` mode reads.
+    /// Everything, the shading entries (point, normal, view-independent light) too.
     #[default]
     Full,
 }
@@ -32,6 +32,9 @@ pub struct Film {
     pub rgb: Vec<u32>,
     /// Head-space depth beyond the window (the paper's z) of each pixel's hit; +∞ for a miss.
     pub z: Vec<f32>,
+    /// Ray parameter of each pixel's hit along its primary ray (unspecified for a miss):
+    /// with the ray, the hit point and normal again, bit for bit.
+    pub t: Vec<f32>,
     /// Sphere seen by each pixel, or [`NO_OBJECT`].
     pub object: Vec<u32>,
     /// Per-light visibility bits at each pixel's hit (see [`Surface::lights`]).
@@ -57,6 +60,7 @@ impl Film {
         self.height = height;
         self.rgb.resize(n, 0);
         self.z.resize(n, f32::INFINITY);
+        self.t.resize(n, f32::INFINITY);
         self.object.resize(n, NO_OBJECT);
         self.lights.resize(n, 0);
         self.shading.resize(n, Shading::MISS);

@@ -21,7 +21,7 @@ use crate::simd::F;
 use crate::stats::RayCounts;
 use crate::surface::{Hit, Shading, NO_OBJECT};
 use crate::tracer::Tracer;
-use crate::wavefront::{with_wavefront, Start, Wavefront};
+use crate::wavefront::{with_wavefront, Wavefront};
 
 /// Renders one eye's views, keeping its screen bins from frame to frame.
 #[derive(Clone, Debug, Default)]
@@ -29,19 +29,23 @@ pub struct Renderer {
     bins: PrimaryBins,
 }
 
+/// What a hit pixel's record holds: depth, hit parameter, object, light bits, shading.
+type Kept = (f32, f32, u32, u32, Shading);
+
 /// Where a row's samples go.
 trait RowSink {
     /// Pixels `span` saw only background, of colour `rgb`.
     fn background(&mut self, span: Range<usize>, rgb: u32);
     /// Pixel `i` saw a sphere: its colour, and (called only by a sink that keeps the
     /// visible-surface record) its depth and record.
-    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> (f32, u32, u32, Shading));
+    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> Kept);
 }
 
 /// One row of a [`Film`]: colour and the visible-surface record.
 struct FilmRow<'a> {
     rgb: &'a mut [u32],
     z: &'a mut [f32],
+    t: &'a mut [f32],
     object: &'a mut [u32],
     lights: &'a mut [u32],
     shading: &'a mut [Shading],
@@ -59,10 +63,11 @@ impl RowSink for FilmRow<'_> {
     }
 
     #[inline]
-    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> (f32, u32, u32, Shading)) {
-        let (z, object, lights, shading) = record();
+    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> Kept) {
+        let (z, t, object, lights, shading) = record();
         self.rgb[i] = rgb;
         self.z[i] = z;
+        self.t[i] = t;
         self.object[i] = object;
         self.lights[i] = lights;
         self.shading[i] = shading;
@@ -73,6 +78,7 @@ impl RowSink for FilmRow<'_> {
 struct KeysRow<'a> {
     rgb: &'a mut [u32],
     z: &'a mut [f32],
+    t: &'a mut [f32],
     object: &'a mut [u32],
     lights: &'a mut [u32],
 }
@@ -87,10 +93,11 @@ impl RowSink for KeysRow<'_> {
     }
 
     #[inline]
-    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> (f32, u32, u32, Shading)) {
-        let (z, object, lights, _) = record();
+    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> Kept) {
+        let (z, t, object, lights, _) = record();
         self.rgb[i] = rgb;
         self.z[i] = z;
+        self.t[i] = t;
         self.object[i] = object;
         self.lights[i] = lights;
     }
@@ -106,7 +113,7 @@ impl RowSink for RgbRow<'_> {
     }
 
     #[inline]
-    fn hit(&mut self, i: usize, rgb: u32, _: impl FnOnce() -> (f32, u32, u32, Shading)) {
+    fn hit(&mut self, i: usize, rgb: u32, _: impl FnOnce() -> Kept) {
         self.0[i] = rgb;
     }
 }
@@ -158,11 +165,12 @@ fn trace_row_in<S: Simd>(
             }
         }
     }
-    wavefront.shade_in(simd, tracer, Start::Rays, &mut counts);
+    wavefront.shade_in(simd, tracer, &mut counts);
     for e in 0..wavefront.len() {
         sink.hit(wavefront.tag(e) as usize, wavefront.rgb(e), || {
             let s = wavefront.surface(e);
-            (view.head_z(s.point), s.object, s.lights, Shading { point: s.point, normal: s.normal, diffuse: s.diffuse })
+            let shading = Shading { point: s.point, normal: s.normal, diffuse: s.diffuse };
+            (view.head_z(s.point), wavefront.t(e), s.object, s.lights, shading)
         });
     }
     counts
@@ -209,26 +217,26 @@ impl Renderer {
             Record::Keys => (
                 film.rgb.par_chunks_mut(w),
                 film.z.par_chunks_mut(w),
+                film.t.par_chunks_mut(w),
                 film.object.par_chunks_mut(w),
                 film.lights.par_chunks_mut(w),
             )
                 .into_par_iter()
                 .enumerate()
-                .map(|(j, (rgb, z, object, lights))| {
-                    trace_row(&eye, j as u32, w, &mut KeysRow { rgb, z, object, lights })
+                .map(|(j, (rgb, z, t, object, lights))| {
+                    trace_row(&eye, j as u32, w, &mut KeysRow { rgb, z, t, object, lights })
                 })
                 .sum(),
             Record::Full => (
-                film.rgb.par_chunks_mut(w),
-                film.z.par_chunks_mut(w),
+                (film.rgb.par_chunks_mut(w), film.z.par_chunks_mut(w), film.t.par_chunks_mut(w)),
                 film.object.par_chunks_mut(w),
                 film.lights.par_chunks_mut(w),
                 film.shading.par_chunks_mut(w),
             )
                 .into_par_iter()
                 .enumerate()
-                .map(|(j, (rgb, z, object, lights, shading))| {
-                    trace_row(&eye, j as u32, w, &mut FilmRow { rgb, z, object, lights, shading })
+                .map(|(j, ((rgb, z, t), object, lights, shading))| {
+                    trace_row(&eye, j as u32, w, &mut FilmRow { rgb, z, t, object, lights, shading })
                 })
                 .sum(),
         }

@@ -27,13 +27,15 @@
 use glam::Vec3;
 use wide::f32x4;
 
+use crate::camera::EyeView;
+use crate::film::Film;
 use crate::primary::BinnedView;
 use crate::ray::Ray;
 use crate::sphere::hits_each;
 use crate::stats::RayCounts;
-use crate::surface::{Hit, Surface, NO_OBJECT};
+use crate::surface::{Hit, NO_OBJECT};
 use crate::tracer::Tracer;
-use crate::wavefront::{with_wavefront, Start, Wavefront};
+use crate::wavefront::{with_wavefront, Wavefront};
 
 /// One eye's view, ready to trace and re-shade lists of its pixels (see the module doc).
 #[derive(Clone, Copy, Debug)]
@@ -119,31 +121,40 @@ impl<'a> SecondView<'a> {
                 counts.primary += u64::from(mask.count_ones());
                 self.push_traced(wavefront, base, j, mask, 0, &mut out);
             });
-            wavefront.shade(self.eye.tracer, Start::Rays, counts);
+            wavefront.shade(self.eye.tracer, counts);
             for e in 0..wavefront.len() {
                 out(wavefront.tag(e), wavefront.rgb(e));
             }
         });
     }
 
-    /// Re-shades, for each `(column, surface)` of row `j` (ascending columns), the surface
-    /// the other eye saw, for the ray of this pixel: its kept view-independent light plus
-    /// highlights and reflection recomputed for this ray. Casts no shadow ray for the
-    /// surface itself. Hands each colour to `out(column, colour)`. Seen along the ray that
-    /// found it, a surface re-shades to bit-for-bit its own pixel.
+    /// Re-shades, for each `(column, source)` of row `j` (ascending columns), the surface
+    /// that pixel `source` (a row-major index) of the other eye's `film`, rendered for
+    /// `other`, saw, for the ray of this pixel: the other eye's hit point, normal,
+    /// view-independent light and light bits (the point and normal remade from its ray and
+    /// `t`, the light from its bits: bit-for-bit what it shaded), with highlights and
+    /// reflection recomputed for this ray. Casts no shadow ray for the surface itself, and
+    /// hands each colour to `out(column, colour)`. Seen along the ray that found it, a
+    /// surface re-shades to bit-for-bit its own pixel. The film must keep at least
+    /// [`crate::Record::Keys`], and each source must have seen a sphere.
     pub fn reshade(
         &self,
         j: u32,
-        items: impl IntoIterator<Item = (u32, Surface)>,
+        (other, film): (&EyeView, &Film),
+        items: impl IntoIterator<Item = (u32, u32)>,
         counts: &mut RayCounts,
         mut out: impl FnMut(u32, u32),
     ) {
-        let view = self.eye.view;
+        debug_assert_ne!(film.record(), crate::Record::Colour, "re-shading needs the other eye's record");
+        let (view, w) = (self.eye.view, film.width());
         with_wavefront(|wavefront| {
-            for (i, surface) in items {
-                wavefront.push_surface(view.primary_ray(i, j).dir, &surface, i);
+            for (i, s) in items {
+                let k = s as usize;
+                let ray = other.primary_ray(s % w, s / w);
+                let hit = Hit { t: film.t[k], object: film.object[k] };
+                wavefront.push_seen(&ray, hit, film.lights[k], view.primary_ray(i, j).dir, i);
             }
-            wavefront.shade(self.eye.tracer, Start::Surfaces, counts);
+            wavefront.shade(self.eye.tracer, counts);
             for e in 0..wavefront.len() {
                 out(wavefront.tag(e), wavefront.rgb(e));
             }
@@ -197,7 +208,7 @@ impl<'a> SecondView<'a> {
                     self.push_traced(wavefront, base, j, missed, RETRACED, &mut out_tagged);
                 }
             });
-            wavefront.shade(tracer, Start::Rays, counts);
+            wavefront.shade(tracer, counts);
             for e in 0..wavefront.len() {
                 out_tagged(wavefront.tag(e), wavefront.rgb(e));
             }
@@ -303,15 +314,17 @@ mod tests {
     fn a_surface_reshaded_along_its_own_ray_is_its_pixel() {
         let scene = scene("seed.toml");
         let tracer = Tracer::new(&scene, 0.3);
-        let view = scene.camera.view(Eye::Left, 64, 36);
+        let (w, h) = (64, 36);
+        let view = scene.camera.view(Eye::Left, w, h);
+        let mut film = Film::new(1, 1);
+        Renderer::new().render_keeping(&tracer, &view, &mut film, crate::Record::Keys);
         let mut renderer = Renderer::new();
         let second = renderer.second_view(&tracer, &view);
         let (mut counts, mut reshaded) = (RayCounts::default(), 0);
-        for j in 0..36 {
-            let truth: Vec<_> = (0..64).map(|i| tracer.trace_pixel(&view, i, j, &mut counts)).collect();
-            let items = (0..64).filter(|&i| truth[i as usize].surface.is_hit()).map(|i| (i, truth[i as usize].surface));
-            second.reshade(j, items, &mut counts, |i, rgb| {
-                assert_eq!(rgb, truth[i as usize].rgb, "({i}, {j})");
+        for j in 0..h {
+            let items = (0..w).filter(|&i| film.object[(j * w + i) as usize] != NO_OBJECT).map(|i| (i, j * w + i));
+            second.reshade(j, (&view, &film), items, &mut counts, |i, rgb| {
+                assert_eq!(rgb, film.rgb[(j * w + i) as usize], "({i}, {j})");
                 reshaded += 1;
             });
         }

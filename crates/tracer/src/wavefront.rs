@@ -24,20 +24,6 @@ use crate::tracer::Tracer;
 
 mod lanes;
 
-/// What a batch's samples start from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Start {
-    /// First hits of rays ([`Wavefront::push_hit`]): shaded fully, each either casting a
-    /// shadow ray to every light its surface faces or reusing light bits known from
-    /// another view (`exact` mode: a light counts where its bit is set and the surface
-    /// faces it here).
-    Rays,
-    /// Surfaces already lit by another view ([`Wavefront::push_surface`], `reshade` mode):
-    /// their point, normal, view-independent light and light bits are kept; only highlights
-    /// and the mirror ray are made for the new direction of view.
-    Surfaces,
-}
-
 /// Structure-of-arrays columns of three.
 type Column3 = [Vec<f32>; 3];
 
@@ -60,6 +46,9 @@ struct Level {
     used: usize,
     /// The ray's direction (unit).
     d: Column3,
+    /// The direction the hit is seen along (unit): the ray's, except for a sample that
+    /// re-shades for one view what another view's ray found.
+    v: Column3,
     /// The ray's origin.
     o: Column3,
     /// The ray's hit parameter.
@@ -106,6 +95,7 @@ impl Level {
         let n = n.max(2 * self.t.len()).max(64);
         let columns = [
             &mut self.d,
+            &mut self.v,
             &mut self.o,
             &mut self.p,
             &mut self.n,
@@ -132,6 +122,7 @@ impl Level {
         self.reserve(e + 1);
         set3(&mut self.o, e, o);
         set3(&mut self.d, e, d);
+        set3(&mut self.v, e, d);
         self.t[e] = t;
         self.object[e] = object;
         self.parent[e] = parent;
@@ -166,33 +157,32 @@ impl Wavefront {
         self.levels.first().map_or(0, Level::len)
     }
 
-    /// Adds a sample whose primary ray `ray` first meets `hit`, for a [`Start::Rays`]
-    /// batch; `known` are its light bits if they are known, and `tag` is the caller's
-    /// (a pixel column, say).
+    /// Adds a sample whose primary ray `ray` first meets `hit`; `known` are its light bits
+    /// if they are known, and `tag` is the caller's (a pixel column, say).
     pub(crate) fn push_hit(&mut self, ray: &Ray, hit: Hit, known: Option<u32>, tag: u32) {
         self.levels[0].push(ray.origin, ray.dir, hit.t, hit.object, tag, known);
     }
 
-    /// Adds a sample that sees `surface` (lit by another view) along the unit direction
-    /// `d`, for a [`Start::Surfaces`] batch.
-    pub(crate) fn push_surface(&mut self, d: Vec3, surface: &Surface, tag: u32) {
+    /// Adds a sample that another view's ray `ray` saw meet `hit`, with light bits `known`,
+    /// to be shaded as seen along the unit direction `view` (this view's pixel ray): the
+    /// point, normal and view-independent light come out as the other view's, bit for bit,
+    /// and the highlights and mirror ray are this view's.
+    pub(crate) fn push_seen(&mut self, ray: &Ray, hit: Hit, known: u32, view: Vec3, tag: u32) {
         let level = &mut self.levels[0];
         let e = level.len();
-        level.push(surface.point, d, 0.0, surface.object, tag, Some(surface.lights));
-        set3(&mut level.p, e, surface.point);
-        set3(&mut level.n, e, surface.normal);
-        set3(&mut level.diffuse, e, surface.diffuse);
+        level.push(ray.origin, ray.dir, hit.t, hit.object, tag, Some(known));
+        set3(&mut level.v, e, view);
     }
 
     /// Shades every sample of the batch, counting the shadow and mirror rays cast.
-    pub(crate) fn shade(&mut self, tracer: &Tracer, start: Start, counts: &mut RayCounts) {
-        dispatch!(crate::simd::level(), simd => self.shade_in(simd, tracer, start, counts));
+    pub(crate) fn shade(&mut self, tracer: &Tracer, counts: &mut RayCounts) {
+        dispatch!(crate::simd::level(), simd => self.shade_in(simd, tracer, counts));
     }
 
     /// [`Wavefront::shade`] with the lanes of `simd`: each stage runs over whole vectors (in
     /// a function of its own with `simd`'s target features), then the scalar stage takes the
     /// entries left over.
-    pub(crate) fn shade_in<S: Simd>(&mut self, simd: S, tracer: &Tracer, start: Start, counts: &mut RayCounts) {
+    pub(crate) fn shade_in<S: Simd>(&mut self, simd: S, tracer: &Tracer, counts: &mut RayCounts) {
         let max_depth = tracer.settings.max_depth as usize;
         self.depth = 0;
         for k in 0.. {
@@ -207,15 +197,12 @@ impl Wavefront {
             }
             self.depth = k + 1;
             next.reserve(level.len());
-            let rays = k > 0 || start == Start::Rays;
             let done = simd.vectorize(
                 #[inline(always)]
-                || lanes::shade(simd, tracer, level, (rays, k == 0), counts),
+                || lanes::shade(simd, tracer, level, k == 0, counts),
             );
-            if rays {
-                surfaces(tracer, level, done);
-                light(tracer, level, k == 0, counts, done);
-            }
+            surfaces(tracer, level, done);
+            light(tracer, level, k == 0, counts, done);
             highlights(tracer, level, done);
             if k < max_depth {
                 let done = simd.vectorize(
@@ -240,6 +227,11 @@ impl Wavefront {
                 }
             }
         }
+    }
+
+    /// Sample `e`'s hit parameter.
+    pub(crate) fn t(&self, e: usize) -> f32 {
+        self.levels[0].t[e]
     }
 
     /// Sample `e`'s tag.
@@ -315,7 +307,7 @@ fn highlights(tracer: &Tracer, level: &mut Level, from: usize) {
         let (m, exponent) = (&tracer.materials[object], tracer.exponents[object]);
         let mut out = Vec3::ZERO;
         if m.specular > 0.0 {
-            let (p, n, d, bits) = (get3(&level.p, e), get3(&level.n, e), get3(&level.d, e), level.lights[e]);
+            let (p, n, d, bits) = (get3(&level.p, e), get3(&level.n, e), get3(&level.v, e), level.lights[e]);
             for (k, light) in tracer.lights.iter().enumerate() {
                 if bits & (1 << k) == 0 {
                     continue;
@@ -341,7 +333,7 @@ fn mirrors(tracer: &Tracer, level: &mut Level, next: &mut Level, counts: &mut Ra
         counts.reflection += 1;
         level.reflects[e] = true;
         set3(&mut level.mirror, e, tracer.settings.background);
-        let (p, n, d) = (get3(&level.p, e), get3(&level.n, e), get3(&level.d, e));
+        let (p, n, d) = (get3(&level.p, e), get3(&level.n, e), get3(&level.v, e));
         // d and n are unit, so r is too, to rounding: no normalisation needed.
         let ray = spawn_ray(p, n, reflect(d, n));
         if let Some(hit) = tracer.intersect_from(object, n, &ray) {

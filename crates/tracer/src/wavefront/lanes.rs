@@ -128,8 +128,7 @@ impl Gathered {
     }
 }
 
-/// Stages 1–3 over whole vectors, in one pass: hit points and normals (where `rays`: the
-/// entries are rays' hits, not surfaces given), light bits (shadow rays per vector or per
+/// Stages 1–3 over whole vectors, in one pass: hit points and normals, light bits (shadow rays per vector or per
 /// lane, or the bits known at level 0) and the view-independent light, then Blinn–Phong
 /// highlights from the lights the bits name. Returns how many entries it did.
 #[inline(always)]
@@ -137,7 +136,7 @@ pub(super) fn shade<S: Simd>(
     simd: S,
     tracer: &Tracer,
     level: &mut Level,
-    (rays, first): (bool, bool),
+    first: bool,
     counts: &mut RayCounts,
 ) -> usize {
     let lanes = F::<S>::LEN;
@@ -148,28 +147,19 @@ pub(super) fn shade<S: Simd>(
         let g = Gathered::of(tracer, &level.object[j..j + lanes]);
         let d = load3(simd, &level.d, j);
         // Stage 1.
-        let (p, n) = if rays {
-            let (o, t) = (load3(simd, &level.o, j), load(simd, &level.t, j));
-            let c = [load16(&g.center[0]), load16(&g.center[1]), load16(&g.center[2])];
-            let p = each3(|a| o[a] + t * d[a]);
-            let v = each3(|a| p[a] - c[a]);
-            let recip = one / dot::<S>(v, v).sqrt();
-            let n = each3(|a| v[a] * recip);
-            store3::<S>(p, &mut level.p, j);
-            store3::<S>(n, &mut level.n, j);
-            (p, n)
-        } else {
-            (load3(simd, &level.p, j), load3(simd, &level.n, j))
-        };
-        // Stage 2, where the entries are rays' hits; else the bits given.
-        let mut bits = [0u32; 16];
-        if rays {
-            bits = light_vector(simd, tracer, level, j, (p, n, &g), first, counts);
-        } else {
-            bits[..lanes].copy_from_slice(&level.lights[j..j + lanes]);
-        }
+        let (o, t) = (load3(simd, &level.o, j), load(simd, &level.t, j));
+        let c = [load16(&g.center[0]), load16(&g.center[1]), load16(&g.center[2])];
+        let p = each3(|a| o[a] + t * d[a]);
+        let v = each3(|a| p[a] - c[a]);
+        let recip = one / dot::<S>(v, v).sqrt();
+        let n = each3(|a| v[a] * recip);
+        store3::<S>(p, &mut level.p, j);
+        store3::<S>(n, &mut level.n, j);
+        // Stage 2.
+        let bits = light_vector(simd, tracer, level, j, (p, n, &g), first, counts);
         // Stage 3.
-        let out = highlight_vector(simd, tracer, &level.object[j..j + lanes], [p, n, d], &bits, &g);
+        let v = load3(simd, &level.v, j);
+        let out = highlight_vector(simd, tracer, &level.object[j..j + lanes], [p, n, v], &bits, &g);
         store3::<S>(out, &mut level.spec, j);
     }
     whole
@@ -332,7 +322,7 @@ pub(super) fn mirrors<S: Simd>(
         if reflective == 0 {
             continue;
         }
-        let (p, n, d) = (load3(simd, &level.p, j), load3(simd, &level.n, j), load3(simd, &level.d, j));
+        let (p, n, d) = (load3(simd, &level.p, j), load3(simd, &level.n, j), load3(simd, &level.v, j));
         // r = d − 2(d·n)n, as `reflect`; then `spawn_ray`'s origin, offset along ±n.
         let twice = F::<S>::splat(simd, 2.0) * dot::<S>(d, n);
         let r = each3(|a| d[a] - twice * n[a]);
