@@ -40,10 +40,12 @@ const BUCKETS: usize = (13 << MANTISSA_BITS) as usize;
 /// 128 buckets per octave by the float's exponent and top mantissa bits; `base[b]` is the
 /// level at the start of bucket b, and no bucket holds more than one threshold, so one
 /// comparison finishes the encoding. Same result as rounding the exact curve, without a
-/// `powf` per channel.
+/// `powf` per channel. `base` has one entry more, 255, for every value ≥ 1, so the
+/// encoding needs no branch: values below 2^-13 fall in bucket 0 (level 0, below the first
+/// threshold), values ≥ 1 in the last.
 struct EncodeTable {
     thresholds: [f32; 256],
-    base: [u8; BUCKETS],
+    base: [u8; BUCKETS + 1],
 }
 
 static TABLE: LazyLock<EncodeTable> = LazyLock::new(|| {
@@ -61,8 +63,8 @@ static TABLE: LazyLock<EncodeTable> = LazyLock::new(|| {
         }
         *v = t;
     }
-    let mut base = [0u8; BUCKETS];
-    for (b, level) in base.iter_mut().enumerate() {
+    let mut base = [255u8; BUCKETS + 1];
+    for (b, level) in base.iter_mut().take(BUCKETS).enumerate() {
         let start = f32::from_bits((FIRST_BUCKET + b as u32) << BUCKET_SHIFT);
         *level = thresholds.iter().take_while(|&&t| t <= start).count() as u8;
     }
@@ -77,16 +79,13 @@ pub fn linear_to_srgb8(c: f32) -> u8 {
 }
 
 impl EncodeTable {
+    /// The level of `c`, without a branch: NaN and negatives as 0, values ≥ 1 as 255.
     #[inline]
     fn encode(&self, c: f32) -> u8 {
-        if c.is_nan() || c < MIN_LINEAR {
-            return 0;
-        }
-        if c >= 1.0 {
-            return 255;
-        }
-        let k = self.base[((c.to_bits() >> BUCKET_SHIFT) - FIRST_BUCKET) as usize];
-        k + u8::from(c >= self.thresholds[k as usize])
+        let x = if c > 0.0 { c } else { 0.0 };
+        let b = ((x.to_bits() >> BUCKET_SHIFT).saturating_sub(FIRST_BUCKET)).min(BUCKETS as u32);
+        let k = self.base[b as usize];
+        k.saturating_add(u8::from(x >= self.thresholds[k as usize]))
     }
 }
 
@@ -129,11 +128,24 @@ mod tests {
 
     #[test]
     fn table_matches_rounding_the_exact_curve() {
-        // Every 16th float in [0, 1]: the table must agree with the exact curve rounded.
+        // Every 16th float in [0, 1], and every threshold and its neighbours: the table must
+        // agree with the exact curve rounded.
+        let level = |c: f32| (encode(f64::from(c)) * 255.0).round();
         for bits in (0..=1.0f32.to_bits()).step_by(16) {
             let c = f32::from_bits(bits);
-            let exact = (encode(f64::from(c)) * 255.0).round();
-            assert_eq!(f64::from(linear_to_srgb8(c)), exact, "c = {c}");
+            assert_eq!(f64::from(linear_to_srgb8(c)), level(c), "c = {c}");
+        }
+        for &t in &TABLE.thresholds[..255] {
+            for c in [f32::from_bits(t.to_bits() - 1), t, f32::from_bits(t.to_bits() + 1)] {
+                assert_eq!(f64::from(linear_to_srgb8(c)), level(c), "c = {c} by the threshold {t}");
+            }
+        }
+        // Out of range: every float above 1 and below 0 (a stride through their bits).
+        for bits in (1.0f32.to_bits() + 1..=f32::INFINITY.to_bits()).step_by(4099) {
+            assert_eq!(linear_to_srgb8(f32::from_bits(bits)), 255, "{}", f32::from_bits(bits));
+        }
+        for bits in ((-0.0f32).to_bits()..=f32::NEG_INFINITY.to_bits()).step_by(4099) {
+            assert_eq!(linear_to_srgb8(f32::from_bits(bits)), 0, "{}", f32::from_bits(bits));
         }
     }
 
