@@ -90,7 +90,7 @@ impl Finished {
         self.mask.extend_from_slice(frame.mask());
         if info.request.anaglyph {
             // Dubois's matrices decode every channel to linear light: too slow for the UI
-            // thread at 60 Hz, so it is done here, once per frame, on the rayon pool.
+            // thread at 120 Hz, so it is done here, once per frame, on the rayon pool.
             let (w, h, swap) = (info.request.width, info.request.height, info.request.swap);
             stereo::compose(Layout::Anaglyph, swap, &self.left, &self.right, w, h, &mut self.anaglyph);
         } else {
