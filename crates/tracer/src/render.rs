@@ -41,46 +41,27 @@ trait RowSink {
     fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> Kept);
 }
 
-/// One row of a [`Film`]: colour and the visible-surface record.
-struct FilmRow<'a> {
-    rgb: &'a mut [u32],
-    z: &'a mut [f32],
-    t: &'a mut [f32],
-    object: &'a mut [u32],
-    lights: &'a mut [u32],
-    shading: &'a mut [Shading],
-}
-
-impl RowSink for FilmRow<'_> {
-    #[inline]
-    fn background(&mut self, span: Range<usize>, rgb: u32) {
-        // The shading entries of a miss are left as they are: nothing reads them (see
-        // `Film::surface`).
-        self.rgb[span.clone()].fill(rgb);
-        self.z[span.clone()].fill(f32::INFINITY);
-        self.object[span.clone()].fill(NO_OBJECT);
-        self.lights[span].fill(0);
-    }
-
-    #[inline]
-    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> Kept) {
-        let (z, t, object, lights, shading) = record();
-        self.rgb[i] = rgb;
-        self.z[i] = z;
-        self.t[i] = t;
-        self.object[i] = object;
-        self.lights[i] = lights;
-        self.shading[i] = shading;
-    }
-}
-
-/// One row of a [`Film`] without its shading entries: colour, depth, object and light bits.
+/// One row of a [`Film`] without its shading entries: colour, depth, hit parameter, object
+/// and light bits.
 struct KeysRow<'a> {
     rgb: &'a mut [u32],
     z: &'a mut [f32],
     t: &'a mut [f32],
     object: &'a mut [u32],
     lights: &'a mut [u32],
+}
+
+impl KeysRow<'_> {
+    /// Writes pixel `i`'s keys; returns its shading entry, for a sink that keeps it.
+    #[inline]
+    fn keep(&mut self, i: usize, rgb: u32, (z, t, object, lights, shading): Kept) -> Shading {
+        self.rgb[i] = rgb;
+        self.z[i] = z;
+        self.t[i] = t;
+        self.object[i] = object;
+        self.lights[i] = lights;
+        shading
+    }
 }
 
 impl RowSink for KeysRow<'_> {
@@ -94,12 +75,27 @@ impl RowSink for KeysRow<'_> {
 
     #[inline]
     fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> Kept) {
-        let (z, t, object, lights, _) = record();
-        self.rgb[i] = rgb;
-        self.z[i] = z;
-        self.t[i] = t;
-        self.object[i] = object;
-        self.lights[i] = lights;
+        self.keep(i, rgb, record());
+    }
+}
+
+/// One row of a [`Film`]: the keys and the shading entries.
+struct FilmRow<'a> {
+    keys: KeysRow<'a>,
+    shading: &'a mut [Shading],
+}
+
+impl RowSink for FilmRow<'_> {
+    #[inline]
+    fn background(&mut self, span: Range<usize>, rgb: u32) {
+        // The shading entries of a miss are left as they are: nothing reads them (see
+        // `Film::surface`).
+        self.keys.background(span, rgb);
+    }
+
+    #[inline]
+    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> Kept) {
+        self.shading[i] = self.keys.keep(i, rgb, record());
     }
 }
 
@@ -236,7 +232,7 @@ impl Renderer {
                 .into_par_iter()
                 .enumerate()
                 .map(|(j, ((rgb, z, t), object, lights, shading))| {
-                    trace_row(&eye, j as u32, w, &mut FilmRow { rgb, z, t, object, lights, shading })
+                    trace_row(&eye, j as u32, w, &mut FilmRow { keys: KeysRow { rgb, z, t, object, lights }, shading })
                 })
                 .sum(),
         }
