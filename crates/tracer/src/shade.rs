@@ -12,8 +12,11 @@
 //! with l_k the unit vector to light k, h_k = normalize(l_k − d) (Blinn–Phong) and V_k the
 //! light's visibility: 1 when the surface faces the light (n·l > 0) and a shadow ray towards
 //! it is unblocked. Reflection recurses up to `max_depth` bounces; a miss returns the
-//! background. The two parts are computed by separate functions so that `stereo` can reuse
-//! the first from the other eye and recompute only the second.
+//! background.
+//!
+//! This is the plain path: a pixel at a time, recursively, as the formula reads. The
+//! renderer shades through the same operations batched in SIMD lanes (`wavefront.rs`), and
+//! tests compare the two pixel by pixel, bit for bit.
 
 use glam::Vec3;
 
@@ -23,12 +26,6 @@ use crate::ray::{reflect, spawn_ray, Ray};
 use crate::stats::RayCounts;
 use crate::surface::{Hit, Surface};
 use crate::tracer::Tracer;
-
-/// How many lights' directions the diffuse step hands on to the highlight step.
-const KEPT_LIGHTS: usize = 4;
-
-/// Directions from a hit to the first [`KEPT_LIGHTS`] lights.
-type LightDirs = [Vec3; KEPT_LIGHTS];
 
 /// One shaded primary sample: the pixel colour and its visible-surface record.
 #[derive(Clone, Copy, Debug)]
@@ -94,9 +91,9 @@ impl Tracer {
         let p = ray.at(t);
         // Normalised rather than divided by r: the hit lies on the sphere only to rounding.
         let n = (p - self.centers[k]).normalize();
-        let (diffuse, lights, dirs) = self.view_independent(object, p, n, counts);
+        let (diffuse, lights) = self.view_independent(object, p, n, counts);
         let surface = Surface { point: p, normal: n, diffuse, object, lights };
-        (diffuse + self.view_dependent(&surface, ray.dir, Some(&dirs), depth, counts), surface)
+        (diffuse + self.view_dependent(&surface, ray.dir, depth, counts), surface)
     }
 
     /// Unit direction and distance from `p` to light `k`: the one formula every shading
@@ -108,17 +105,12 @@ impl Tracer {
         (v * dist.recip(), dist)
     }
 
-    /// Ambient + Lambert diffuse with hard shadows, the visibility bits it found, and the
-    /// directions to the first [`KEPT_LIGHTS`] lights for the highlights.
-    fn view_independent(&self, object: u32, p: Vec3, n: Vec3, counts: &mut RayCounts) -> (Vec3, u32, LightDirs) {
+    /// Ambient + Lambert diffuse with hard shadows, and the visibility bits it found.
+    fn view_independent(&self, object: u32, p: Vec3, n: Vec3, counts: &mut RayCounts) -> (Vec3, u32) {
         let mut sum = Vec3::ZERO;
         let mut bits = 0u32;
-        let mut dirs = [Vec3::ZERO; KEPT_LIGHTS];
         for (k, light) in self.lights.iter().enumerate() {
             let (l, dist) = self.to_light(p, k);
-            if let Some(d) = dirs.get_mut(k) {
-                *d = l;
-            }
             let ndl = n.dot(l);
             if ndl <= 0.0 {
                 continue;
@@ -130,20 +122,12 @@ impl Tracer {
             }
         }
         let m = &self.materials[object as usize];
-        (m.color * (self.settings.ambient + m.diffuse * sum), bits, dirs)
+        (m.color * (self.settings.ambient + m.diffuse * sum), bits)
     }
 
     /// Blinn–Phong highlights from the lights visible at `surface` plus the mirror
-    /// reflection, seen along `d`, at reflection depth `depth`; `dirs` are the light
-    /// directions [`Tracer::view_independent`] found, if it ran for this point.
-    fn view_dependent(
-        &self,
-        surface: &Surface,
-        d: Vec3,
-        dirs: Option<&LightDirs>,
-        depth: u32,
-        counts: &mut RayCounts,
-    ) -> Vec3 {
+    /// reflection, seen along `d`, at reflection depth `depth`.
+    fn view_dependent(&self, surface: &Surface, d: Vec3, depth: u32, counts: &mut RayCounts) -> Vec3 {
         let &Surface { point: p, normal: n, object, lights, .. } = surface;
         let (m, exponent) = (&self.materials[object as usize], self.exponents[object as usize]);
         let mut out = Vec3::ZERO;
@@ -152,10 +136,7 @@ impl Tracer {
                 if lights & (1 << k) == 0 {
                     continue;
                 }
-                let l = match dirs {
-                    Some(dirs) if k < KEPT_LIGHTS => dirs[k],
-                    _ => self.to_light(p, k).0,
-                };
+                let l = self.to_light(p, k).0;
                 let ndh = n.dot((l - d).normalize_or_zero());
                 if ndh > 0.0 {
                     out += m.specular * exponent.power(ndh, m.shininess) * light.color;
