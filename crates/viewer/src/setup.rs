@@ -82,13 +82,29 @@ impl FrameSetup {
     }
 }
 
+/// Checks `STEREOTRACE_LANES`: unset, or `4` to force the tracer's 4-lane SIMD fallback.
+/// Anything else is refused rather than silently ignored.
+pub fn check_lanes_env() -> Result<()> {
+    match std::env::var_os(tracer::LANES_VAR) {
+        None => Ok(()),
+        Some(v) if v.to_str().is_some_and(|v| v.trim() == "4") => Ok(()),
+        Some(v) => Err(BadInput(format!(
+            "{}={}: must be 4 (the 4-lane fallback); unset it to use the widest lanes the CPU has",
+            tracer::LANES_VAR,
+            v.to_string_lossy()
+        ))
+        .into()),
+    }
+}
+
 /// The environment variable that sets the memory available to a frame, in bytes, in place of
 /// the host's `MemAvailable`.
 pub const MEMORY_ENV: &str = "STEREOTRACE_MEMORY_AVAILABLE";
 
 /// Bytes one eye-pixel costs across a stereo frame and its full-trace reference: colour,
-/// depth and the visible-surface record for three films, plus the source map and mask.
-const BYTES_PER_PIXEL: u64 = 3 * (4 + 4 + 44) + 4 + 1 + 4;
+/// depth, hit parameter and the visible-surface record for three films, plus the source
+/// map and mask.
+const BYTES_PER_PIXEL: u64 = 3 * (4 + 4 + 4 + 44) + 4 + 1 + 4;
 
 /// Refuses, before allocating anything, a frame that cannot fit in the memory available.
 fn check_memory(width: u32, height: u32, frames: u64) -> Result<()> {
@@ -149,7 +165,7 @@ mod tests {
         assert!(e.downcast_ref::<BadInput>().is_some(), "bad input, exit 2: {e}");
         let e = fits_in_memory(16_384, 16_384, 1, Some(16 << 30)).unwrap_err().to_string();
         assert_eq!(
-            e, "--width 16384 --height 16384: the frame needs 41.2 GiB but only 16.0 GiB of memory is available",
+            e, "--width 16384 --height 16384: the frame needs 44.2 GiB but only 16.0 GiB of memory is available",
             "the message names the flags and both sizes"
         );
         assert!(fits_in_memory(64, 64, 2, Some(need)).is_err(), "two frames need twice as much");

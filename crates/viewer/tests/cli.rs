@@ -272,6 +272,20 @@ fn help_documents_every_flag() {
     }
 }
 
+/// `STEREOTRACE_LANES` accepts 4 (the fallback, which the report names) and refuses the rest.
+#[test]
+fn the_lanes_variable_forces_the_fallback_and_refuses_other_values() {
+    let args = ["render", "--width", "16", "--height", "8", "--json"];
+    let out = stereotrace_with(&[("STEREOTRACE_LANES", "4")], &args);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("the JSON report");
+    assert_eq!(report["lanes"], 4, "the fallback ran");
+    let out = stereotrace_with(&[("STEREOTRACE_LANES", "16")], &args);
+    assert_eq!(out.status.code(), Some(2), "a width the tracer does not have is bad input");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("STEREOTRACE_LANES=16: must be 4"), "{err}");
+}
+
 /// The memory check, with the limit injected (`STEREOTRACE_MEMORY_AVAILABLE`) so the answer
 /// does not depend on this machine's free memory.
 #[test]
@@ -285,13 +299,13 @@ fn a_frame_too_large_for_the_memory_is_refused_before_any_work() {
     assert_eq!(out.status.code(), Some(2), "refused as bad input");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
-        err.contains("--width 16384 --height 16384: the frame needs 41.2 GiB but only 16.0 GiB of memory is available"),
+        err.contains("--width 16384 --height 16384: the frame needs 44.2 GiB but only 16.0 GiB of memory is available"),
         "{err}"
     );
-    // 165 bytes per eye pixel (three films, the source map and the mask): 64 × 64 needs 675840.
+    // 177 bytes per eye pixel (three films, the source map and the mask): 64 × 64 needs 724992.
     let small = ["render", "--width", "64", "--height", "64", "--json"];
-    assert!(run(&limit("675840"), &small).status.success(), "exactly enough memory");
-    let out = run(&limit("675839"), &small);
+    assert!(run(&limit("724992"), &small).status.success(), "exactly enough memory");
+    let out = run(&limit("724991"), &small);
     assert_eq!(out.status.code(), Some(2), "one byte short: {}", String::from_utf8_lossy(&out.stderr));
     let out = run(&limit("lots"), &small);
     assert_eq!(out.status.code(), Some(2), "a limit that is no number");
