@@ -223,9 +223,23 @@ impl EyeView {
     pub(crate) fn primary_dirs_lanes<S: fearless_simd::Simd>(&self, simd: S, i: u32, j: u32) -> [crate::simd::F<S>; 3] {
         use crate::simd::F;
         use fearless_simd::prelude::*;
-        let lane = F::<S>::from_fn(simd, |l| (i + l as u32) as f32);
+        let columns = F::<S>::from_fn(simd, |l| (i + l as u32) as f32);
+        self.primary_dirs_at(simd, columns, j)
+    }
+
+    /// The primary ray directions of pixels (`columns[l]`, j), one per lane (each column a
+    /// whole number, as f32), by [`EyeView::primary_dirs4`]'s operations lane by lane.
+    #[inline(always)]
+    pub(crate) fn primary_dirs_at<S: fearless_simd::Simd>(
+        &self,
+        simd: S,
+        columns: crate::simd::F<S>,
+        j: u32,
+    ) -> [crate::simd::F<S>; 3] {
+        use crate::simd::F;
+        use fearless_simd::prelude::*;
         let splat = |x: f32| F::<S>::splat(simd, x);
-        let x = ((lane + splat(0.5)) * splat(self.inv_width) - splat(0.5)) * splat(self.window_width);
+        let x = ((columns + splat(0.5)) * splat(self.inv_width) - splat(0.5)) * splat(self.window_width);
         let y = (0.5 - (j as f32 + 0.5) * self.inv_height) * self.window_height;
         let (hx, hy, hz) = (x - splat(self.eye_x), splat(y), splat(self.distance));
         let (a, b, c) = (self.world_from_head.x_axis, self.world_from_head.y_axis, self.world_from_head.z_axis);

@@ -25,15 +25,12 @@
 //! what depends on the direction of view is recomputed.
 
 use glam::Vec3;
-use wide::f32x4;
 
 use crate::camera::EyeView;
 use crate::film::Film;
 use crate::primary::BinnedView;
-use crate::ray::Ray;
-use crate::sphere::hits_each;
 use crate::stats::RayCounts;
-use crate::surface::{Hit, NO_OBJECT};
+use crate::surface::Hit;
 use crate::tracer::Tracer;
 use crate::wavefront::{with_wavefront, Wavefront};
 
@@ -179,35 +176,17 @@ impl<'a> SecondView<'a> {
         let (tracer, view) = (self.eye.tracer, self.eye.view);
         let mut out_tagged = |tag: u32, rgb: u32| out(tag & !RETRACED, rgb, tag & RETRACED != 0);
         with_wavefront(|wavefront| {
-            let items = items.into_iter().map(|(i, object, lights)| (i, (object, lights)));
-            by_quads(items, |base, mask, named| {
-                let dirs = view.primary_dirs4(base, j);
-                let spheres: [_; 4] = std::array::from_fn(|k| {
-                    let object = named[k].0;
-                    (mask & (1 << k) != 0 && object != NO_OBJECT)
-                        .then(|| (tracer.centers[object as usize], tracer.radii[object as usize]))
-                });
-                let t = hits_each(view.origin, spheres, dirs).to_array();
-                let lane = |v: f32x4, k: usize| v.as_array()[k];
-                let mut missed = 0u32;
-                for k in 0..4 {
-                    if mask & (1 << k) == 0 {
-                        continue;
-                    }
-                    let (object, lights) = named[k];
-                    if spheres[k].is_some() && t[k].is_finite() {
-                        let dir = Vec3::new(lane(dirs[0], k), lane(dirs[1], k), lane(dirs[2], k));
-                        let ray = Ray::new(view.origin, dir);
-                        wavefront.push_hit(&ray, Hit { t: t[k], object }, Some(lights), base + k as u32);
-                    } else {
-                        missed |= 1 << k;
-                    }
-                }
-                if missed != 0 {
-                    counts.primary += u64::from(missed.count_ones());
-                    self.push_traced(wavefront, base, j, missed, RETRACED, &mut out_tagged);
-                }
+            for (i, object, lights) in items {
+                wavefront.push_named(view.origin, i, object, lights);
+            }
+            wavefront.aim_named(view, j, tracer);
+            // The silhouettes the named spheres missed: full primary rays, four at a time.
+            let missed = std::mem::take(wavefront.missed_mut());
+            counts.primary += missed.len() as u64;
+            by_quads(missed.iter().map(|&i| (i, ())), |base, mask, _| {
+                self.push_traced(wavefront, base, j, mask, RETRACED, &mut out_tagged);
             });
+            *wavefront.missed_mut() = missed;
             wavefront.shade(tracer, counts);
             for e in 0..wavefront.len() {
                 out_tagged(wavefront.tag(e), wavefront.rgb(e));
@@ -240,6 +219,7 @@ mod tests {
     use crate::camera::Eye;
     use crate::render::Renderer;
     use crate::scene::Scene;
+    use crate::surface::NO_OBJECT;
 
     fn scene(name: &str) -> Scene {
         let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));

@@ -119,9 +119,13 @@ pub(crate) fn mask_of<S: Simd>(simd: S, bits: u64) -> M<S> {
 /// `sphere.rs`'s `SpherePacket::hits`, so bit-for-bit the `t` every other query reports.
 #[inline(always)]
 pub(crate) fn sphere_t<S: Simd>(simd: S, o: [F<S>; 3], d: [F<S>; 3], center: Vec3, radius: f32, t_max: F<S>) -> F<S> {
-    let c = splat3(simd, center);
+    spheres_t(simd, o, d, (splat3(simd, center), F::<S>::splat(simd, radius)), t_max)
+}
+
+/// [`sphere_t`] with a sphere per lane (`center`, `radius`).
+#[inline(always)]
+pub(crate) fn spheres_t<S: Simd>(simd: S, o: [F<S>; 3], d: [F<S>; 3], (c, r): ([F<S>; 3], F<S>), t_max: F<S>) -> F<S> {
     let oc = each3(|a| o[a] - c[a]);
-    let r = F::<S>::splat(simd, radius);
     let r2 = r * r;
     let cc = dot::<S>(oc, oc) - r2;
     nearest_root(simd, oc, d, r2, cc, t_max)

@@ -148,21 +148,6 @@ impl SphereFromOrigin {
     }
 }
 
-/// Four rays from `origin` (unit directions `d`), each against its own sphere: lane k's
-/// `t` in `(0, ∞)` against `spheres[k]`, +∞ for a miss or a `None` lane. Bit-for-bit the
-/// `t` of every other query for the same ray and sphere.
-#[inline]
-pub(crate) fn hits_each(origin: Vec3, spheres: [Option<(Vec3, f32)>; LANES], d: [f32x4; 3]) -> f32x4 {
-    let (mut oc, mut r2, mut c) = ([[f32::NAN; LANES]; 3], [0.0; LANES], [f32::NAN; LANES]);
-    for (k, sphere) in spheres.iter().enumerate() {
-        if let Some((center, radius)) = *sphere {
-            let s = SphereFromOrigin::new(origin, center, radius, 0);
-            (oc[0][k], oc[1][k], oc[2][k], r2[k], c[k]) = (s.oc[0], s.oc[1], s.oc[2], s.r2, s.c);
-        }
-    }
-    nearest_root(oc.map(f32x4::from), d, f32x4::from(r2), f32x4::from(c), f32x4::splat(f32::INFINITY))
-}
-
 /// The lane-wise core of the ray–sphere test shared by every SIMD query, in the order of
 /// [`intersect_sphere`]: `oc` = origin − centre, `d` unit, `r2` = r², `c` = |oc|² − r².
 #[inline]

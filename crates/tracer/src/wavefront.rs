@@ -13,11 +13,13 @@
 //! The queues live in a [`Wavefront`] that each worker thread keeps from batch to batch, so
 //! a warm renderer allocates nothing.
 
-use fearless_simd::{dispatch, Simd};
+use fearless_simd::{dispatch, prelude::*, Simd};
 use glam::Vec3;
 
+use crate::camera::EyeView;
 use crate::color::pack_rgb;
 use crate::ray::{reflect, spawn_ray, Ray};
+use crate::simd::F;
 use crate::stats::RayCounts;
 use crate::surface::{Hit, Surface};
 use crate::tracer::Tracer;
@@ -115,6 +117,21 @@ impl Level {
         self.reflects.resize(n, false);
     }
 
+    /// Moves entry `from` to `to` (the columns a sample has before it is shaded).
+    fn move_entry(&mut self, from: usize, to: usize) {
+        for c in [&mut self.o, &mut self.d, &mut self.v] {
+            for x in c {
+                x[to] = x[from];
+            }
+        }
+        self.t[to] = self.t[from];
+        self.object[to] = self.object[from];
+        self.parent[to] = self.parent[from];
+        self.lights[to] = self.lights[from];
+        self.known[to] = self.known[from];
+        self.reflects[to] = self.reflects[from];
+    }
+
     /// Adds a hit: ray (`o`, `d`) meets `object` at `t`; `known` light bits, if any.
     #[inline]
     fn push(&mut self, o: Vec3, d: Vec3, t: f32, object: u32, parent: u32, known: Option<u32>) {
@@ -140,6 +157,8 @@ pub(crate) struct Wavefront {
     levels: Vec<Level>,
     /// Levels in use.
     depth: usize,
+    /// Columns whose named sphere their ray missed (see [`Wavefront::aim_named`]).
+    missed: Vec<u32>,
 }
 
 impl Wavefront {
@@ -161,6 +180,69 @@ impl Wavefront {
     /// if they are known, and `tag` is the caller's (a pixel column, say).
     pub(crate) fn push_hit(&mut self, ray: &Ray, hit: Hit, known: Option<u32>, tag: u32) {
         self.levels[0].push(ray.origin, ray.dir, hit.t, hit.object, tag, known);
+    }
+
+    /// Adds a sample of pixel (`column`, row) whose primary ray from `origin` is still to be
+    /// aimed at the one sphere `object` ([`Wavefront::aim_named`]); `known` are its light
+    /// bits. Its tag is the column.
+    pub(crate) fn push_named(&mut self, origin: Vec3, column: u32, object: u32, known: u32) {
+        self.levels[0].push(origin, Vec3::ZERO, f32::NAN, object, column, Some(known));
+    }
+
+    /// Aims the samples [`Wavefront::push_named`] added, all of row `j` of `view`: each
+    /// pixel's primary ray against its one sphere, in lanes, bit-for-bit the ray and `t` of
+    /// every other query. Samples whose ray misses that sphere leave the batch; their
+    /// columns are listed in [`Wavefront::missed_mut`].
+    pub(crate) fn aim_named(&mut self, view: &EyeView, j: u32, tracer: &Tracer) {
+        dispatch!(crate::simd::level(), simd => self.aim_named_in(simd, view, j, tracer));
+    }
+
+    fn aim_named_in<S: Simd>(&mut self, simd: S, view: &EyeView, j: u32, tracer: &Tracer) {
+        let level = &mut self.levels[0];
+        let (n, lanes) = (level.len(), F::<S>::LEN);
+        // Whole vectors: the lanes past the last sample aim at sphere 0 and are ignored.
+        level.reserve(n.div_ceil(lanes) * lanes);
+        for e in n..n.div_ceil(lanes) * lanes {
+            (level.parent[e], level.object[e]) = (0, 0);
+        }
+        let origin = crate::simd::splat3(simd, view.origin);
+        for k in (0..n).step_by(lanes) {
+            simd.vectorize(
+                #[inline(always)]
+                || {
+                    let columns = F::<S>::from_fn(simd, |l| level.parent[k + l] as f32);
+                    let d = view.primary_dirs_at(simd, columns, j);
+                    let objects = &level.object[k..k + lanes];
+                    let c = crate::simd::each3(|a| F::<S>::from_fn(simd, |l| tracer.centers[objects[l] as usize][a]));
+                    let r = F::<S>::from_fn(simd, |l| tracer.radii[objects[l] as usize]);
+                    let inf = F::<S>::splat(simd, f32::INFINITY);
+                    let t = crate::simd::spheres_t(simd, origin, d, (c, r), inf);
+                    crate::simd::store3::<S>(d, &mut level.d, k);
+                    crate::simd::store3::<S>(d, &mut level.v, k);
+                    t.store_slice(&mut level.t[k..k + lanes]);
+                },
+            );
+        }
+        // Keep the hits, in order; list the misses.
+        self.missed.clear();
+        let mut kept = 0;
+        for e in 0..n {
+            if level.t[e].is_finite() {
+                if kept != e {
+                    level.move_entry(e, kept);
+                }
+                kept += 1;
+            } else {
+                self.missed.push(level.parent[e]);
+            }
+        }
+        level.used = kept;
+    }
+
+    /// The columns [`Wavefront::aim_named`] found missing their sphere (a list the caller
+    /// may take and give back, to keep its buffer).
+    pub(crate) fn missed_mut(&mut self) -> &mut Vec<u32> {
+        &mut self.missed
     }
 
     /// Adds a sample that another view's ray `ray` saw meet `hit`, with light bits `known`,
