@@ -107,16 +107,29 @@ impl Tracer {
 
     /// Ambient + Lambert diffuse with hard shadows, and the visibility bits it found.
     fn view_independent(&self, object: u32, p: Vec3, n: Vec3, counts: &mut RayCounts) -> (Vec3, u32) {
+        self.diffuse_light(object, p, n, |k, l, dist| {
+            counts.shadow += 1;
+            !self.shadowed(k, object, p, n, &spawn_ray(p, n, l), dist)
+        })
+    }
+
+    /// The view-independent light at `p` (normal `n`) on sphere `object`,
+    /// colour · (ambient + kd · Σ n·l · I) over the lights the surface faces and `visible(k,
+    /// l, dist)` lets through, and the bits of those lights: the one scalar formula, for the
+    /// plain path and for the wavefront's leftover entries.
+    pub(crate) fn diffuse_light(
+        &self,
+        object: u32,
+        p: Vec3,
+        n: Vec3,
+        mut visible: impl FnMut(usize, Vec3, f32) -> bool,
+    ) -> (Vec3, u32) {
         let mut sum = Vec3::ZERO;
         let mut bits = 0u32;
         for (k, light) in self.lights.iter().enumerate() {
             let (l, dist) = self.to_light(p, k);
             let ndl = n.dot(l);
-            if ndl <= 0.0 {
-                continue;
-            }
-            counts.shadow += 1;
-            if !self.shadowed(k, object, p, n, &spawn_ray(p, n, l), dist) {
+            if ndl > 0.0 && visible(k, l, dist) {
                 bits |= 1 << k;
                 sum += ndl * light.color;
             }
@@ -125,10 +138,10 @@ impl Tracer {
         (m.color * (self.settings.ambient + m.diffuse * sum), bits)
     }
 
-    /// Blinn–Phong highlights from the lights visible at `surface` plus the mirror
-    /// reflection, seen along `d`, at reflection depth `depth`.
-    fn view_dependent(&self, surface: &Surface, d: Vec3, depth: u32, counts: &mut RayCounts) -> Vec3 {
-        let &Surface { point: p, normal: n, object, lights, .. } = surface;
+    /// Blinn–Phong highlights at `p` (normal `n`) on sphere `object`, seen along `d`, from
+    /// the lights the bits `lights` name: the one scalar formula, for the plain path and for
+    /// the wavefront's leftover entries.
+    pub(crate) fn highlight(&self, object: u32, p: Vec3, n: Vec3, d: Vec3, lights: u32) -> Vec3 {
         let (m, exponent) = (&self.materials[object as usize], self.exponents[object as usize]);
         let mut out = Vec3::ZERO;
         if m.specular > 0.0 {
@@ -143,6 +156,15 @@ impl Tracer {
                 }
             }
         }
+        out
+    }
+
+    /// Blinn–Phong highlights from the lights visible at `surface` plus the mirror
+    /// reflection, seen along `d`, at reflection depth `depth`.
+    fn view_dependent(&self, surface: &Surface, d: Vec3, depth: u32, counts: &mut RayCounts) -> Vec3 {
+        let &Surface { point: p, normal: n, object, lights, .. } = surface;
+        let m = &self.materials[object as usize];
+        let mut out = self.highlight(object, p, n, d, lights);
         if m.reflectivity > 0.0 && depth < self.settings.max_depth {
             counts.reflection += 1;
             // d and n are unit, so r is too, to rounding: no normalisation needed.

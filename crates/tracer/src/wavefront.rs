@@ -357,51 +357,26 @@ fn light(tracer: &Tracer, level: &mut Level, first: bool, counts: &mut RayCounts
     for e in from..level.len() {
         let known = first && level.known[e];
         let (p, n, object) = (get3(&level.p, e), get3(&level.n, e), level.object[e]);
-        let mut sum = Vec3::ZERO;
-        let mut bits = 0u32;
-        for (k, light) in tracer.lights.iter().enumerate() {
-            let (l, dist) = tracer.to_light(p, k);
-            let ndl = n.dot(l);
-            if ndl <= 0.0 {
-                continue;
-            }
-            let visible = if known {
-                level.lights[e] & (1 << k) != 0
+        let given = level.lights[e];
+        let (diffuse, bits) = tracer.diffuse_light(object, p, n, |k, l, dist| {
+            if known {
+                given & (1 << k) != 0
             } else {
                 counts.shadow += 1;
                 !tracer.shadowed(k, object, p, n, &spawn_ray(p, n, l), dist)
-            };
-            if visible {
-                bits |= 1 << k;
-                sum += ndl * light.color;
             }
-        }
-        let m = &tracer.materials[object as usize];
+        });
         level.lights[e] = bits;
-        set3(&mut level.diffuse, e, m.color * (tracer.settings.ambient + m.diffuse * sum));
+        set3(&mut level.diffuse, e, diffuse);
     }
 }
 
 /// Stage 3: Blinn–Phong highlights from the lights the bits name, seen along the ray.
 fn highlights(tracer: &Tracer, level: &mut Level, from: usize) {
     for e in from..level.len() {
-        let object = level.object[e] as usize;
-        let (m, exponent) = (&tracer.materials[object], tracer.exponents[object]);
-        let mut out = Vec3::ZERO;
-        if m.specular > 0.0 {
-            let (p, n, d, bits) = (get3(&level.p, e), get3(&level.n, e), get3(&level.v, e), level.lights[e]);
-            for (k, light) in tracer.lights.iter().enumerate() {
-                if bits & (1 << k) == 0 {
-                    continue;
-                }
-                let l = tracer.to_light(p, k).0;
-                let ndh = n.dot((l - d).normalize_or_zero());
-                if ndh > 0.0 {
-                    out += m.specular * exponent.power(ndh, m.shininess) * light.color;
-                }
-            }
-        }
-        set3(&mut level.spec, e, out);
+        let (p, n, d) = (get3(&level.p, e), get3(&level.n, e), get3(&level.v, e));
+        let spec = tracer.highlight(level.object[e], p, n, d, level.lights[e]);
+        set3(&mut level.spec, e, spec);
     }
 }
 
