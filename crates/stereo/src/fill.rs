@@ -14,10 +14,12 @@ use std::cell::Cell;
 use std::ops::Add;
 
 use rayon::prelude::*;
+use tracer::bits;
 use tracer::{EyeView, Film, RayCounts, SecondView, NO_OBJECT};
 
 use crate::image::Image;
 use crate::mode::Mode;
+use crate::retrace::{wanted, Redo};
 use crate::stats::PixelClass;
 
 /// How stage 5 fills a reprojected pixel.
@@ -66,31 +68,41 @@ struct Row<'a> {
     mask: &'a mut [PixelClass],
     /// Its source map.
     src: &'a [u32],
+    /// The pixels to make (`None`: all).
+    only: Option<&'a [u64]>,
+    /// Its marks: set where a pixel's own ray trees meet a moving sphere's swept volume.
+    marks: &'a mut [u64],
 }
 
-/// Stage 5 over the image: every right pixel that `mask` marks [`PixelClass::Reprojected`]
-/// is filled into `out` from its source in `src` on the `left` film (rendered for the view
-/// `lv`), as `how` says, by `right`, the right eye's view.
+/// Stage 5 over the image: every right pixel of `redo` that `mask` marks
+/// [`PixelClass::Reprojected`] is filled into `out` from its source in `src` on the `left`
+/// film (rendered for the view `lv`), as `how` says, by `right`, the right eye's view.
+/// Stage 4 has cleared the marks of `redo`'s pixels; this sets those of the pixels it
+/// shades.
 pub(crate) fn fill(
     right: SecondView<'_>,
     (lv, left): (&EyeView, &Film),
     how: Fill,
-    mask: &mut [PixelClass],
-    src: &[u32],
+    (mask, src): (&mut [PixelClass], &[u32]),
     out: &mut Image,
+    redo: Redo<'_>,
 ) -> Filled {
     let w = out.width as usize;
     debug_assert!(
         mask.len() == out.rgb.len() && src.len() == out.rgb.len() && out.rgb.len() == w * out.height as usize,
         "the mask, the source map and the image must have one size"
     );
+    let Redo { only, marks } = redo;
+    let stride = marks.stride();
     out.rgb
         .par_chunks_mut(w)
         .zip(mask.par_chunks_mut(w))
         .zip(src.par_chunks(w))
+        .zip(marks.words_mut().par_chunks_mut(stride))
         .enumerate()
-        .map(|(j, ((rgb, mask), src))| {
-            let row = Row { j: j as u32, rgb, mask, src };
+        .map(|(j, (((rgb, mask), src), marks))| {
+            let only = only.map(|bits| bits.row(j as u32));
+            let row = Row { j: j as u32, rgb, mask, src, only, marks };
             match how {
                 Fill::Reshade => reshade_row(right, (lv, left), row),
                 Fill::Exact => exact_row(right, left, row),
@@ -106,12 +118,13 @@ fn sees_surface(left: &Film, class: PixelClass, s: u32) -> bool {
     class == PixelClass::Reprojected && left.object[s as usize] != NO_OBJECT
 }
 
-/// Gives each reprojected pixel of a row whose source saw background its source's colour.
-/// Returns how many others there are: the pixels that stage 5 shades.
-fn keep_background(left: &Film, rgb: &mut [u32], mask: &[PixelClass], src: &[u32]) -> u64 {
+/// Gives each reprojected pixel of a row (of those `only` names) whose source saw
+/// background its source's colour. Returns how many others there are: the pixels that
+/// stage 5 shades.
+fn keep_background(left: &Film, rgb: &mut [u32], (mask, src): (&[PixelClass], &[u32]), only: Option<&[u64]>) -> u64 {
     let mut named = 0;
-    for ((rgb, &class), &s) in rgb.iter_mut().zip(mask).zip(src) {
-        if class == PixelClass::Reprojected {
+    for (i, ((rgb, &class), &s)) in rgb.iter_mut().zip(mask).zip(src).enumerate() {
+        if class == PixelClass::Reprojected && wanted(only, i as u32) {
             if left.object[s as usize] == NO_OBJECT {
                 *rgb = left.rgb[s as usize];
             } else {
@@ -124,31 +137,36 @@ fn keep_background(left: &Film, rgb: &mut [u32], mask: &[PixelClass], src: &[u32
 
 /// One row of [`Fill::Reshade`]: the surfaces seen, re-shaded as one list.
 fn reshade_row(right: SecondView<'_>, (lv, left): (&EyeView, &Film), row: Row<'_>) -> Filled {
-    let Row { j, rgb, mask, src } = row;
-    keep_background(left, rgb, mask, src);
+    let Row { j, rgb, mask, src, only, marks } = row;
+    keep_background(left, rgb, (mask, src), only);
     let mut rays = RayCounts::default();
     let items = (0..rgb.len() as u32)
-        .filter(|&i| sees_surface(left, mask[i as usize], src[i as usize]))
+        .filter(|&i| wanted(only, i) && sees_surface(left, mask[i as usize], src[i as usize]))
         .map(|i| (i, src[i as usize]));
-    right.reshade(j, (lv, left), items, &mut rays, |i, c| rgb[i as usize] = c);
+    right.reshade(j, (lv, left), items, &mut rays, |i, c, dynamic| {
+        rgb[i as usize] = c;
+        bits::set(marks, i, dynamic);
+    });
     Filled { rays, sphere_tests: 0 }
 }
 
 /// One row of [`Fill::Exact`]: each pixel's own ray against the sphere its source saw, as
 /// one list; the silhouettes it misses are retraced and marked edges.
 fn exact_row(right: SecondView<'_>, left: &Film, row: Row<'_>) -> Filled {
-    let Row { j, rgb, mask, src } = row;
-    let sphere_tests = keep_background(left, rgb, mask, src);
+    let Row { j, rgb, mask, src, only, marks } = row;
+    let sphere_tests = keep_background(left, rgb, (mask, src), only);
     let mut rays = RayCounts::default();
     // The list is read while the silhouettes it has passed are marked.
     let mask = Cell::from_mut(mask).as_slice_of_cells();
-    let items =
-        (0..rgb.len() as u32).filter(|&i| sees_surface(left, mask[i as usize].get(), src[i as usize])).map(|i| {
+    let items = (0..rgb.len() as u32)
+        .filter(|&i| wanted(only, i) && sees_surface(left, mask[i as usize].get(), src[i as usize]))
+        .map(|i| {
             let s = src[i as usize] as usize;
             (i, left.object[s], left.lights[s])
         });
-    right.shade_on(j, items, &mut rays, |i, c, retraced| {
+    right.shade_on(j, items, &mut rays, |i, c, retraced, dynamic| {
         rgb[i as usize] = c;
+        bits::set(marks, i, dynamic);
         if retraced {
             mask[i as usize].set(PixelClass::RetracedEdge);
         }

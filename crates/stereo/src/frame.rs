@@ -3,17 +3,31 @@
 //! [`Renderer`]); the right eye is traced in full too in [`Mode::Full`], and otherwise
 //! reprojected and classified (stages 2 and 3, `reproject.rs`), retraced where it must be
 //! (stage 4, `retrace.rs`) and filled as the mode says (stage 5, `fill.rs`).
+//!
+//! With reuse on ([`StereoFrame::set_reuse`]), a frame whose only change is the scene time
+//! retraces only what can have changed (`reuse.rs` has the rule and why it is exact).
 
 use std::time::Instant;
 
-use tracer::{Camera, Eye, Film, Record, Renderer, Tracer};
+use tracer::{Camera, Eye, Film, PixelBits, Record, Renderer, Tracer};
 
 use crate::fill::{fill, Fill};
 use crate::image::Image;
 use crate::mode::{Mode, Options};
 use crate::reproject::{reproject_and_classify, Reprojection, NO_SOURCE};
-use crate::retrace::retrace;
-use crate::stats::{FrameStats, PixelClass, PixelCounts};
+use crate::retrace::{retrace, Redo};
+use crate::reuse::{plan_right, Changes};
+use crate::stats::{FrameStats, PixelClass, PixelCounts, Reuse};
+
+/// What a frame was asked for, besides the tracer: a frame may reuse the last one only if
+/// this is the same and the tracer differs only in time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Asked {
+    camera: Camera,
+    width: u32,
+    height: u32,
+    opts: Options,
+}
 
 /// The buffers of one stereo pair, reused from frame to frame: a warm `StereoFrame` renders
 /// without allocating.
@@ -27,8 +41,24 @@ pub struct StereoFrame {
     right_renderer: Renderer,
     /// For each right pixel, the left pixel that fills it, or [`NO_SOURCE`].
     src: Vec<u32>,
+    /// Each right pixel's final class.
     mask: Vec<PixelClass>,
     stats: FrameStats,
+    /// Whether frames may reuse the last one.
+    reuse: bool,
+    /// What the last frame was asked for, if it was marked for reuse.
+    last: Option<Asked>,
+    /// The last frame's tracer fingerprint, and this frame's.
+    print: (Vec<u32>, Vec<u32>),
+    /// Stage 3's classes of this frame, and the last frame's sources and classes.
+    class: Vec<PixelClass>,
+    was: (Vec<u32>, Vec<PixelClass>),
+    /// The right pixels whose own rays met a moving sphere's swept volume.
+    right_marks: PixelBits,
+    /// The left pixels retraced this frame.
+    left_retraced: PixelBits,
+    /// The right pixels made this frame (all of them unless it reused the last).
+    right_made: PixelBits,
 }
 
 /// Pixels per eye of a `width` × `height` frame, which must be fewer than `u32::MAX`: the
@@ -76,6 +106,30 @@ impl StereoFrame {
         &self.src
     }
 
+    /// Turns reuse across frames on or off (off for a new frame). With it on, every frame
+    /// marks the pixels whose rays meet a moving sphere's path, and a frame whose only
+    /// change from the last is the scene time retraces only what can have changed: the
+    /// very bytes of a fresh frame, cheaper (`reuse.rs`).
+    pub fn set_reuse(&mut self, on: bool) {
+        if !on {
+            self.last = None;
+        }
+        self.reuse = on;
+    }
+
+    /// Whether reuse is on.
+    #[must_use]
+    pub fn reuse(&self) -> bool {
+        self.reuse
+    }
+
+    /// The right pixels the last frame made, as opposed to kept from the frame before: all
+    /// of them, unless it was a reused frame.
+    #[must_use]
+    pub fn made(&self) -> Option<&PixelBits> {
+        self.stats.reuse.reused.then_some(&self.right_made)
+    }
+
     /// The last frame's statistics.
     #[must_use]
     pub fn stats(&self) -> &FrameStats {
@@ -92,6 +146,11 @@ impl StereoFrame {
         let n = pixel_count(width, height);
         let (lv, rv) = (camera.view(Eye::Left, width, height), camera.view(Eye::Right, width, height));
         let mut stats = FrameStats::default();
+        let asked = Asked { camera: *camera, width, height, opts };
+        tracer.fingerprint(&mut self.print.1);
+        let reused = self.reuse && self.last == Some(asked) && self.print.0 == self.print.1;
+        std::mem::swap(&mut self.print.0, &mut self.print.1);
+        let mark = self.reuse;
 
         // Stage 1: the left eye, with its visible-surface record.
         let t = Instant::now();
@@ -100,7 +159,15 @@ impl StereoFrame {
             Mode::Full => Record::Colour,
             Mode::Copy | Mode::Exact | Mode::Reshade => Record::Keys,
         };
-        stats.left.rays = self.left_renderer.render_keeping(tracer, &lv, &mut self.left, record);
+        let left = &mut self.left;
+        stats.left.rays = if reused {
+            self.left_retraced.copy_from(&left.dynamic);
+            self.left_renderer.retrace_marked(tracer, &lv, left)
+        } else if mark {
+            self.left_renderer.render_marking(tracer, &lv, left, record)
+        } else {
+            self.left_renderer.render_keeping(tracer, &lv, left, record)
+        };
         stats.stages.trace_left = ms_since(t);
         stats.left.ms = stats.stages.trace_left;
 
@@ -108,39 +175,78 @@ impl StereoFrame {
         self.src.resize(n, NO_SOURCE);
         (self.right.width, self.right.height) = (width, height);
         self.right.rgb.resize(n, 0);
+        if !reused {
+            self.right_marks.resize(width, height);
+            self.left_retraced.resize(width, height);
+            self.right_made.resize(width, height);
+        }
+        let mut made = n as u64;
         if n == 0 {
             // Nothing to make.
         } else if opts.mode == Mode::Full {
             let t = Instant::now();
-            stats.right.rays = self.right_renderer.render_rgb(tracer, &rv, &mut self.right.rgb);
+            let (renderer, rgb, marks) = (&mut self.right_renderer, &mut self.right.rgb, &mut self.right_marks);
+            stats.right.rays = if reused {
+                self.right_made.copy_from(marks);
+                made = self.right_made.count();
+                renderer.retrace_rgb_marked(tracer, &rv, rgb, marks)
+            } else if mark {
+                renderer.render_rgb_marking(tracer, &rv, rgb, marks)
+            } else {
+                renderer.render_rgb(tracer, &rv, rgb)
+            };
             self.mask.fill(PixelClass::Traced);
             stats.stages.retrace = ms_since(t);
         } else {
             // Stages 2 and 3: the source map and the class of every right pixel.
             let t = Instant::now();
             let plan = Reprojection::new(tracer, camera, &rv, opts);
-            reproject_and_classify(&self.left, plan, &mut self.src, &mut self.mask);
+            let (src_was, class_was) = &mut self.was;
+            std::mem::swap(&mut self.src, src_was);
+            self.src.resize(n, NO_SOURCE);
+            self.class.resize(n, PixelClass::Traced);
+            reproject_and_classify(&self.left, plan, &mut self.src, &mut self.class);
+            let only = if reused {
+                let changes = Changes {
+                    now: (&self.class, &self.src),
+                    before: (class_was, src_was),
+                    left_retraced: &self.left_retraced,
+                    right_marked: &self.right_marks,
+                };
+                made = plan_right(changes, &mut self.mask, &mut self.right_made);
+                Some(&self.right_made)
+            } else {
+                self.mask.copy_from_slice(&self.class);
+                None
+            };
             stats.stages.reproject = ms_since(t);
 
             // Stage 4. The paper's mode gathers its reprojected colours in the same pass
             // over the image: it has no stage 5.
             let t = Instant::now();
-            let right = self.right_renderer.second_view(tracer, &rv);
+            let right = self.right_renderer.second_view(tracer, &rv).marking(mark);
             let copy_from = (opts.mode == Mode::Copy).then_some(&self.left.rgb[..]);
-            stats.right.rays = retrace(right, &self.mask, &self.src, copy_from, &mut self.right);
+            let redo = Redo { only, marks: &mut self.right_marks };
+            stats.right.rays = retrace(right, &self.mask, &self.src, copy_from, &mut self.right, redo);
             stats.stages.retrace = ms_since(t);
 
             // Stage 5.
             if let Some(how) = Fill::of(opts.mode) {
                 let t = Instant::now();
-                let filled = fill(right, (&lv, &self.left), how, &mut self.mask, &self.src, &mut self.right);
+                let redo = Redo { only, marks: &mut self.right_marks };
+                let filled = fill(right, (&lv, &self.left), how, (&mut self.mask, &self.src), &mut self.right, redo);
                 stats.stages.reshade = ms_since(t);
                 stats.right.rays += filled.rays;
                 stats.sphere_tests = filled.sphere_tests;
             }
+            // The sources and classes this frame found, for the next.
+            std::mem::swap(&mut self.class, class_was);
         }
         stats.right.ms = stats.stages.reproject + stats.stages.retrace + stats.stages.reshade;
         stats.pixels = PixelCounts::of(&self.mask);
+        let left_made = if reused { self.left_retraced.count() } else { n as u64 };
+        stats.reuse = Reuse { reused, made: left_made + made, pixels: 2 * n as u64 };
+        self.last = mark.then_some(asked);
         self.stats = stats;
         stats
     }

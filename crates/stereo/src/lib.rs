@@ -61,6 +61,7 @@ mod metrics;
 mod mode;
 mod reproject;
 mod retrace;
+mod reuse;
 mod stats;
 
 pub use frame::StereoFrame;
@@ -70,4 +71,4 @@ pub use mask::{mask_color, mask_image, MASK_LEGEND};
 pub use metrics::Quality;
 pub use mode::{Mode, Options};
 pub use reproject::{reproject_row, NO_SOURCE};
-pub use stats::{EyeStats, FrameStats, PixelClass, PixelCounts, StageTimes};
+pub use stats::{EyeStats, FrameStats, PixelClass, PixelCounts, Reuse, StageTimes};

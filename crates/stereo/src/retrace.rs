@@ -6,43 +6,82 @@
 //! colour (the seed paper's stage 5), so the right image is swept once.
 
 use rayon::prelude::*;
+use tracer::bits::{self, PixelBits};
 use tracer::{RayCounts, SecondView};
 
 use crate::image::Image;
 use crate::stats::PixelClass;
 
-/// Stage 4 over the image: every right pixel that `mask` does not mark
+/// Which right pixels stages 4 and 5 make, and where they mark the dynamic ones.
+#[derive(Debug)]
+pub(crate) struct Redo<'a> {
+    /// The pixels to make; `None`: all of them.
+    pub only: Option<&'a PixelBits>,
+    /// Per pixel, whether its own ray trees (the rays this eye casts for it) meet a moving
+    /// sphere's swept volume: cleared for each pixel made, then set as the traces say.
+    pub marks: &'a mut PixelBits,
+}
+
+impl Redo<'_> {
+    /// Row `j` of the selection (`None`: all) and of the marks, the marks of its pixels to
+    /// make cleared.
+    pub(crate) fn row<'b>(only: Option<&'b PixelBits>, j: usize, marks: &mut [u64]) -> Option<&'b [u64]> {
+        let only = only.map(|bits| bits.row(j as u32));
+        match only {
+            None => marks.fill(0),
+            Some(only) => marks.iter_mut().zip(only).for_each(|(m, o)| *m &= !o),
+        }
+        only
+    }
+}
+
+/// Whether pixel `i` of a row is to be made, given the row's selection (`None`: all).
+#[inline]
+pub(crate) fn wanted(only: Option<&[u64]>, i: u32) -> bool {
+    only.is_none_or(|row| bits::get(row, i))
+}
+
+/// Stage 4 over the image: every right pixel of `redo` that `mask` does not mark
 /// [`PixelClass::Reprojected`] is traced by `right`, the right eye's view, into `out`; with
 /// `copy_from` (the left eye's colours), every reprojected one takes the colour of its
-/// source in `src`, and without, keeps what `out` holds. Returns the rays cast.
+/// source in `src`, and without, keeps what `out` holds. Pixels outside `redo` are not
+/// touched. Returns the rays cast.
 pub(crate) fn retrace(
     right: SecondView<'_>,
     mask: &[PixelClass],
     src: &[u32],
     copy_from: Option<&[u32]>,
     out: &mut Image,
+    redo: Redo<'_>,
 ) -> RayCounts {
     let w = out.width as usize;
     debug_assert!(
         mask.len() == out.rgb.len() && src.len() == out.rgb.len() && out.rgb.len() == w * out.height as usize,
         "the mask, the source map and the image must have one size"
     );
+    let Redo { only, marks } = redo;
+    let stride = marks.stride();
     out.rgb
         .par_chunks_mut(w)
         .zip(mask.par_chunks(w))
         .zip(src.par_chunks(w))
+        .zip(marks.words_mut().par_chunks_mut(stride))
         .enumerate()
-        .map(|(j, ((rgb, mask), src))| {
+        .map(|(j, (((rgb, mask), src), marks))| {
             let mut counts = RayCounts::default();
+            let only = Redo::row(only, j, marks);
             if let Some(left) = copy_from {
                 for i in 0..w {
-                    if mask[i] == PixelClass::Reprojected {
+                    if mask[i] == PixelClass::Reprojected && wanted(only, i as u32) {
                         rgb[i] = left[src[i] as usize];
                     }
                 }
             }
-            let traced = (0..w as u32).filter(|&i| mask[i as usize] != PixelClass::Reprojected);
-            right.trace_pixels(j as u32, traced, &mut counts, |i, c| rgb[i as usize] = c);
+            let traced = (0..w as u32).filter(|&i| mask[i as usize] != PixelClass::Reprojected && wanted(only, i));
+            right.trace_pixels(j as u32, traced, &mut counts, |i, c, dynamic| {
+                rgb[i as usize] = c;
+                bits::set(marks, i, dynamic);
+            });
             counts
         })
         .sum()
@@ -72,7 +111,9 @@ mod tests {
 
         // Every pixel retraced: the full trace, ray for ray.
         let mut out = image();
-        let counts = retrace(right, &vec![PixelClass::RetracedGap; n], &vec![0; n], None, &mut out);
+        let mut marks = PixelBits::new(w, h);
+        let all = Redo { only: None, marks: &mut marks };
+        let counts = retrace(right, &vec![PixelClass::RetracedGap; n], &vec![0; n], None, &mut out, all);
         assert!(out.rgb == full, "retracing every pixel differs from the full trace");
         assert_eq!(counts, full_counts);
 
@@ -85,7 +126,7 @@ mod tests {
         let retraced = mask.iter().filter(|&&c| c != PixelClass::Reprojected).count() as u64;
         for copy_from in [None, Some(&left[..])] {
             let mut out = image();
-            let counts = retrace(right, &mask, &src, copy_from, &mut out);
+            let counts = retrace(right, &mask, &src, copy_from, &mut out, Redo { only: None, marks: &mut marks });
             assert_eq!(counts.primary, retraced, "one primary ray per retraced pixel");
             for k in 0..n {
                 let expected = match (mask[k], copy_from) {

@@ -93,6 +93,25 @@ pub struct StageTimes {
     pub reshade: f64,
 }
 
+/// How much of a frame was made anew rather than kept from the last one.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Reuse {
+    /// Whether the frame reused the last one (only the scene time changed, reuse on).
+    pub reused: bool,
+    /// Pixels of both eyes traced or made again (every pixel of a fresh frame).
+    pub made: u64,
+    /// Pixels of both eyes.
+    pub pixels: u64,
+}
+
+impl Reuse {
+    /// Share of the pixels made anew, 0..1 (1 for a fresh frame, 0 for an empty one).
+    #[must_use]
+    pub fn retraced_share(&self) -> f64 {
+        ratio(self.made as f64, self.pixels as f64)
+    }
+}
+
 /// Everything measured about one stereo frame.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FrameStats {
@@ -106,6 +125,8 @@ pub struct FrameStats {
     pub stages: StageTimes,
     /// Single-sphere tests made by exact mode (not scene rays, so not in `right.rays`).
     pub sphere_tests: u64,
+    /// What was kept from the last frame.
+    pub reuse: Reuse,
 }
 
 impl FrameStats {

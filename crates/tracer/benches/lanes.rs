@@ -44,7 +44,7 @@ fn batches(c: &mut Criterion) {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
                 for j in 0..H {
-                    second.trace_pixels(j, 0..W, &mut counts, |_, c| sum = sum.wrapping_add(c));
+                    second.trace_pixels(j, 0..W, &mut counts, |_, c, _| sum = sum.wrapping_add(c));
                 }
                 black_box((sum, counts))
             });
@@ -53,7 +53,7 @@ fn batches(c: &mut Criterion) {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
                 for j in 0..H {
-                    second.reshade(j, (&view, film), hit(j).map(|i| (i, j * W + i)), &mut counts, |_, c| {
+                    second.reshade(j, (&view, film), hit(j).map(|i| (i, j * W + i)), &mut counts, |_, c, _| {
                         sum = sum.wrapping_add(c);
                     });
                 }
@@ -68,7 +68,7 @@ fn batches(c: &mut Criterion) {
                         let s = truth[(j * W + i) as usize].surface;
                         (i, s.object, s.lights)
                     });
-                    second.shade_on(j, items, &mut counts, |_, c, _| sum = sum.wrapping_add(c));
+                    second.shade_on(j, items, &mut counts, |_, c, _, _| sum = sum.wrapping_add(c));
                 }
                 black_box((sum, counts))
             });

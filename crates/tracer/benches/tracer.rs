@@ -69,7 +69,7 @@ fn traversal_and_shading(c: &mut Criterion) {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
                 for j in 0..90 {
-                    binned.trace_pixels(j, 0..160, &mut counts, |_, c| sum = sum.wrapping_add(c));
+                    binned.trace_pixels(j, 0..160, &mut counts, |_, c, _| sum = sum.wrapping_add(c));
                 }
                 (sum, counts)
             });

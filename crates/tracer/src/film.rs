@@ -1,6 +1,7 @@
 //! The film: one eye's colour plus the visible-surface record of every pixel (pbrt's film
 //! with its visible-surface buffer, kept apart from the camera).
 
+use crate::bits::PixelBits;
 use crate::surface::{Shading, Surface, NO_OBJECT};
 
 /// Which parts of a [`Film`]'s visible-surface record a render keeps.
@@ -42,6 +43,10 @@ pub struct Film {
     /// Hit point, normal and view-independent light of each pixel that hit a sphere;
     /// unspecified where `object` is [`NO_OBJECT`].
     pub shading: Vec<Shading>,
+    /// Per pixel, whether its ray tree meets a moving sphere's swept volume: the pixels
+    /// that may change while only time moves. Kept by [`crate::Renderer::render_marking`];
+    /// stale after other renders.
+    pub dynamic: PixelBits,
 }
 
 impl Film {
@@ -64,6 +69,9 @@ impl Film {
         self.object.resize(n, NO_OBJECT);
         self.lights.resize(n, 0);
         self.shading.resize(n, Shading::MISS);
+        if (self.dynamic.width(), self.dynamic.height()) != (width, height) {
+            self.dynamic.resize(width, height);
+        }
     }
 
     /// What the last render kept of the record ([`Record::Full`] for a new film).

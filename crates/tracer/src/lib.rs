@@ -55,6 +55,7 @@
 //! encoded to 8-bit sRGB only when a pixel is written; pixel (i, j) has its centre at
 //! (i + 0.5, j + 0.5), with j growing downwards.
 
+pub mod bits;
 mod bvh;
 mod camera;
 mod color;
@@ -74,9 +75,11 @@ mod simd;
 mod sphere;
 mod stats;
 mod surface;
+mod swept;
 mod tracer;
 mod wavefront;
 
+pub use bits::PixelBits;
 pub use camera::{Camera, Disparity, Eye, EyeView};
 pub use color::{linear_to_srgb8, pack_rgb, srgb8_to_linear, unpack_rgb};
 pub use error::SceneError;
@@ -91,4 +94,5 @@ pub use simd::{lane_width, LANES_VAR};
 pub use sphere::{intersect_sphere, Sphere};
 pub use stats::RayCounts;
 pub use surface::{Hit, Shading, Surface, NO_OBJECT};
+pub use swept::SweptRing;
 pub use tracer::Tracer;

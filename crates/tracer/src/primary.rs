@@ -64,6 +64,9 @@ pub(crate) struct PrimaryBins {
     rects: Vec<Option<[u32; 4]>>,
     /// Scratch: spheres placed so far in each tile.
     fill: Vec<u32>,
+    /// The inclusive pixel rectangle `[i0, j0, i1, j1]` outside which no primary ray can
+    /// meet a moving sphere's swept volume (`swept.rs`), or `None` if none can.
+    moving: Option<[u32; 4]>,
 }
 
 /// Inclusive range of slopes u = x/z of the lines from the origin that meet the disc of
@@ -111,15 +114,16 @@ fn screen_bound(view: &EyeView, center: Vec3, radius: f32, margin: f64) -> Bound
     Bound::Pixels([column(u0), row(v1), column(u1), row(v0)])
 }
 
-/// The inclusive tile rectangle a sphere's primary hits can fall in, if any.
-fn tile_rect(view: &EyeView, center: Vec3, radius: f32) -> Option<[u32; 4]> {
+/// The inclusive pixel rectangle `[i0, j0, i1, j1]` a sphere's primary hits can fall in,
+/// if any.
+fn pixel_rect(view: &EyeView, center: Vec3, radius: f32) -> Option<[u32; 4]> {
     let (w, h) = (view.width, view.height);
     if w == 0 || h == 0 {
         return None;
     }
     let [i0, j0, i1, j1] = match screen_bound(view, center, radius, RADIUS_MARGIN) {
         Bound::Nowhere => return None,
-        Bound::Everywhere => return Some([0, 0, (w - 1) / TILE, (h - 1) / TILE]),
+        Bound::Everywhere => return Some([0, 0, w - 1, h - 1]),
         Bound::Pixels(b) => b,
     };
     // One pixel of slack on each side for rounding in the rays themselves.
@@ -127,8 +131,13 @@ fn tile_rect(view: &EyeView, center: Vec3, radius: f32) -> Option<[u32; 4]> {
     if i1 < 0.0 || j1 < 0.0 || i0 >= f64::from(w) || j0 >= f64::from(h) {
         return None;
     }
-    let tile = |x: f64, n: u32| (x.clamp(0.0, f64::from(n - 1)) as u32) / TILE;
-    Some([tile(i0, w), tile(j0, h), tile(i1, w), tile(j1, h)])
+    let clip = |x: f64, n: u32| x.clamp(0.0, f64::from(n - 1)) as u32;
+    Some([clip(i0, w), clip(j0, h), clip(i1, w), clip(j1, h)])
+}
+
+/// The inclusive tile rectangle a sphere's primary hits can fall in, if any.
+fn tile_rect(view: &EyeView, center: Vec3, radius: f32) -> Option<[u32; 4]> {
+    pixel_rect(view, center, radius).map(|r| r.map(|x| x / TILE))
 }
 
 impl PrimaryBins {
@@ -161,6 +170,11 @@ impl PrimaryBins {
         let empty = SphereFromOrigin::new(Vec3::ZERO, Vec3::ZERO, 0.0, 0);
         self.spheres.clear();
         self.spheres.resize(total as usize, empty);
+        self.moving = tracer
+            .swept()
+            .iter()
+            .filter_map(|ring| pixel_rect(view, ring.center, ring.bounding_radius()))
+            .reduce(|[a0, b0, a1, b1], [c0, d0, c1, d1]| [a0.min(c0), b0.min(d0), a1.max(c1), b1.max(d1)]);
         self.fill.fill(0);
         for (k, rect) in self.rects.iter().enumerate() {
             let Some([x0, y0, x1, y1]) = *rect else { continue };
@@ -180,6 +194,14 @@ impl PrimaryBins {
     pub(crate) fn spheres_at(&self, i: u32, j: u32) -> &[SphereFromOrigin] {
         let t = ((j / TILE) * self.tiles_x + i / TILE) as usize;
         &self.spheres[self.first[t] as usize..self.first[t + 1] as usize]
+    }
+
+    /// Whether the primary ray of pixel (i, j) might meet a moving sphere's swept volume
+    /// (if `false`, it cannot).
+    #[inline]
+    #[must_use]
+    pub(crate) fn may_meet_moving(&self, i: u32, j: u32) -> bool {
+        self.moving.is_some_and(|[i0, j0, i1, j1]| (i0..=i1).contains(&i) && (j0..=j1).contains(&j))
     }
 
     /// Whether pixel (i, j)'s tile lists no sphere: its primary ray sees only background.

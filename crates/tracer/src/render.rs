@@ -12,11 +12,12 @@ use fearless_simd::{dispatch, prelude::*, Simd};
 use glam::Vec3;
 use rayon::prelude::*;
 
+use crate::bits::{self, PixelBits};
 use crate::camera::EyeView;
 use crate::film::{Film, Record};
 use crate::primary::{BinnedView, PrimaryBins, TILE};
 use crate::ray::Ray;
-use crate::second_view::SecondView;
+use crate::second_view::{by_quads, SecondView};
 use crate::simd::F;
 use crate::stats::RayCounts;
 use crate::surface::{Hit, Shading, NO_OBJECT};
@@ -114,16 +115,40 @@ impl RowSink for RgbRow<'_> {
     }
 }
 
-/// Traces row `j` of `eye`, `w` pixels wide, into `sink`; the rays cast.
-///
-/// The row goes tile by tile: a tile whose bin is empty is background without a sphere
-/// test, the others find their first hits a vector of pixels at a time. The hits are then
-/// shaded together, as one batch of this thread's wavefront, in the same lanes.
-fn trace_row(eye: &BinnedView<'_>, j: u32, w: usize, sink: &mut impl RowSink) -> RayCounts {
-    with_wavefront(|wavefront| dispatch!(crate::simd::level(), simd => trace_row_in(simd, wavefront, eye, j, w, sink)))
+/// Which pixels of a row a pass traces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Pass {
+    /// Every pixel.
+    All,
+    /// Only the pixels whose bit in the row's marks is set: those whose ray trees met a
+    /// moving sphere's swept volume last time, the only ones that can have changed since.
+    Marked,
 }
 
-/// [`trace_row`] with the lanes of `simd`.
+/// Traces row `j` of `eye`, `w` pixels wide, into `sink`; the rays cast. With `marks`
+/// (the row's words of a [`PixelBits`]), each traced pixel's bit is set where its ray tree
+/// meets a moving sphere's swept volume and cleared where not; `pass` says which pixels are
+/// traced.
+///
+/// A whole row goes tile by tile: a tile whose bin is empty is background without a sphere
+/// test, the others find their first hits a vector of pixels at a time. The hits are then
+/// shaded together, as one batch of this thread's wavefront, in the same lanes. The marked
+/// pixels of a row go four at a time, through the very rays and shading.
+fn trace_row(
+    eye: &BinnedView<'_>,
+    j: u32,
+    w: usize,
+    sink: &mut impl RowSink,
+    marks: Option<&mut [u64]>,
+    pass: Pass,
+) -> RayCounts {
+    with_wavefront(|wavefront| match pass {
+        Pass::All => dispatch!(crate::simd::level(), simd => trace_row_in(simd, wavefront, eye, j, w, sink, marks)),
+        Pass::Marked => retrace_marked(wavefront, eye, j, sink, marks),
+    })
+}
+
+/// [`trace_row`] of every pixel with the lanes of `simd`.
 fn trace_row_in<S: Simd>(
     simd: S,
     wavefront: &mut Wavefront,
@@ -131,14 +156,29 @@ fn trace_row_in<S: Simd>(
     j: u32,
     w: usize,
     sink: &mut impl RowSink,
+    mut marks: Option<&mut [u64]>,
 ) -> RayCounts {
     let mut counts = RayCounts { primary: w as u64, ..RayCounts::default() };
     let (tile, lanes) = (TILE as usize, F::<S>::LEN);
     let (tracer, view) = (eye.tracer, eye.view);
+    if let Some(marks) = marks.as_deref_mut() {
+        marks.fill(0);
+    }
+    // A pixel that sees only background is dynamic if its ray meets a swept volume.
+    let background = |marks: &mut Option<&mut [u64]>, i: usize, dir: &dyn Fn() -> Vec3| {
+        if let Some(marks) = marks.as_deref_mut() {
+            if eye.bins.may_meet_moving(i as u32, j) && tracer.meets_moving(view.origin, dir(), f32::INFINITY) {
+                bits::set(marks, i as u32, true);
+            }
+        }
+    };
     let (mut t, mut ids, mut d) = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
     for span in (0..w.div_ceil(tile)).map(|t| t * tile..((t + 1) * tile).min(w)) {
         if eye.bins.is_empty_at(span.start as u32, j) {
-            sink.background(span, tracer.background_rgb);
+            sink.background(span.clone(), tracer.background_rgb);
+            for i in span {
+                background(&mut marks, i, &|| view.primary_ray(i as u32, j).dir);
+            }
             continue;
         }
         for i0 in span.clone().step_by(lanes) {
@@ -152,16 +192,72 @@ fn trace_row_in<S: Simd>(
                 dv[a].store_slice(&mut d[a][..lanes]);
             }
             for l in 0..(span.end - i0).min(lanes) {
+                let dir = Vec3::new(d[0][l], d[1][l], d[2][l]);
                 if t[l].is_finite() {
-                    let ray = Ray::new(view.origin, Vec3::new(d[0][l], d[1][l], d[2][l]));
-                    wavefront.push_hit(&ray, Hit { t: t[l], object: ids[l] }, None, (i0 + l) as u32);
+                    wavefront.push_hit(
+                        &Ray::new(view.origin, dir),
+                        Hit { t: t[l], object: ids[l] },
+                        None,
+                        (i0 + l) as u32,
+                    );
                 } else {
                     sink.background(i0 + l..i0 + l + 1, tracer.background_rgb);
+                    background(&mut marks, i0 + l, &|| dir);
                 }
             }
         }
     }
     wavefront.shade_in(simd, tracer, &mut counts);
+    emit(wavefront, eye, sink, marks);
+    counts
+}
+
+/// [`trace_row`] of the pixels `marks` names: full primary rays four at a time (the rays
+/// and hits of every other pass, bit for bit), shaded as one batch.
+fn retrace_marked(
+    wavefront: &mut Wavefront,
+    eye: &BinnedView<'_>,
+    j: u32,
+    sink: &mut impl RowSink,
+    marks: Option<&mut [u64]>,
+) -> RayCounts {
+    let Some(marks) = marks else { return RayCounts::default() };
+    let mut counts = RayCounts::default();
+    if marks.iter().all(|&word| word == 0) {
+        return counts;
+    }
+    let second = SecondView::new(*eye).marking(true);
+    // Every marked pixel is retraced, and its new bit replaces the old one (the others are
+    // clear already): the pixels are read from a copy of the row's marks.
+    let mut was = std::mem::take(wavefront.words_mut());
+    was.clear();
+    was.extend_from_slice(marks);
+    marks.fill(0);
+    by_quads(bits::ones(&was).map(|i| (i, ())), |base, mask, _| {
+        counts.primary += u64::from(mask.count_ones());
+        second.push_traced(wavefront, base, j, mask, 0, &mut |i, rgb, moves| {
+            sink.background(i as usize..i as usize + 1, rgb);
+            bits::set(marks, i, moves);
+        });
+    });
+    *wavefront.words_mut() = was;
+    wavefront.shade(eye.tracer, &mut counts);
+    emit(wavefront, eye, sink, Some(marks));
+    counts
+}
+
+/// Hands each sample of the shaded batch to `sink`, and sets its bit in `marks` (when
+/// given) if its ray tree meets a moving sphere's swept volume.
+fn emit(wavefront: &mut Wavefront, eye: &BinnedView<'_>, sink: &mut impl RowSink, marks: Option<&mut [u64]>) {
+    let view = eye.view;
+    if let Some(marks) = marks {
+        wavefront.mark_dynamic(eye.tracer);
+        for e in 0..wavefront.len() {
+            if wavefront.dynamic(e) {
+                bits::set(marks, wavefront.tag(e), true);
+            }
+        }
+    }
     for e in 0..wavefront.len() {
         sink.hit(wavefront.tag(e) as usize, wavefront.rgb(e), || {
             let s = wavefront.surface(e);
@@ -169,7 +265,6 @@ fn trace_row_in<S: Simd>(
             (view.head_z(s.point), wavefront.t(e), s.object, s.lights, shading)
         });
     }
-    counts
 }
 
 impl Renderer {
@@ -195,6 +290,36 @@ impl Renderer {
     /// rest of the film is left as it was): the same pixels and rays, without writing what
     /// nobody will read.
     pub fn render_keeping(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film, record: Record) -> RayCounts {
+        self.film_pass(tracer, view, film, record, None)
+    }
+
+    /// [`Renderer::render_keeping`], also marking in `film.dynamic` each pixel whose ray
+    /// tree — primary, shadow and mirror rays, at any depth — meets a moving sphere's swept
+    /// volume (`swept.rs`). The others have the same colour and record at every instant.
+    pub fn render_marking(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film, record: Record) -> RayCounts {
+        self.film_pass(tracer, view, film, record, Some(Pass::All))
+    }
+
+    /// Retraces only the pixels `film.dynamic` marks, in place, and marks them anew; the
+    /// rays cast. The film must come from [`Renderer::render_marking`] (or this) for the
+    /// same view and record, with a tracer of the same scene at another instant: then it
+    /// ends as `render_marking` at `tracer`'s instant would leave it, byte for byte.
+    pub fn retrace_marked(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film) -> RayCounts {
+        debug_assert_eq!((film.width(), film.height()), (view.width, view.height), "a film of another size");
+        let record = film.record();
+        self.film_pass(tracer, view, film, record, Some(Pass::Marked))
+    }
+
+    /// One pass over the rows of `film`; `marking` says which pixels and that the marks are
+    /// kept.
+    fn film_pass(
+        &mut self,
+        tracer: &Tracer,
+        view: &EyeView,
+        film: &mut Film,
+        record: Record,
+        marking: Option<Pass>,
+    ) -> RayCounts {
         film.resize(view.width, view.height);
         film.set_record(record);
         let w = view.width as usize;
@@ -203,36 +328,38 @@ impl Renderer {
         }
         self.bins.build(tracer, view);
         let eye = BinnedView { tracer, view, bins: &self.bins };
+        let pass = marking.unwrap_or(Pass::All);
+        let stride = film.dynamic.stride();
+        let marks = |m| marking.is_some().then_some(m);
         match record {
-            Record::Colour => film
-                .rgb
-                .par_chunks_mut(w)
+            Record::Colour => (film.rgb.par_chunks_mut(w), film.dynamic.words_mut().par_chunks_mut(stride))
+                .into_par_iter()
                 .enumerate()
-                .map(|(j, rgb)| trace_row(&eye, j as u32, w, &mut RgbRow(rgb)))
+                .map(|(j, (rgb, m))| trace_row(&eye, j as u32, w, &mut RgbRow(rgb), marks(m), pass))
                 .sum(),
             Record::Keys => (
-                film.rgb.par_chunks_mut(w),
-                film.z.par_chunks_mut(w),
-                film.t.par_chunks_mut(w),
+                (film.rgb.par_chunks_mut(w), film.z.par_chunks_mut(w), film.t.par_chunks_mut(w)),
                 film.object.par_chunks_mut(w),
                 film.lights.par_chunks_mut(w),
+                film.dynamic.words_mut().par_chunks_mut(stride),
             )
                 .into_par_iter()
                 .enumerate()
-                .map(|(j, (rgb, z, t, object, lights))| {
-                    trace_row(&eye, j as u32, w, &mut KeysRow { rgb, z, t, object, lights })
+                .map(|(j, ((rgb, z, t), object, lights, m))| {
+                    trace_row(&eye, j as u32, w, &mut KeysRow { rgb, z, t, object, lights }, marks(m), pass)
                 })
                 .sum(),
             Record::Full => (
                 (film.rgb.par_chunks_mut(w), film.z.par_chunks_mut(w), film.t.par_chunks_mut(w)),
-                film.object.par_chunks_mut(w),
-                film.lights.par_chunks_mut(w),
+                (film.object.par_chunks_mut(w), film.lights.par_chunks_mut(w)),
                 film.shading.par_chunks_mut(w),
+                film.dynamic.words_mut().par_chunks_mut(stride),
             )
                 .into_par_iter()
                 .enumerate()
-                .map(|(j, ((rgb, z, t), object, lights, shading))| {
-                    trace_row(&eye, j as u32, w, &mut FilmRow { keys: KeysRow { rgb, z, t, object, lights }, shading })
+                .map(|(j, ((rgb, z, t), (object, lights), shading, m))| {
+                    let sink = &mut FilmRow { keys: KeysRow { rgb, z, t, object, lights }, shading };
+                    trace_row(&eye, j as u32, w, sink, marks(m), pass)
                 })
                 .sum(),
         }
@@ -242,6 +369,43 @@ impl Renderer {
     /// images whose visible-surface record nobody reads. Returns the rays cast; pixels and
     /// counts are those of [`Renderer::render`].
     pub fn render_rgb(&mut self, tracer: &Tracer, view: &EyeView, rgb: &mut Vec<u32>) -> RayCounts {
+        let mut none = PixelBits::default();
+        self.rgb_pass(tracer, view, rgb, &mut none, None)
+    }
+
+    /// [`Renderer::render_rgb`], also marking in `marks` (resized to the view) the pixels
+    /// whose ray trees meet a moving sphere's swept volume, as
+    /// [`Renderer::render_marking`] does.
+    pub fn render_rgb_marking(
+        &mut self,
+        tracer: &Tracer,
+        view: &EyeView,
+        rgb: &mut Vec<u32>,
+        marks: &mut PixelBits,
+    ) -> RayCounts {
+        self.rgb_pass(tracer, view, rgb, marks, Some(Pass::All))
+    }
+
+    /// Retraces only the pixels `marks` names, in place, and marks them anew, as
+    /// [`Renderer::retrace_marked`] does for a film.
+    pub fn retrace_rgb_marked(
+        &mut self,
+        tracer: &Tracer,
+        view: &EyeView,
+        rgb: &mut Vec<u32>,
+        marks: &mut PixelBits,
+    ) -> RayCounts {
+        self.rgb_pass(tracer, view, rgb, marks, Some(Pass::Marked))
+    }
+
+    fn rgb_pass(
+        &mut self,
+        tracer: &Tracer,
+        view: &EyeView,
+        rgb: &mut Vec<u32>,
+        marks: &mut PixelBits,
+        marking: Option<Pass>,
+    ) -> RayCounts {
         let w = view.width as usize;
         rgb.resize(w * view.height as usize, 0);
         if w == 0 || view.height == 0 {
@@ -249,7 +413,24 @@ impl Renderer {
         }
         self.bins.build(tracer, view);
         let eye = BinnedView { tracer, view, bins: &self.bins };
-        rgb.par_chunks_mut(w).enumerate().map(|(j, row)| trace_row(&eye, j as u32, w, &mut RgbRow(row))).sum()
+        let pass = marking.unwrap_or(Pass::All);
+        if marking.is_none() {
+            return rgb
+                .par_chunks_mut(w)
+                .enumerate()
+                .map(|(j, row)| trace_row(&eye, j as u32, w, &mut RgbRow(row), None, pass))
+                .sum();
+        }
+        if (marks.width(), marks.height()) != (view.width, view.height) {
+            debug_assert_eq!(pass, Pass::All, "marks of another size");
+            marks.resize(view.width, view.height);
+        }
+        let stride = marks.stride();
+        (rgb.par_chunks_mut(w), marks.words_mut().par_chunks_mut(stride))
+            .into_par_iter()
+            .enumerate()
+            .map(|(j, (row, m))| trace_row(&eye, j as u32, w, &mut RgbRow(row), Some(m), pass))
+            .sum()
     }
 
     /// The services of `view` as a second view (see `second_view.rs`), with the screen bins

@@ -38,6 +38,8 @@ use crate::wavefront::{with_wavefront, Wavefront};
 #[derive(Clone, Copy, Debug)]
 pub struct SecondView<'a> {
     eye: BinnedView<'a>,
+    /// Whether to mark the pixels whose ray trees meet a moving sphere's swept volume.
+    mark: bool,
 }
 
 /// Marks a tag of [`SecondView::shade_on`] whose pixel was retraced.
@@ -45,7 +47,10 @@ const RETRACED: u32 = 1 << 31;
 
 /// Groups ascending pixel columns by the aligned quad of four they fall in: calls
 /// `quad(first column, lane mask, payloads)` once per quad.
-fn by_quads<T: Copy + Default>(items: impl IntoIterator<Item = (u32, T)>, mut quad: impl FnMut(u32, u32, [T; 4])) {
+pub(crate) fn by_quads<T: Copy + Default>(
+    items: impl IntoIterator<Item = (u32, T)>,
+    mut quad: impl FnMut(u32, u32, [T; 4]),
+) {
     let mut current: Option<(u32, u32, [T; 4])> = None;
     for (i, payload) in items {
         let base = i & !3;
@@ -72,7 +77,35 @@ fn by_quads<T: Copy + Default>(items: impl IntoIterator<Item = (u32, T)>, mut qu
 impl<'a> SecondView<'a> {
     /// The services of `eye`, whose bins are built.
     pub(crate) fn new(eye: BinnedView<'a>) -> Self {
-        Self { eye }
+        Self { eye, mark: false }
+    }
+
+    /// This view, telling with each pixel it hands out whether that pixel's ray tree meets
+    /// a moving sphere's swept volume (`swept.rs`): the `dynamic` argument of the `out`
+    /// callbacks, otherwise always `false`.
+    #[must_use]
+    pub fn marking(self, mark: bool) -> Self {
+        Self { mark, ..self }
+    }
+
+    /// Whether the primary ray `dir` of pixel (i, j), which meets nothing, meets a moving
+    /// sphere's swept volume (when marking).
+    fn background_moves(&self, i: u32, j: u32, dir: Vec3) -> bool {
+        self.mark
+            && self.eye.bins.may_meet_moving(i, j)
+            && self.eye.tracer.meets_moving(self.eye.view.origin, dir, f32::INFINITY)
+    }
+
+    /// Marks the batch's samples, when marking.
+    fn mark_batch(&self, wavefront: &mut Wavefront) {
+        if self.mark {
+            wavefront.mark_dynamic(self.eye.tracer);
+        }
+    }
+
+    /// Sample `e`'s mark (`false` when not marking).
+    fn dynamic(&self, wavefront: &Wavefront, e: usize) -> bool {
+        self.mark && wavefront.dynamic(e)
     }
 
     /// Lanes of the quad from column `base` that lie in the image.
@@ -81,15 +114,16 @@ impl<'a> SecondView<'a> {
     }
 
     /// Pushes the pixels `mask` names of the quad from `base` with full primary rays; the
-    /// ones that see only background go straight to `out`. Tags are columns | `flag`.
-    fn push_traced(
+    /// ones that see only background go straight to `out(tag, colour, dynamic)`. Tags are
+    /// columns | `flag`.
+    pub(crate) fn push_traced(
         &self,
         wavefront: &mut Wavefront,
         base: u32,
         j: u32,
         mask: u32,
         flag: u32,
-        out: &mut impl FnMut(u32, u32),
+        out: &mut impl FnMut(u32, u32, bool),
     ) {
         let hits = self.eye.hits4(base, j, self.lanes_from(base));
         for (k, first) in hits.into_iter().enumerate() {
@@ -97,21 +131,23 @@ impl<'a> SecondView<'a> {
                 continue;
             }
             let i = base + k as u32;
-            match first {
-                Some((ray, hit)) => wavefront.push_hit(&ray, hit, None, i | flag),
-                None => out(i | flag, self.eye.tracer.background_rgb),
+            if let Some((ray, hit)) = first {
+                wavefront.push_hit(&ray, hit, None, i | flag);
+            } else {
+                let moves = self.background_moves(i, j, self.eye.view.primary_ray(i, j).dir);
+                out(i | flag, self.eye.tracer.background_rgb, moves);
             }
         }
     }
 
     /// Traces the pixels `cols` (ascending columns) of row `j` with full primary rays, and
-    /// hands each pixel's sRGB colour to `out(column, colour)`.
+    /// hands each pixel's sRGB colour to `out(column, colour, dynamic)`.
     pub fn trace_pixels(
         &self,
         j: u32,
         cols: impl IntoIterator<Item = u32>,
         counts: &mut RayCounts,
-        mut out: impl FnMut(u32, u32),
+        mut out: impl FnMut(u32, u32, bool),
     ) {
         with_wavefront(|wavefront| {
             by_quads(cols.into_iter().map(|i| (i, ())), |base, mask, _| {
@@ -119,8 +155,9 @@ impl<'a> SecondView<'a> {
                 self.push_traced(wavefront, base, j, mask, 0, &mut out);
             });
             wavefront.shade(self.eye.tracer, counts);
+            self.mark_batch(wavefront);
             for e in 0..wavefront.len() {
-                out(wavefront.tag(e), wavefront.rgb(e));
+                out(wavefront.tag(e), wavefront.rgb(e), self.dynamic(wavefront, e));
             }
         });
     }
@@ -131,7 +168,7 @@ impl<'a> SecondView<'a> {
     /// view-independent light and light bits (the point and normal remade from its ray and
     /// `t`, the light from its bits: bit-for-bit what it shaded), with highlights and
     /// reflection recomputed for this ray. Casts no shadow ray for the surface itself, and
-    /// hands each colour to `out(column, colour)`. Seen along the ray that found it, a
+    /// hands each colour to `out(column, colour, dynamic)`. Seen along the ray that found it, a
     /// surface re-shades to bit-for-bit its own pixel. The film must keep at least
     /// [`crate::Record::Keys`], and each source must have seen a sphere.
     pub fn reshade(
@@ -140,7 +177,7 @@ impl<'a> SecondView<'a> {
         (other, film): (&EyeView, &Film),
         items: impl IntoIterator<Item = (u32, u32)>,
         counts: &mut RayCounts,
-        mut out: impl FnMut(u32, u32),
+        mut out: impl FnMut(u32, u32, bool),
     ) {
         debug_assert_ne!(film.record(), crate::Record::Colour, "re-shading needs the other eye's record");
         let (view, w) = (self.eye.view, film.width());
@@ -152,8 +189,9 @@ impl<'a> SecondView<'a> {
                 wavefront.push_seen(&ray, hit, film.lights[k], view.primary_ray(i, j).dir, i);
             }
             wavefront.shade(self.eye.tracer, counts);
+            self.mark_batch(wavefront);
             for e in 0..wavefront.len() {
-                out(wavefront.tag(e), wavefront.rgb(e));
+                out(wavefront.tag(e), wavefront.rgb(e), self.dynamic(wavefront, e));
             }
         });
     }
@@ -161,7 +199,7 @@ impl<'a> SecondView<'a> {
     /// For each `(column, object, light bits)` of row `j` (ascending columns): the pixel's
     /// own primary ray against the one sphere `object` alone, shaded with `lights` where it
     /// hits; where it misses that sphere (a silhouette), the pixel is retraced with a full
-    /// primary ray. Hands `out(column, colour, retraced)` for each.
+    /// primary ray. Hands `out(column, colour, retraced, dynamic)` for each.
     ///
     /// With the sphere the pixel really sees and its true light bits, the colour is
     /// bit-for-bit the full trace's: the ray, its `t` and the shading are the same
@@ -171,10 +209,11 @@ impl<'a> SecondView<'a> {
         j: u32,
         items: impl IntoIterator<Item = (u32, u32, u32)>,
         counts: &mut RayCounts,
-        mut out: impl FnMut(u32, u32, bool),
+        mut out: impl FnMut(u32, u32, bool, bool),
     ) {
         let (tracer, view) = (self.eye.tracer, self.eye.view);
-        let mut out_tagged = |tag: u32, rgb: u32| out(tag & !RETRACED, rgb, tag & RETRACED != 0);
+        let mut out_tagged =
+            |tag: u32, rgb: u32, dynamic: bool| out(tag & !RETRACED, rgb, tag & RETRACED != 0, dynamic);
         with_wavefront(|wavefront| {
             for (i, object, lights) in items {
                 wavefront.push_named(view.origin, i, object, lights);
@@ -188,8 +227,9 @@ impl<'a> SecondView<'a> {
             });
             *wavefront.missed_mut() = missed;
             wavefront.shade(tracer, counts);
+            self.mark_batch(wavefront);
             for e in 0..wavefront.len() {
-                out_tagged(wavefront.tag(e), wavefront.rgb(e));
+                out_tagged(wavefront.tag(e), wavefront.rgb(e), self.dynamic(wavefront, e));
             }
         });
     }
@@ -241,7 +281,7 @@ mod tests {
             // and then with the full trace's colour.
             let items: Vec<_> = (0..w).filter(|i| i % 3 != 1).map(|i| (i, (i * 13 + 7 * j) % n, 0)).collect();
             let mut seen = Vec::new();
-            second.shade_on(j, items.iter().copied(), &mut counts, |i, rgb, again| seen.push((i, rgb, again)));
+            second.shade_on(j, items.iter().copied(), &mut counts, |i, rgb, again, _| seen.push((i, rgb, again)));
             seen.sort_unstable();
             assert_eq!(seen.len(), items.len(), "one answer per pixel");
             for (&(i, object, _), &(col, rgb, again)) in items.iter().zip(&seen) {
@@ -258,12 +298,12 @@ mod tests {
                 let s = truth[i as usize].surface;
                 (i, s.object, s.lights)
             });
-            second.shade_on(j, items, &mut counts, |i, rgb, again| {
+            second.shade_on(j, items, &mut counts, |i, rgb, again, _| {
                 assert_eq!((rgb, again), (truth[i as usize].rgb, false), "({i}, {j})");
                 hits += 1;
             });
             // And every pixel traced afresh.
-            second.trace_pixels(j, 0..w, &mut counts, |i, rgb| {
+            second.trace_pixels(j, 0..w, &mut counts, |i, rgb, _| {
                 assert_eq!(rgb, truth[i as usize].rgb, "({i}, {j}) traced");
             });
         }
@@ -281,8 +321,8 @@ mod tests {
         let (mut listed, mut plain) = (RayCounts::default(), RayCounts::default());
         for j in 0..h {
             // Every other pixel, then the rest: scattered lists, whole quads and lone pixels.
-            second.trace_pixels(j, (0..w).step_by(2), &mut listed, |_, _| {});
-            second.trace_pixels(j, (1..w).step_by(2), &mut listed, |_, _| {});
+            second.trace_pixels(j, (0..w).step_by(2), &mut listed, |_, _, _| {});
+            second.trace_pixels(j, (1..w).step_by(2), &mut listed, |_, _, _| {});
             for i in 0..w {
                 let _ = tracer.trace_pixel(&view, i, j, &mut plain);
             }
@@ -303,7 +343,7 @@ mod tests {
         let (mut counts, mut reshaded) = (RayCounts::default(), 0);
         for j in 0..h {
             let items = (0..w).filter(|&i| film.object[(j * w + i) as usize] != NO_OBJECT).map(|i| (i, j * w + i));
-            second.reshade(j, (&view, &film), items, &mut counts, |i, rgb| {
+            second.reshade(j, (&view, &film), items, &mut counts, |i, rgb, _| {
                 assert_eq!(rgb, film.rgb[(j * w + i) as usize], "({i}, {j})");
                 reshaded += 1;
             });

@@ -17,6 +17,7 @@ use crate::ray::{leaves_outwards, spawn_bound, Ray};
 use crate::scene::{Light, RenderSettings, Scene};
 use crate::shadow::ShadowBins;
 use crate::surface::{Hit, NO_OBJECT};
+use crate::swept::SweptRing;
 
 /// A scene at one instant, laid out for tracing. Build it once and [`Tracer::update`] it each
 /// frame: the buffers are reused, so a warm viewer does not allocate per frame.
@@ -34,6 +35,8 @@ pub struct Tracer {
     bvh: Bvh,
     shadows: ShadowBins,
     pub(crate) cones: Cones,
+    /// The swept volume of each moving sphere (`swept.rs`): where it can be at any time.
+    rings: Vec<SweptRing>,
 }
 
 impl Tracer {
@@ -58,6 +61,19 @@ impl Tracer {
             self.materials.push(s.material);
             self.exponents.push(Exponent::of(s.material.shininess));
         }
+        self.rings.clear();
+        for (k, s) in scene.spheres.iter().enumerate() {
+            if let Some(ring) = SweptRing::of(k as u32, s.radius, &s.motion) {
+                // The invariant temporal reuse rests on: a moving sphere never leaves its
+                // bound. (Checked here in debug builds, and by the tests of `swept.rs`.)
+                debug_assert!(
+                    ring.holds(self.centers[k], self.radii[k]),
+                    "sphere {k} at {} lies outside its swept volume {ring:?}",
+                    self.centers[k]
+                );
+                self.rings.push(ring);
+            }
+        }
         self.lights.clear();
         self.lights.extend_from_slice(&scene.lights);
         self.settings = scene.render;
@@ -81,6 +97,52 @@ impl Tracer {
     /// Overrides the reflection depth (the viewer's slider).
     pub fn set_max_depth(&mut self, depth: u32) {
         self.settings.max_depth = depth;
+    }
+
+    /// The swept volumes of the moving spheres (none for a still scene).
+    #[must_use]
+    pub fn swept(&self) -> &[SweptRing] {
+        &self.rings
+    }
+
+    /// Whether the segment `o + s·d`, 0 ≤ s ≤ `s_max`, meets the swept volume of any moving
+    /// sphere: if not, it meets the same spheres at every instant (see `swept.rs`).
+    #[inline]
+    #[must_use]
+    pub fn meets_moving(&self, o: Vec3, d: Vec3, s_max: f32) -> bool {
+        self.rings.iter().any(|ring| ring.meets(o, d, s_max))
+    }
+
+    /// Writes into `out` (cleared first) everything of this tracer that a frame depends on
+    /// except where the moving spheres are: the still spheres' centres, every radius,
+    /// material and swept volume, the lights and the render settings, as bits. Two tracers
+    /// of one scene at two instants give the same words; change anything else and they
+    /// differ. Nothing is allocated once `out` has grown to size.
+    pub fn fingerprint(&self, out: &mut Vec<u32>) {
+        out.clear();
+        let v3 = |out: &mut Vec<u32>, v: Vec3| out.extend(v.to_array().map(f32::to_bits));
+        out.push(self.centers.len() as u32);
+        let mut rings = self.rings.iter().peekable();
+        for (k, (&c, m)) in self.centers.iter().zip(&self.materials).enumerate() {
+            match rings.next_if(|ring| ring.object as usize == k) {
+                Some(ring) => {
+                    v3(out, ring.center);
+                    out.extend([ring.half_height, ring.inner, ring.outer].map(f32::to_bits));
+                }
+                None => v3(out, c),
+            }
+            out.push(self.radii[k].to_bits());
+            v3(out, m.color);
+            out.extend([m.diffuse, m.specular, m.shininess, m.reflectivity].map(f32::to_bits));
+        }
+        out.push(self.lights.len() as u32);
+        for light in &self.lights {
+            v3(out, light.position);
+            v3(out, light.color);
+        }
+        out.push(self.settings.max_depth);
+        v3(out, self.settings.background);
+        out.push(self.settings.ambient.to_bits());
     }
 
     /// Number of spheres.

@@ -78,6 +78,11 @@ struct Level {
     reflects: Vec<bool>,
     /// The entry's radiance, once folded.
     radiance: Column3,
+    /// Whether the entry's ray tree meets a moving sphere's swept volume, once marked
+    /// ([`Wavefront::mark_dynamic`]).
+    dynamic: Vec<bool>,
+    /// Scratch of the marking: whether the entry's mirror ray hit a sphere.
+    mirror_hit: Vec<bool>,
 }
 
 impl Level {
@@ -115,6 +120,8 @@ impl Level {
         self.lights.resize(n, 0);
         self.known.resize(n, false);
         self.reflects.resize(n, false);
+        self.dynamic.resize(n, false);
+        self.mirror_hit.resize(n, false);
     }
 
     /// Moves entry `from` to `to` (the columns a sample has before it is shaded).
@@ -159,6 +166,8 @@ pub(crate) struct Wavefront {
     depth: usize,
     /// Columns whose named sphere their ray missed (see [`Wavefront::aim_named`]).
     missed: Vec<u32>,
+    /// Scratch words for a caller (a copy of a row's marks, say).
+    words: Vec<u64>,
 }
 
 impl Wavefront {
@@ -245,6 +254,11 @@ impl Wavefront {
         &mut self.missed
     }
 
+    /// Scratch words a caller may take and give back, to keep the buffer.
+    pub(crate) fn words_mut(&mut self) -> &mut Vec<u64> {
+        &mut self.words
+    }
+
     /// Adds a sample that another view's ray `ray` saw meet `hit`, with light bits `known`,
     /// to be shaded as seen along the unit direction `view` (this view's pixel ray): the
     /// point, normal and view-independent light come out as the other view's, bit for bit,
@@ -309,6 +323,41 @@ impl Wavefront {
                 }
             }
         }
+    }
+
+    /// Marks, after [`Wavefront::shade`], each sample whose ray tree meets the swept volume
+    /// of a moving sphere (`swept.rs`): its ray, its shadow rays, its mirror ray and, at
+    /// every depth, theirs. A sample not marked has the same tree, and so the same colour
+    /// and record, at every instant (`swept.rs` has the argument).
+    /// Read the marks with [`Wavefront::dynamic`].
+    pub(crate) fn mark_dynamic(&mut self, tracer: &Tracer) {
+        let still = tracer.swept().is_empty();
+        for k in (0..self.depth).rev() {
+            let (upper, lower) = self.levels.split_at_mut(k + 1);
+            let level = &mut upper[k];
+            let n = level.len();
+            level.dynamic[..n].fill(false);
+            if still {
+                continue;
+            }
+            // The mirror rays that hit are those an entry of the level below names; a
+            // subtree that meets the volume marks its root.
+            level.mirror_hit[..n].fill(false);
+            let below = &lower[0];
+            for c in 0..below.len() {
+                let parent = below.parent[c] as usize;
+                level.mirror_hit[parent] = true;
+                level.dynamic[parent] |= below.dynamic[c];
+            }
+            for e in 0..n {
+                level.dynamic[e] = level.dynamic[e] || meets_moving(tracer, level, e, k == 0);
+            }
+        }
+    }
+
+    /// Whether sample `e`'s ray tree meets a moving sphere's swept volume, once marked.
+    pub(crate) fn dynamic(&self, e: usize) -> bool {
+        self.levels[0].dynamic[e]
     }
 
     /// Sample `e`'s hit parameter.
@@ -397,6 +446,27 @@ fn mirrors(tracer: &Tracer, level: &mut Level, next: &mut Level, counts: &mut Ra
             next.push(ray.origin, ray.dir, hit.t, hit.object, e as u32, None);
         }
     }
+}
+
+/// Whether a ray entry `e` itself casts meets a moving sphere's swept volume: the ray that
+/// found it, up to the hit; its shadow rays (those it traced, towards the lights it faces),
+/// up to the light; its mirror ray, if that met nothing, to infinity. (A mirror ray that hit
+/// is the ray of an entry one level down.) The tests are conservative (`swept.rs`), so the
+/// spawn offsets and the rounding of these rays do not matter.
+fn meets_moving(tracer: &Tracer, level: &Level, e: usize, first: bool) -> bool {
+    let (p, n) = (get3(&level.p, e), get3(&level.n, e));
+    if tracer.meets_moving(get3(&level.o, e), get3(&level.d, e), level.t[e]) {
+        return true;
+    }
+    if !(first && level.known[e]) {
+        for k in 0..tracer.lights.len() {
+            let (l, dist) = tracer.to_light(p, k);
+            if n.dot(l) > 0.0 && tracer.meets_moving(p, l, dist) {
+                return true;
+            }
+        }
+    }
+    level.reflects[e] && !level.mirror_hit[e] && tracer.meets_moving(p, reflect(get3(&level.v, e), n), f32::INFINITY)
 }
 
 thread_local! {
