@@ -14,12 +14,11 @@ use std::cell::Cell;
 use std::ops::Add;
 
 use rayon::prelude::*;
-use tracer::bits;
-use tracer::{EyeView, Film, RayCounts, SecondView, NO_OBJECT};
+use tracer::{EyeView, Film, MarksRow, RayCounts, SecondView, NO_OBJECT};
 
 use crate::image::Image;
 use crate::mode::Mode;
-use crate::retrace::{wanted, Redo};
+use crate::retrace::{chosen, Redo};
 use crate::stats::PixelClass;
 
 /// How stage 5 fills a reprojected pixel.
@@ -70,8 +69,8 @@ struct Row<'a> {
     src: &'a [u32],
     /// The pixels to make (`None`: all).
     only: Option<&'a [u64]>,
-    /// Its marks: set where a pixel's own ray trees meet a moving sphere's swept volume.
-    marks: &'a mut [u64],
+    /// Its marks: where a pixel's own ray trees meet the moving spheres' swept volumes.
+    marks: MarksRow<'a>,
 }
 
 /// Stage 5 over the image: every right pixel of `redo` that `mask` marks
@@ -93,12 +92,11 @@ pub(crate) fn fill(
         "the mask, the source map and the image must have one size"
     );
     let Redo { only, marks } = redo;
-    let stride = marks.stride();
     out.rgb
         .par_chunks_mut(w)
         .zip(mask.par_chunks_mut(w))
         .zip(src.par_chunks(w))
-        .zip(marks.words_mut().par_chunks_mut(stride))
+        .zip(marks.rows_mut())
         .enumerate()
         .map(|(j, (((rgb, mask), src), marks))| {
             let only = only.map(|bits| bits.row(j as u32));
@@ -123,8 +121,9 @@ fn sees_surface(left: &Film, class: PixelClass, s: u32) -> bool {
 /// stage 5 shades.
 fn keep_background(left: &Film, rgb: &mut [u32], (mask, src): (&[PixelClass], &[u32]), only: Option<&[u64]>) -> u64 {
     let mut named = 0;
-    for (i, ((rgb, &class), &s)) in rgb.iter_mut().zip(mask).zip(src).enumerate() {
-        if class == PixelClass::Reprojected && wanted(only, i as u32) {
+    for i in chosen(only, rgb.len()).map(|i| i as usize) {
+        let (class, s, rgb) = (mask[i], src[i], &mut rgb[i]);
+        if class == PixelClass::Reprojected {
             if left.object[s as usize] == NO_OBJECT {
                 *rgb = left.rgb[s as usize];
             } else {
@@ -137,15 +136,15 @@ fn keep_background(left: &Film, rgb: &mut [u32], (mask, src): (&[PixelClass], &[
 
 /// One row of [`Fill::Reshade`]: the surfaces seen, re-shaded as one list.
 fn reshade_row(right: SecondView<'_>, (lv, left): (&EyeView, &Film), row: Row<'_>) -> Filled {
-    let Row { j, rgb, mask, src, only, marks } = row;
+    let Row { j, rgb, mask, src, only, mut marks } = row;
     keep_background(left, rgb, (mask, src), only);
     let mut rays = RayCounts::default();
-    let items = (0..rgb.len() as u32)
-        .filter(|&i| wanted(only, i) && sees_surface(left, mask[i as usize], src[i as usize]))
+    let items = chosen(only, rgb.len())
+        .filter(|&i| sees_surface(left, mask[i as usize], src[i as usize]))
         .map(|i| (i, src[i as usize]));
-    right.reshade(j, (lv, left), items, &mut rays, |i, c, dynamic| {
+    right.reshade(j, (lv, left), items, &mut rays, |i, c, touch| {
         rgb[i as usize] = c;
-        bits::set(marks, i, dynamic);
+        marks.set(i, touch);
     });
     Filled { rays, sphere_tests: 0 }
 }
@@ -153,20 +152,19 @@ fn reshade_row(right: SecondView<'_>, (lv, left): (&EyeView, &Film), row: Row<'_
 /// One row of [`Fill::Exact`]: each pixel's own ray against the sphere its source saw, as
 /// one list; the silhouettes it misses are retraced and marked edges.
 fn exact_row(right: SecondView<'_>, left: &Film, row: Row<'_>) -> Filled {
-    let Row { j, rgb, mask, src, only, marks } = row;
+    let Row { j, rgb, mask, src, only, mut marks } = row;
     let sphere_tests = keep_background(left, rgb, (mask, src), only);
     let mut rays = RayCounts::default();
     // The list is read while the silhouettes it has passed are marked.
     let mask = Cell::from_mut(mask).as_slice_of_cells();
-    let items = (0..rgb.len() as u32)
-        .filter(|&i| wanted(only, i) && sees_surface(left, mask[i as usize].get(), src[i as usize]))
-        .map(|i| {
+    let items =
+        chosen(only, rgb.len()).filter(|&i| sees_surface(left, mask[i as usize].get(), src[i as usize])).map(|i| {
             let s = src[i as usize] as usize;
             (i, left.object[s], left.lights[s])
         });
-    right.shade_on(j, items, &mut rays, |i, c, retraced, dynamic| {
+    right.shade_on(j, items, &mut rays, |i, c, retraced, touch| {
         rgb[i as usize] = c;
-        bits::set(marks, i, dynamic);
+        marks.set(i, touch);
         if retraced {
             mask[i as usize].set(PixelClass::RetracedEdge);
         }

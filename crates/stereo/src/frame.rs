@@ -9,12 +9,12 @@
 
 use std::time::Instant;
 
-use tracer::{Camera, Eye, Film, PixelBits, Record, Renderer, Tracer};
+use tracer::{Arc, Camera, Eye, Film, Marks, PixelBits, Record, Renderer, Tracer};
 
 use crate::fill::{fill, Fill};
 use crate::image::Image;
 use crate::mode::{Mode, Options};
-use crate::reproject::{reproject_and_classify, Reprojection, NO_SOURCE};
+use crate::reproject::{reproject_and_classify, reproject_and_classify_rows, Reprojection, NO_SOURCE};
 use crate::retrace::{retrace, Redo};
 use crate::reuse::{plan_right, Changes};
 use crate::stats::{FrameStats, PixelClass, PixelCounts, Reuse};
@@ -46,15 +46,23 @@ pub struct StereoFrame {
     stats: FrameStats,
     /// Whether frames may reuse the last one.
     reuse: bool,
-    /// What the last frame was asked for, if it was marked for reuse.
-    last: Option<Asked>,
+    /// What the last frame was asked for, and whether it was marked for reuse.
+    last: Option<(Asked, bool)>,
     /// The last frame's tracer fingerprint, and this frame's.
     print: (Vec<u32>, Vec<u32>),
-    /// Stage 3's classes of this frame, and the last frame's sources and classes.
+    /// Stage 3's classes of this frame, and the last frame's sources and classes (of the
+    /// rows redone).
     class: Vec<PixelClass>,
     was: (Vec<u32>, Vec<PixelClass>),
-    /// The right pixels whose own rays met a moving sphere's swept volume.
-    right_marks: PixelBits,
+    /// The last frame's reprojection plan.
+    plan: Option<Reprojection>,
+    /// Per left row, whether a pixel of it was retraced; per right row, whether stages 2
+    /// and 3 redid it.
+    rows: (Vec<bool>, Vec<bool>),
+    /// Where the right pixels' own rays meet the moving spheres' swept volumes.
+    right_marks: Marks,
+    /// The moving spheres' wedges in the last frame, and in this one.
+    wedges: (Vec<Arc>, Vec<Arc>),
     /// The left pixels retraced this frame.
     left_retraced: PixelBits,
     /// The right pixels made this frame (all of them unless it reused the last).
@@ -106,12 +114,14 @@ impl StereoFrame {
         &self.src
     }
 
-    /// Turns reuse across frames on or off (off for a new frame). With it on, every frame
-    /// marks the pixels whose rays meet a moving sphere's path, and a frame whose only
-    /// change from the last is the scene time retraces only what can have changed: the
-    /// very bytes of a fresh frame, cheaper (`reuse.rs`).
+    /// Turns reuse across frames on or off (off for a new frame). With it on, a frame whose
+    /// only change from the last is the scene time retraces only what can have changed:
+    /// the very bytes of a fresh frame, cheaper (`reuse.rs`). For that the last frame must
+    /// have marked where its rays meet the moving spheres' paths, which it does when the
+    /// frame before it was asked the same (or it was the first): after a change, one fresh
+    /// frame, one fresh frame that marks, then reused frames.
     pub fn set_reuse(&mut self, on: bool) {
-        if !on {
+        if on != self.reuse {
             self.last = None;
         }
         self.reuse = on;
@@ -123,11 +133,11 @@ impl StereoFrame {
         self.reuse
     }
 
-    /// The right pixels the last frame made, as opposed to kept from the frame before: all
-    /// of them, unless it was a reused frame.
+    /// The pixels of the left and the right eye that the last frame made, as opposed to
+    /// kept from the frame before; `None` when it made all of them (it did not reuse).
     #[must_use]
-    pub fn made(&self) -> Option<&PixelBits> {
-        self.stats.reuse.reused.then_some(&self.right_made)
+    pub fn made(&self) -> Option<(&PixelBits, &PixelBits)> {
+        self.stats.reuse.reused.then_some((&self.left_retraced, &self.right_made))
     }
 
     /// The last frame's statistics.
@@ -148,9 +158,17 @@ impl StereoFrame {
         let mut stats = FrameStats::default();
         let asked = Asked { camera: *camera, width, height, opts };
         tracer.fingerprint(&mut self.print.1);
-        let reused = self.reuse && self.last == Some(asked) && self.print.0 == self.print.1;
+        let same = self.last.is_some_and(|(last, _)| last == asked) && self.print.0 == self.print.1;
+        let reused = self.reuse && same && self.last.is_some_and(|(_, marked)| marked);
+        // Marking costs about two fresh frames: it is done only when reuse can follow,
+        // once the request has held still for a frame (or on the first frame), so a
+        // moving head pays nothing for it.
+        let mark = self.reuse && (same || self.last.is_none());
         std::mem::swap(&mut self.print.0, &mut self.print.1);
-        let mark = self.reuse;
+        // The wedges are taken out for the frame, and put back (swapped) at its end.
+        let mut wedge_lists = std::mem::take(&mut self.wedges);
+        tracer.wedges(&mut wedge_lists.1);
+        let wedges = [&wedge_lists.0[..], &wedge_lists.1[..]];
 
         // Stage 1: the left eye, with its visible-surface record.
         let t = Instant::now();
@@ -161,8 +179,8 @@ impl StereoFrame {
         };
         let left = &mut self.left;
         stats.left.rays = if reused {
-            self.left_retraced.copy_from(&left.dynamic);
-            self.left_renderer.retrace_marked(tracer, &lv, left)
+            left.dynamic.select(wedges, &mut self.left_retraced);
+            self.left_renderer.retrace_only(tracer, &lv, left, &self.left_retraced)
         } else if mark {
             self.left_renderer.render_marking(tracer, &lv, left, record)
         } else {
@@ -175,10 +193,9 @@ impl StereoFrame {
         self.src.resize(n, NO_SOURCE);
         (self.right.width, self.right.height) = (width, height);
         self.right.rgb.resize(n, 0);
-        if !reused {
+        if !reused && (self.right_marks.width(), self.right_marks.height()) != (width, height) {
+            // (Every pixel of a fresh frame is marked anew.)
             self.right_marks.resize(width, height);
-            self.left_retraced.resize(width, height);
-            self.right_made.resize(width, height);
         }
         let mut made = n as u64;
         if n == 0 {
@@ -187,9 +204,8 @@ impl StereoFrame {
             let t = Instant::now();
             let (renderer, rgb, marks) = (&mut self.right_renderer, &mut self.right.rgb, &mut self.right_marks);
             stats.right.rays = if reused {
-                self.right_made.copy_from(marks);
-                made = self.right_made.count();
-                renderer.retrace_rgb_marked(tracer, &rv, rgb, marks)
+                made = marks.select(wedges, &mut self.right_made);
+                renderer.retrace_rgb_only(tracer, &rv, rgb, (marks, &self.right_made))
             } else if mark {
                 renderer.render_rgb_marking(tracer, &rv, rgb, marks)
             } else {
@@ -201,24 +217,16 @@ impl StereoFrame {
             // Stages 2 and 3: the source map and the class of every right pixel.
             let t = Instant::now();
             let plan = Reprojection::new(tracer, camera, &rv, opts);
-            let (src_was, class_was) = &mut self.was;
-            std::mem::swap(&mut self.src, src_was);
-            self.src.resize(n, NO_SOURCE);
             self.class.resize(n, PixelClass::Traced);
-            reproject_and_classify(&self.left, plan, &mut self.src, &mut self.class);
             let only = if reused {
-                let changes = Changes {
-                    now: (&self.class, &self.src),
-                    before: (class_was, src_was),
-                    left_retraced: &self.left_retraced,
-                    right_marked: &self.right_marks,
-                };
-                made = plan_right(changes, &mut self.mask, &mut self.right_made);
+                made = self.reproject_changed(plan, wedges);
                 Some(&self.right_made)
             } else {
+                reproject_and_classify(&self.left, plan, &mut self.src, &mut self.class);
                 self.mask.copy_from_slice(&self.class);
                 None
             };
+            self.plan = Some(plan);
             stats.stages.reproject = ms_since(t);
 
             // Stage 4. The paper's mode gathers its reprojected colours in the same pass
@@ -239,16 +247,44 @@ impl StereoFrame {
                 stats.right.rays += filled.rays;
                 stats.sphere_tests = filled.sphere_tests;
             }
-            // The sources and classes this frame found, for the next.
-            std::mem::swap(&mut self.class, class_was);
         }
         stats.right.ms = stats.stages.reproject + stats.stages.retrace + stats.stages.reshade;
         stats.pixels = PixelCounts::of(&self.mask);
         let left_made = if reused { self.left_retraced.count() } else { n as u64 };
         stats.reuse = Reuse { reused, made: left_made + made, pixels: 2 * n as u64 };
-        self.last = mark.then_some(asked);
+        self.last = Some((asked, mark));
+        self.wedges = (wedge_lists.1, wedge_lists.0);
         self.stats = stats;
         stats
+    }
+}
+
+impl StereoFrame {
+    /// Stages 2 and 3 of a reused frame: only the rows that read a retraced left row (all
+    /// of them if the plan moved), then the right pixels to make again (`reuse.rs`) into
+    /// `right_made`. Returns how many.
+    fn reproject_changed(&mut self, plan: Reprojection, wedges: [&[Arc]; 2]) -> u64 {
+        let n = self.src.len();
+        let (src_was, class_was) = &mut self.was;
+        let (left_rows, right_rows) = &mut self.rows;
+        let same_plan = self.plan == Some(plan);
+        left_rows.clear();
+        let bits = self.left_retraced.words().chunks(self.left_retraced.stride().max(1));
+        left_rows.extend(bits.map(|row| !same_plan || row.iter().any(|&word| word != 0)));
+        right_rows.resize(self.left.height() as usize, false);
+        src_was.resize(n, NO_SOURCE);
+        class_was.resize(n, PixelClass::Traced);
+        let buffers = (&mut src_was[..], &mut class_was[..], &mut right_rows[..]);
+        reproject_and_classify_rows(&self.left, plan, (&mut self.src, &mut self.class), left_rows, buffers);
+        let changes = Changes {
+            now: (&self.class, &self.src),
+            before: (class_was, src_was),
+            left_retraced: &self.left_retraced,
+            right_marks: &self.right_marks,
+            wedges,
+            rows: right_rows,
+        };
+        plan_right(changes, &mut self.mask, &mut self.right_made)
     }
 }
 

@@ -24,7 +24,7 @@ pub use scanline::{reproject_row, NO_SOURCE};
 use scanline::{reproject_row_keyed, KeyedRow};
 
 /// How one frame is reprojected and classified (see [`reproject_and_classify`]).
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Reprojection {
     /// The eyes' disparity in pixels.
     pub disparity: Disparity,
@@ -121,42 +121,93 @@ pub(crate) fn reproject_and_classify(left: &Film, p: Reprojection, src: &mut [u3
     );
     let h = src.len() / w;
     let bands = src.par_chunks_mut(w * BAND).zip(mask.par_chunks_mut(w * BAND));
-    bands.enumerate().for_each(|(b, (src_band, mask_band))| {
-        BAND_SCRATCH.with_borrow_mut(|scratch| {
-            let BandScratch { targets, object, lights, halo_src } = scratch;
-            let (j0, rows) = (b * BAND, src_band.len() / w);
-            let (lo, hi) = (j0.saturating_sub(1), (j0 + rows + 1).min(h));
-            object.resize((hi - lo) * w, GAP_OBJECT);
-            lights.resize((hi - lo) * w, GAP_LIGHTS);
-            halo_src.resize(w, NO_SOURCE);
-            let key_rows = object.chunks_exact_mut(w).zip(lights.chunks_exact_mut(w));
-            for (j, (object, lights)) in (lo..hi).zip(key_rows) {
-                let src = if (j0..j0 + rows).contains(&j) {
-                    &mut src_band[(j - j0) * w..(j - j0 + 1) * w]
-                } else {
-                    &mut halo_src[..]
-                };
-                let left_row = j * w..(j + 1) * w;
-                let row = KeyedRow {
-                    left_object: &left.object[left_row.clone()],
-                    left_lights: &left.lights[left_row.clone()],
-                    src: &mut *src,
-                    object: &mut *object,
-                    lights: &mut *lights,
-                };
-                reproject_row_keyed(&left.z[left_row], p.disparity, (j * w) as u32, row, targets);
-                src[w - p.strip..].fill(NO_SOURCE);
-                object[w - p.strip..].fill(GAP_OBJECT);
-                lights[w - p.strip..].fill(GAP_LIGHTS);
+    bands.enumerate().for_each(|(b, (src_band, mask_band))| band(left, p, (b, h), src_band, mask_band));
+}
+
+/// [`reproject_and_classify`] of only the rows that can have changed. Right row j's sources
+/// and classes are a function of the plan and of left rows j − 1, j and j + 1 (the rows
+/// its band reads, which `band` reads with the same halo whichever bands run). So with the
+/// same plan as the last frame, a band needs redoing only if a row it reads had a pixel
+/// retraced (`left_rows`, a flag per left row). A redone band first saves its rows' last
+/// sources and classes into `was` (for the caller to compare) and is flagged in `redone`
+/// (a flag per right row); the others keep theirs. Returns the rows redone.
+pub(crate) fn reproject_and_classify_rows(
+    left: &Film,
+    p: Reprojection,
+    (src, mask): (&mut [u32], &mut [PixelClass]),
+    left_rows: &[bool],
+    (src_was, mask_was, redone): (&mut [u32], &mut [PixelClass], &mut [bool]),
+) -> usize {
+    let w = left.width() as usize;
+    debug_assert!(
+        src.len() == left.z.len()
+            && mask.len() == left.z.len()
+            && src_was.len() == src.len()
+            && mask_was.len() == src.len(),
+        "the source maps and the masks must have the left film's size"
+    );
+    let h = src.len() / w;
+    let bands = (
+        (src.par_chunks_mut(w * BAND), mask.par_chunks_mut(w * BAND)),
+        (src_was.par_chunks_mut(w * BAND), mask_was.par_chunks_mut(w * BAND)),
+        redone.par_chunks_mut(BAND),
+    );
+    bands
+        .into_par_iter()
+        .enumerate()
+        .map(|(b, ((src_band, mask_band), (src_was, mask_was), redone))| {
+            let j0 = b * BAND;
+            let reads = j0.saturating_sub(1)..(j0 + redone.len() + 1).min(h);
+            let again = left_rows[reads].iter().any(|&r| r);
+            redone.fill(again);
+            if !again {
+                return 0;
             }
-            let last = hi - lo - 1;
-            for (r, out) in mask_band.chunks_mut(w).enumerate() {
-                // This row's index in the scratch, and its neighbours' (itself at the edges).
-                let k = j0 - lo + r;
-                let at = [k.saturating_sub(1), k, (k + 1).min(last)].map(|k| k * w..(k + 1) * w);
-                let rows = KeyRows { object: at.clone().map(|r| &object[r]), lights: at.map(|r| &lights[r]) };
-                classify_row(rows, p.edges, p.shadows, out);
-            }
-        });
+            src_was.copy_from_slice(src_band);
+            mask_was.copy_from_slice(mask_band);
+            band(left, p, (b, h), src_band, mask_band);
+            redone.len()
+        })
+        .sum()
+}
+
+/// Stages 2 and 3 of band `b` of an image `h` rows high: its rows' sources and classes.
+fn band(left: &Film, p: Reprojection, (b, h): (usize, usize), src_band: &mut [u32], mask_band: &mut [PixelClass]) {
+    let w = left.width() as usize;
+    BAND_SCRATCH.with_borrow_mut(|scratch| {
+        let BandScratch { targets, object, lights, halo_src } = scratch;
+        let (j0, rows) = (b * BAND, src_band.len() / w);
+        let (lo, hi) = (j0.saturating_sub(1), (j0 + rows + 1).min(h));
+        object.resize((hi - lo) * w, GAP_OBJECT);
+        lights.resize((hi - lo) * w, GAP_LIGHTS);
+        halo_src.resize(w, NO_SOURCE);
+        let key_rows = object.chunks_exact_mut(w).zip(lights.chunks_exact_mut(w));
+        for (j, (object, lights)) in (lo..hi).zip(key_rows) {
+            let src = if (j0..j0 + rows).contains(&j) {
+                &mut src_band[(j - j0) * w..(j - j0 + 1) * w]
+            } else {
+                &mut halo_src[..]
+            };
+            let left_row = j * w..(j + 1) * w;
+            let row = KeyedRow {
+                left_object: &left.object[left_row.clone()],
+                left_lights: &left.lights[left_row.clone()],
+                src: &mut *src,
+                object: &mut *object,
+                lights: &mut *lights,
+            };
+            reproject_row_keyed(&left.z[left_row], p.disparity, (j * w) as u32, row, targets);
+            src[w - p.strip..].fill(NO_SOURCE);
+            object[w - p.strip..].fill(GAP_OBJECT);
+            lights[w - p.strip..].fill(GAP_LIGHTS);
+        }
+        let last = hi - lo - 1;
+        for (r, out) in mask_band.chunks_mut(w).enumerate() {
+            // This row's index in the scratch, and its neighbours' (itself at the edges).
+            let k = j0 - lo + r;
+            let at = [k.saturating_sub(1), k, (k + 1).min(last)].map(|k| k * w..(k + 1) * w);
+            let rows = KeyRows { object: at.clone().map(|r| &object[r]), lights: at.map(|r| &lights[r]) };
+            classify_row(rows, p.edges, p.shadows, out);
+        }
     });
 }

@@ -6,39 +6,31 @@
 //! colour (the seed paper's stage 5), so the right image is swept once.
 
 use rayon::prelude::*;
-use tracer::bits::{self, PixelBits};
-use tracer::{RayCounts, SecondView};
+use tracer::bits;
+use tracer::{Marks, PixelBits, RayCounts, SecondView};
 
 use crate::image::Image;
 use crate::stats::PixelClass;
 
-/// Which right pixels stages 4 and 5 make, and where they mark the dynamic ones.
+/// Which right pixels stages 4 and 5 make, and where they mark them.
 #[derive(Debug)]
 pub(crate) struct Redo<'a> {
     /// The pixels to make; `None`: all of them.
     pub only: Option<&'a PixelBits>,
-    /// Per pixel, whether its own ray trees (the rays this eye casts for it) meet a moving
-    /// sphere's swept volume: cleared for each pixel made, then set as the traces say.
-    pub marks: &'a mut PixelBits,
+    /// Where each pixel's own ray trees (the rays this eye casts for it) meet the moving
+    /// spheres' swept volumes: cleared for each pixel made by stage 4, then set as the
+    /// traces of stages 4 and 5 say.
+    pub marks: &'a mut Marks,
 }
 
-impl Redo<'_> {
-    /// Row `j` of the selection (`None`: all) and of the marks, the marks of its pixels to
-    /// make cleared.
-    pub(crate) fn row<'b>(only: Option<&'b PixelBits>, j: usize, marks: &mut [u64]) -> Option<&'b [u64]> {
-        let only = only.map(|bits| bits.row(j as u32));
-        match only {
-            None => marks.fill(0),
-            Some(only) => marks.iter_mut().zip(only).for_each(|(m, o)| *m &= !o),
-        }
-        only
-    }
-}
-
-/// Whether pixel `i` of a row is to be made, given the row's selection (`None`: all).
-#[inline]
-pub(crate) fn wanted(only: Option<&[u64]>, i: u32) -> bool {
-    only.is_none_or(|row| bits::get(row, i))
+/// The columns of a `w`-pixel row to make, ascending, given the row's selection (`None`:
+/// all).
+pub(crate) fn chosen(only: Option<&[u64]>, w: usize) -> impl Iterator<Item = u32> + '_ {
+    let (all, some) = match only {
+        None => (Some(0..w as u32), None),
+        Some(row) => (None, Some(bits::ones(row))),
+    };
+    all.into_iter().flatten().chain(some.into_iter().flatten())
 }
 
 /// Stage 4 over the image: every right pixel of `redo` that `mask` does not mark
@@ -60,27 +52,27 @@ pub(crate) fn retrace(
         "the mask, the source map and the image must have one size"
     );
     let Redo { only, marks } = redo;
-    let stride = marks.stride();
     out.rgb
         .par_chunks_mut(w)
         .zip(mask.par_chunks(w))
         .zip(src.par_chunks(w))
-        .zip(marks.words_mut().par_chunks_mut(stride))
+        .zip(marks.rows_mut())
         .enumerate()
-        .map(|(j, (((rgb, mask), src), marks))| {
+        .map(|(j, (((rgb, mask), src), mut marks))| {
             let mut counts = RayCounts::default();
-            let only = Redo::row(only, j, marks);
+            let only = only.map(|bits| bits.row(j as u32));
+            marks.clear_only(only);
             if let Some(left) = copy_from {
-                for i in 0..w {
-                    if mask[i] == PixelClass::Reprojected && wanted(only, i as u32) {
+                for i in chosen(only, w).map(|i| i as usize) {
+                    if mask[i] == PixelClass::Reprojected {
                         rgb[i] = left[src[i] as usize];
                     }
                 }
             }
-            let traced = (0..w as u32).filter(|&i| mask[i as usize] != PixelClass::Reprojected && wanted(only, i));
-            right.trace_pixels(j as u32, traced, &mut counts, |i, c, dynamic| {
+            let traced = chosen(only, w).filter(|&i| mask[i as usize] != PixelClass::Reprojected);
+            right.trace_pixels(j as u32, traced, &mut counts, |i, c, touch| {
                 rgb[i as usize] = c;
-                bits::set(marks, i, dynamic);
+                marks.set(i, touch);
             });
             counts
         })
@@ -111,7 +103,7 @@ mod tests {
 
         // Every pixel retraced: the full trace, ray for ray.
         let mut out = image();
-        let mut marks = PixelBits::new(w, h);
+        let mut marks = Marks::new(w, h);
         let all = Redo { only: None, marks: &mut marks };
         let counts = retrace(right, &vec![PixelClass::RetracedGap; n], &vec![0; n], None, &mut out, all);
         assert!(out.rgb == full, "retracing every pixel differs from the full trace");

@@ -14,21 +14,24 @@
 //!
 //! ## The left eye (and the right eye of `full` mode)
 //!
-//! A pixel is *dynamic* when some ray of its tree — primary, shadow or mirror, at any depth —
-//! meets the swept volume of a moving sphere (`tracer`'s `swept.rs`). The tracer marks it
-//! in the film while tracing ([`tracer::Renderer::render_marking`]).
+//! While it traces, the tracer marks each pixel with where its ray tree — primary, shadow
+//! and mirror rays, at any depth — meets the swept volume of a moving sphere, the washer
+//! about its orbit: which ring, and the arc of the ring's angle it crosses
+//! ([`tracer::Marks`], [`tracer::Renderer::render_marking`]).
 //!
-//! *Lemma.* A pixel that is not dynamic at time t₀ has the same colour, record and mark at
-//! every time t₁. Sketch, by induction down its tree: its primary ray does not depend on
-//! time; a segment that does not meet any swept volume meets no moving sphere at any time
-//! (each moving sphere stays in its volume, which a debug assertion checks whenever a
-//! tracer places it), so it meets the same still spheres at the same parameters, and its
-//! hit point, normal, shadow rays and mirror ray are the same operations on the same values;
-//! each of those is again a segment of the tree, which by assumption meets no volume.
+//! *Lemma* (`tracer`'s `swept.rs`). A pixel whose tree at t₀ meets no moving sphere's
+//! wedge (the part of its washer the sphere fills) at t₀ or at t₁ has the same colour,
+//! record and marks at t₁. Sketch: the tree's segments meet no moving sphere at either
+//! instant, so, from the time-independent primary ray down, each meets the same still
+//! spheres at the same parameters, and spawns the same rays.
 //!
-//! So a reused eye retraces exactly its pixels marked last frame, marking them anew; the
-//! others keep their bytes, and their (clear) marks stay true.
-//!
+//! So a reused eye retraces exactly the marked pixels whose arc meets a wedge of the last
+//! frame or of this one ([`tracer::Marks::select`], [`tracer::Renderer::retrace_only`]),
+//! marking them anew; the others keep their bytes and their marks, which stay true.
+//! Marking whole washers only (a bit per pixel) would retrace every pixel whose rays ever
+//! cross the ring: a fifth of the seed scene's pixels, the costly ones. The arcs narrow that
+//! to the sphere's old and new places, and their images, reflections and shadows.
+
 //! ## The right eye of `copy`, `reshade` and `exact`
 //!
 //! It is made from the current left eye, so it can change where no ray of its own moved.
@@ -42,19 +45,21 @@
 //! *Rule.* Right pixel p is made again when
 //! 1. c(p) or s(p) differs from the last frame's, or
 //! 2. its source s(p) is a left pixel retraced this frame, or
-//! 3. its own rays were marked dynamic last frame.
+//! 3. its own rays, as marked last frame, meet a moving sphere's wedge last frame or now.
 //!
 //! *Conservative.* If none holds, c(p) and s(p) are as before; the left pixel s(p) was not
 //! retraced, so its colour and record are last frame's bytes; and by the lemma p's own rays
-//! give what they gave. So F gives last frame's colour, final class and mark: p may keep
-//! them. A retraced left pixel may well come out unchanged; rule 2 does not ask.
+//! give what they gave (the lemma of `tracer`'s `swept.rs`, which the marks' arcs
+//! narrow to the wedges of the two instants). So F gives last frame's colour, final class
+//! and mark: p may keep them. A retraced left pixel may well come out unchanged; rule 2
+//! does not ask.
 //!
 //! Kept pixels also keep their final class (exact mode turns a missed silhouette into an
 //! edge in stage 5), so the mask and pixel counts of a reused frame are the fresh frame's.
 
 use rayon::prelude::*;
 use tracer::bits;
-use tracer::PixelBits;
+use tracer::{Arc, Marks, PixelBits};
 
 use crate::reproject::NO_SOURCE;
 use crate::stats::PixelClass;
@@ -68,36 +73,56 @@ pub(crate) struct Changes<'a> {
     pub before: (&'a [PixelClass], &'a [u32]),
     /// The left pixels retraced this frame.
     pub left_retraced: &'a PixelBits,
-    /// The right pixels whose own rays were marked dynamic last frame.
-    pub right_marked: &'a PixelBits,
+    /// Where the right pixels' own rays met the swept volumes last frame.
+    pub right_marks: &'a Marks,
+    /// The moving spheres' wedges last frame and now.
+    pub wedges: [&'a [Arc]; 2],
+    /// Per right row, whether stages 2 and 3 redid it (the others kept their classes and
+    /// sources, so rules 1 and 2 cannot hold there).
+    pub rows: &'a [bool],
 }
 
 /// Sets in `redo` (sized as the marks) the right pixels the rule makes again, and gives each
 /// of them its stage-3 class in `mask`; the other pixels of `mask` keep their final class
 /// from the last frame. Returns how many are made again.
 pub(crate) fn plan_right(changes: Changes<'_>, mask: &mut [PixelClass], redo: &mut PixelBits) -> u64 {
-    let Changes { now: (class, src), before: (class_was, src_was), left_retraced, right_marked } = changes;
-    let w = right_marked.width() as usize;
-    let stride = redo.stride();
+    let Changes { now: (class, src), before: (class_was, src_was), left_retraced, right_marks, wedges, rows } = changes;
+    let w = right_marks.width() as usize;
+    // Rule 3 first: the right pixels whose own rays may meet a sphere at either instant.
+    right_marks.select(wedges, redo);
     if w == 0 {
         return 0;
     }
+    let stride = redo.stride();
     redo.words_mut()
         .par_chunks_mut(stride)
         .zip(mask.par_chunks_mut(w))
         .enumerate()
         .map(|(j, (row, mask))| {
             let base = j * w;
+            if !rows[j] {
+                let mut made = 0;
+                for i in bits::ones(row) {
+                    mask[i as usize] = class[base + i as usize];
+                    made += 1;
+                }
+                return made;
+            }
+            let left_row = left_retraced.row(j as u32);
+            let any_left = left_row.iter().any(|&word| word != 0);
             let mut made = 0;
             for (i, mask) in mask.iter_mut().enumerate() {
                 let k = base + i;
                 let s = src[k];
-                let again = class[k] != class_was[k]
-                    || s != src_was[k]
-                    || (s != NO_SOURCE && left_retraced.get_index(s as usize))
-                    || bits::get(right_marked.row(j as u32), i as u32);
-                bits::set(row, i as u32, again);
+                // Reprojection runs along scanlines, so a source lies in the same row.
+                let retraced = s != NO_SOURCE
+                    && match (s as usize).checked_sub(base) {
+                        Some(col) if col < w => any_left && bits::get(left_row, col as u32),
+                        _ => left_retraced.get_index(s as usize),
+                    };
+                let again = class[k] != class_was[k] || s != src_was[k] || retraced || bits::get(row, i as u32);
                 if again {
+                    bits::set(row, i as u32, true);
                     *mask = class[k];
                     made += 1;
                 }

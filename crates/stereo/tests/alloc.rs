@@ -16,6 +16,8 @@
 //! reprojection pass (`reproject.rs`): a worker that a busy machine kept from the warm-up
 //! gets its first band later, and its scratch grows then (seen here in about one run in
 //! ten, on main before this test counted in rounds).
+//!
+//! The same holds for frames that reuse the last one (`reuse.rs`), in every mode.
 
 #![expect(
     unsafe_code,
@@ -62,6 +64,9 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
+/// Held while a test counts: the tests of this binary run one at a time.
+static COUNTING: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// Allocations made by `f`.
 fn allocations(f: impl FnOnce()) -> u64 {
     let before = ALLOCATIONS.load(Ordering::SeqCst);
@@ -71,6 +76,7 @@ fn allocations(f: impl FnOnce()) -> u64 {
 
 #[test]
 fn a_warm_frame_allocates_nothing() {
+    let _alone = COUNTING.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
     let all = [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact];
     for name in ["seed.toml", "many.toml"] {
         let scene =
@@ -104,5 +110,38 @@ fn a_warm_frame_allocates_nothing() {
             .collect();
         let fewest = rounds.iter().copied().min().unwrap_or(0);
         assert!(fewest <= frames / 8, "{name}: rounds of {frames} warm frames allocated {rounds:?} times");
+    }
+}
+
+#[test]
+fn a_warm_reused_frame_allocates_nothing() {
+    let _alone = COUNTING.lock().unwrap_or_else(std::sync::PoisonError::into_inner);
+    let scene =
+        Scene::load(format!("{}/../../assets/scenes/seed.toml", env!("CARGO_MANIFEST_DIR"))).expect("scene loads");
+    let (w, h) = (160, 90);
+    let mut tracer = Tracer::new(&scene, 0.0);
+    for mode in [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact] {
+        let opts = Options { mode, retrace_edges: true };
+        let mut frame = StereoFrame::new();
+        frame.set_reuse(true);
+        // Warm up: the first frame marks, the next ones reuse.
+        for k in 0..6 {
+            tracer.update(&scene, k as f32 / 60.0);
+            frame.render(&tracer, &scene.camera, w, h, opts);
+        }
+        let frames = 24;
+        let rounds: Vec<u64> = (1..4)
+            .map(|round| {
+                allocations(|| {
+                    for k in 0..frames {
+                        tracer.update(&scene, (6 + round * frames + k) as f32 / 60.0);
+                        let stats = frame.render(&tracer, &scene.camera, w, h, opts);
+                        assert!(stats.reuse.reused, "{mode}: every frame after the first reuses");
+                    }
+                })
+            })
+            .collect();
+        let fewest = rounds.iter().copied().min().unwrap_or(0);
+        assert!(fewest <= frames / 8, "{mode}: rounds of {frames} reused frames allocated {rounds:?} times");
     }
 }

@@ -44,7 +44,7 @@ fn check_reuse(scene: &Scene, times: &[f32], (w, h): (u32, u32), opts: Options) 
     for (k, &t) in times.iter().enumerate() {
         tracer.update(scene, t);
         let stats = reusing.render(&tracer, &scene.camera, w, h, opts);
-        assert_eq!(stats.reuse.reused, k > 0, "frame {k} at t = {t}: reused only after the first");
+        assert_eq!(stats.reuse.reused, k > 0, "frame {k} at t = {t}: reused after the first (which marks)");
         fresh.render(&tracer, &scene.camera, w, h, opts);
         let (a, b) = (shown(&reusing, opts.mode), shown(&fresh, opts.mode));
         if a != b {
@@ -95,6 +95,8 @@ fn anything_but_time_starts_afresh() {
     assert!(frame.render(&tracer, &scene.camera, 64, 36, opts).reuse.reused, "same request: reused");
     let moved = Camera { position: Vec3::new(0.1, 0.0, 0.0), ..scene.camera };
     assert!(!frame.render(&tracer, &moved, 64, 36, opts).reuse.reused, "the head moved");
+    assert!(!frame.render(&tracer, &moved, 64, 36, opts).reuse.reused, "held still once: marks, fresh");
+    assert!(frame.render(&tracer, &moved, 64, 36, opts).reuse.reused, "held still twice: reused");
     assert!(!frame.render(&tracer, &moved, 64, 37, opts).reuse.reused, "resized");
     assert!(!frame.render(&tracer, &moved, 64, 37, Options { mode: Mode::Copy, ..opts }).reuse.reused, "mode");
     let mut lit = scene.clone();

@@ -1,7 +1,7 @@
 //! The film: one eye's colour plus the visible-surface record of every pixel (pbrt's film
 //! with its visible-surface buffer, kept apart from the camera).
 
-use crate::bits::PixelBits;
+use crate::marks::Marks;
 use crate::surface::{Shading, Surface, NO_OBJECT};
 
 /// Which parts of a [`Film`]'s visible-surface record a render keeps.
@@ -43,10 +43,10 @@ pub struct Film {
     /// Hit point, normal and view-independent light of each pixel that hit a sphere;
     /// unspecified where `object` is [`NO_OBJECT`].
     pub shading: Vec<Shading>,
-    /// Per pixel, whether its ray tree meets a moving sphere's swept volume: the pixels
-    /// that may change while only time moves. Kept by [`crate::Renderer::render_marking`];
-    /// stale after other renders.
-    pub dynamic: PixelBits,
+    /// Per pixel, where its ray tree meets the moving spheres' swept volumes: what decides
+    /// which pixels may change while only time moves. Kept by
+    /// [`crate::Renderer::render_marking`]; stale after other renders.
+    pub dynamic: Marks,
 }
 
 impl Film {

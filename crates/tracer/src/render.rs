@@ -15,6 +15,7 @@ use rayon::prelude::*;
 use crate::bits::{self, PixelBits};
 use crate::camera::EyeView;
 use crate::film::{Film, Record};
+use crate::marks::{Marks, MarksRow};
 use crate::primary::{BinnedView, PrimaryBins, TILE};
 use crate::ray::Ray;
 use crate::second_view::{by_quads, SecondView};
@@ -115,36 +116,46 @@ impl RowSink for RgbRow<'_> {
     }
 }
 
-/// Which pixels of a row a pass traces.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Pass {
+/// Whether and where a pass over a film marks its pixels.
+#[derive(Clone, Copy, Debug)]
+enum Marking<'a> {
+    /// Not at all.
+    Off,
     /// Every pixel.
     All,
-    /// Only the pixels whose bit in the row's marks is set: those whose ray trees met a
-    /// moving sphere's swept volume last time, the only ones that can have changed since.
-    Marked,
+    /// Only the pixels it traces, those the bits name.
+    Only(&'a PixelBits),
 }
 
-/// Traces row `j` of `eye`, `w` pixels wide, into `sink`; the rays cast. With `marks`
-/// (the row's words of a [`PixelBits`]), each traced pixel's bit is set where its ray tree
-/// meets a moving sphere's swept volume and cleared where not; `pass` says which pixels are
-/// traced.
+/// Which pixels of a row a pass traces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Pass<'a> {
+    /// Every pixel.
+    All,
+    /// Only the pixels this row of a [`PixelBits`] names (those that may have changed since
+    /// the marks were made; see `marks.rs`).
+    Only(&'a [u64]),
+}
+
+/// Traces row `j` of `eye`, `w` pixels wide, into `sink`; the rays cast. With `marks`, each
+/// traced pixel is marked with where its ray tree meets the moving spheres' swept volumes;
+/// `pass` says which pixels are traced.
 ///
 /// A whole row goes tile by tile: a tile whose bin is empty is background without a sphere
 /// test, the others find their first hits a vector of pixels at a time. The hits are then
-/// shaded together, as one batch of this thread's wavefront, in the same lanes. The marked
+/// shaded together, as one batch of this thread's wavefront, in the same lanes. Chosen
 /// pixels of a row go four at a time, through the very rays and shading.
 fn trace_row(
     eye: &BinnedView<'_>,
     j: u32,
     w: usize,
     sink: &mut impl RowSink,
-    marks: Option<&mut [u64]>,
-    pass: Pass,
+    marks: Option<MarksRow<'_>>,
+    pass: Pass<'_>,
 ) -> RayCounts {
     with_wavefront(|wavefront| match pass {
         Pass::All => dispatch!(crate::simd::level(), simd => trace_row_in(simd, wavefront, eye, j, w, sink, marks)),
-        Pass::Marked => retrace_marked(wavefront, eye, j, sink, marks),
+        Pass::Only(only) => trace_only(wavefront, eye, j, sink, marks, only),
     })
 }
 
@@ -156,19 +167,19 @@ fn trace_row_in<S: Simd>(
     j: u32,
     w: usize,
     sink: &mut impl RowSink,
-    mut marks: Option<&mut [u64]>,
+    mut marks: Option<MarksRow<'_>>,
 ) -> RayCounts {
     let mut counts = RayCounts { primary: w as u64, ..RayCounts::default() };
     let (tile, lanes) = (TILE as usize, F::<S>::LEN);
     let (tracer, view) = (eye.tracer, eye.view);
-    if let Some(marks) = marks.as_deref_mut() {
-        marks.fill(0);
+    if let Some(marks) = marks.as_mut() {
+        marks.clear();
     }
-    // A pixel that sees only background is dynamic if its ray meets a swept volume.
-    let background = |marks: &mut Option<&mut [u64]>, i: usize, dir: &dyn Fn() -> Vec3| {
-        if let Some(marks) = marks.as_deref_mut() {
-            if eye.bins.may_meet_moving(i as u32, j) && tracer.meets_moving(view.origin, dir(), f32::INFINITY) {
-                bits::set(marks, i as u32, true);
+    // A pixel that sees only background is marked where its ray meets a swept volume.
+    let background = |marks: &mut Option<MarksRow<'_>>, i: usize, dir: &dyn Fn() -> Vec3| {
+        if let Some(marks) = marks.as_mut() {
+            if eye.bins.may_meet_moving(i as u32, j) {
+                marks.set(i as u32, tracer.touch_moving(view.origin, dir(), f32::INFINITY));
             }
         }
     };
@@ -208,53 +219,57 @@ fn trace_row_in<S: Simd>(
         }
     }
     wavefront.shade_in(simd, tracer, &mut counts);
-    emit(wavefront, eye, sink, marks);
+    emit(wavefront, (eye, j), sink, marks);
     counts
 }
 
-/// [`trace_row`] of the pixels `marks` names: full primary rays four at a time (the rays
+/// [`trace_row`] of the pixels `only` names: full primary rays four at a time (the rays
 /// and hits of every other pass, bit for bit), shaded as one batch.
-fn retrace_marked(
+fn trace_only(
     wavefront: &mut Wavefront,
     eye: &BinnedView<'_>,
     j: u32,
     sink: &mut impl RowSink,
-    marks: Option<&mut [u64]>,
+    mut marks: Option<MarksRow<'_>>,
+    only: &[u64],
 ) -> RayCounts {
-    let Some(marks) = marks else { return RayCounts::default() };
     let mut counts = RayCounts::default();
-    if marks.iter().all(|&word| word == 0) {
+    if only.iter().all(|&word| word == 0) {
         return counts;
     }
-    let second = SecondView::new(*eye).marking(true);
-    // Every marked pixel is retraced, and its new bit replaces the old one (the others are
-    // clear already): the pixels are read from a copy of the row's marks.
-    let mut was = std::mem::take(wavefront.words_mut());
-    was.clear();
-    was.extend_from_slice(marks);
-    marks.fill(0);
-    by_quads(bits::ones(&was).map(|i| (i, ())), |base, mask, _| {
+    let second = SecondView::new(*eye).marking(marks.is_some());
+    if let Some(marks) = marks.as_mut() {
+        marks.clear_only(Some(only));
+    }
+    by_quads(bits::ones(only).map(|i| (i, ())), |base, mask, _| {
         counts.primary += u64::from(mask.count_ones());
-        second.push_traced(wavefront, base, j, mask, 0, &mut |i, rgb, moves| {
+        second.push_traced(wavefront, base, j, mask, 0, &mut |i, rgb, touch| {
             sink.background(i as usize..i as usize + 1, rgb);
-            bits::set(marks, i, moves);
+            if let Some(marks) = marks.as_mut() {
+                marks.set(i, touch);
+            }
         });
     });
-    *wavefront.words_mut() = was;
     wavefront.shade(eye.tracer, &mut counts);
-    emit(wavefront, eye, sink, Some(marks));
+    emit(wavefront, (eye, j), sink, marks);
     counts
 }
 
-/// Hands each sample of the shaded batch to `sink`, and sets its bit in `marks` (when
-/// given) if its ray tree meets a moving sphere's swept volume.
-fn emit(wavefront: &mut Wavefront, eye: &BinnedView<'_>, sink: &mut impl RowSink, marks: Option<&mut [u64]>) {
+/// Hands each sample of the shaded batch to `sink`, and marks it (when marking) with where
+/// its ray tree meets the swept volumes.
+fn emit(
+    wavefront: &mut Wavefront,
+    (eye, j): (&BinnedView<'_>, u32),
+    sink: &mut impl RowSink,
+    marks: Option<MarksRow<'_>>,
+) {
     let view = eye.view;
-    if let Some(marks) = marks {
-        wavefront.mark_dynamic(eye.tracer);
+    if let Some(mut marks) = marks {
+        wavefront.mark_dynamic(eye.tracer, |i| eye.bins.may_meet_moving(i, j));
         for e in 0..wavefront.len() {
-            if wavefront.dynamic(e) {
-                bits::set(marks, wavefront.tag(e), true);
+            let touch = wavefront.touch(e);
+            if touch.is_some() {
+                marks.set(wavefront.tag(e), touch);
             }
         }
     }
@@ -290,35 +305,38 @@ impl Renderer {
     /// rest of the film is left as it was): the same pixels and rays, without writing what
     /// nobody will read.
     pub fn render_keeping(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film, record: Record) -> RayCounts {
-        self.film_pass(tracer, view, film, record, None)
+        self.film_pass(tracer, view, film, record, Marking::Off)
     }
 
-    /// [`Renderer::render_keeping`], also marking in `film.dynamic` each pixel whose ray
-    /// tree — primary, shadow and mirror rays, at any depth — meets a moving sphere's swept
-    /// volume (`swept.rs`). The others have the same colour and record at every instant.
+    /// [`Renderer::render_keeping`], also marking in `film.dynamic` where each pixel's ray
+    /// tree — primary, shadow and mirror rays, at any depth — meets the moving spheres'
+    /// swept volumes (`marks.rs`, `swept.rs`).
     pub fn render_marking(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film, record: Record) -> RayCounts {
-        self.film_pass(tracer, view, film, record, Some(Pass::All))
+        self.film_pass(tracer, view, film, record, Marking::All)
     }
 
-    /// Retraces only the pixels `film.dynamic` marks, in place, and marks them anew; the
-    /// rays cast. The film must come from [`Renderer::render_marking`] (or this) for the
-    /// same view and record, with a tracer of the same scene at another instant: then it
-    /// ends as `render_marking` at `tracer`'s instant would leave it, byte for byte.
-    pub fn retrace_marked(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film) -> RayCounts {
+    /// Retraces only the pixels `only` names, in place, and marks them anew; the rays cast.
+    /// The film must come from [`Renderer::render_marking`] (or this) for the same view and
+    /// record, with a tracer of the same scene at another instant, and `only` must hold
+    /// every pixel that can differ between the two instants ([`crate::Marks::select`]):
+    /// then the film ends as `render_marking` at `tracer`'s instant would leave it, byte for
+    /// byte.
+    pub fn retrace_only(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film, only: &PixelBits) -> RayCounts {
         debug_assert_eq!((film.width(), film.height()), (view.width, view.height), "a film of another size");
+        debug_assert_eq!((only.width(), only.height()), (view.width, view.height), "a selection of another size");
         let record = film.record();
-        self.film_pass(tracer, view, film, record, Some(Pass::Marked))
+        self.film_pass(tracer, view, film, record, Marking::Only(only))
     }
 
-    /// One pass over the rows of `film`; `marking` says which pixels and that the marks are
-    /// kept.
+    /// One pass over the rows of `film`; `marking`, when given, keeps the marks, over every
+    /// pixel or only the chosen ones.
     fn film_pass(
         &mut self,
         tracer: &Tracer,
         view: &EyeView,
         film: &mut Film,
         record: Record,
-        marking: Option<Pass>,
+        marking: Marking<'_>,
     ) -> RayCounts {
         film.resize(view.width, view.height);
         film.set_record(record);
@@ -328,38 +346,40 @@ impl Renderer {
         }
         self.bins.build(tracer, view);
         let eye = BinnedView { tracer, view, bins: &self.bins };
-        let pass = marking.unwrap_or(Pass::All);
-        let stride = film.dynamic.stride();
-        let marks = |m| marking.is_some().then_some(m);
+        let pass = |j: usize| match marking {
+            Marking::Only(bits) => Pass::Only(bits.row(j as u32)),
+            Marking::Off | Marking::All => Pass::All,
+        };
+        let marks = |m| (!matches!(marking, Marking::Off)).then_some(m);
         match record {
-            Record::Colour => (film.rgb.par_chunks_mut(w), film.dynamic.words_mut().par_chunks_mut(stride))
+            Record::Colour => (film.rgb.par_chunks_mut(w), film.dynamic.rows_mut())
                 .into_par_iter()
                 .enumerate()
-                .map(|(j, (rgb, m))| trace_row(&eye, j as u32, w, &mut RgbRow(rgb), marks(m), pass))
+                .map(|(j, (rgb, m))| trace_row(&eye, j as u32, w, &mut RgbRow(rgb), marks(m), pass(j)))
                 .sum(),
             Record::Keys => (
                 (film.rgb.par_chunks_mut(w), film.z.par_chunks_mut(w), film.t.par_chunks_mut(w)),
                 film.object.par_chunks_mut(w),
                 film.lights.par_chunks_mut(w),
-                film.dynamic.words_mut().par_chunks_mut(stride),
+                film.dynamic.rows_mut(),
             )
                 .into_par_iter()
                 .enumerate()
                 .map(|(j, ((rgb, z, t), object, lights, m))| {
-                    trace_row(&eye, j as u32, w, &mut KeysRow { rgb, z, t, object, lights }, marks(m), pass)
+                    trace_row(&eye, j as u32, w, &mut KeysRow { rgb, z, t, object, lights }, marks(m), pass(j))
                 })
                 .sum(),
             Record::Full => (
                 (film.rgb.par_chunks_mut(w), film.z.par_chunks_mut(w), film.t.par_chunks_mut(w)),
                 (film.object.par_chunks_mut(w), film.lights.par_chunks_mut(w)),
                 film.shading.par_chunks_mut(w),
-                film.dynamic.words_mut().par_chunks_mut(stride),
+                film.dynamic.rows_mut(),
             )
                 .into_par_iter()
                 .enumerate()
                 .map(|(j, ((rgb, z, t), (object, lights), shading, m))| {
                     let sink = &mut FilmRow { keys: KeysRow { rgb, z, t, object, lights }, shading };
-                    trace_row(&eye, j as u32, w, sink, marks(m), pass)
+                    trace_row(&eye, j as u32, w, sink, marks(m), pass(j))
                 })
                 .sum(),
         }
@@ -369,33 +389,36 @@ impl Renderer {
     /// images whose visible-surface record nobody reads. Returns the rays cast; pixels and
     /// counts are those of [`Renderer::render`].
     pub fn render_rgb(&mut self, tracer: &Tracer, view: &EyeView, rgb: &mut Vec<u32>) -> RayCounts {
-        let mut none = PixelBits::default();
-        self.rgb_pass(tracer, view, rgb, &mut none, None)
+        self.rgb_pass(tracer, view, rgb, None)
     }
 
-    /// [`Renderer::render_rgb`], also marking in `marks` (resized to the view) the pixels
-    /// whose ray trees meet a moving sphere's swept volume, as
+    /// [`Renderer::render_rgb`], also marking in `marks` (resized to the view) where each
+    /// pixel's ray tree meets the moving spheres' swept volumes, as
     /// [`Renderer::render_marking`] does.
     pub fn render_rgb_marking(
         &mut self,
         tracer: &Tracer,
         view: &EyeView,
         rgb: &mut Vec<u32>,
-        marks: &mut PixelBits,
+        marks: &mut Marks,
     ) -> RayCounts {
-        self.rgb_pass(tracer, view, rgb, marks, Some(Pass::All))
+        if (marks.width(), marks.height()) != (view.width, view.height) {
+            marks.resize(view.width, view.height);
+        }
+        self.rgb_pass(tracer, view, rgb, Some((marks, None)))
     }
 
-    /// Retraces only the pixels `marks` names, in place, and marks them anew, as
-    /// [`Renderer::retrace_marked`] does for a film.
-    pub fn retrace_rgb_marked(
+    /// Retraces only the pixels `only` names, in place, and marks them anew, as
+    /// [`Renderer::retrace_only`] does for a film.
+    pub fn retrace_rgb_only(
         &mut self,
         tracer: &Tracer,
         view: &EyeView,
         rgb: &mut Vec<u32>,
-        marks: &mut PixelBits,
+        (marks, only): (&mut Marks, &PixelBits),
     ) -> RayCounts {
-        self.rgb_pass(tracer, view, rgb, marks, Some(Pass::Marked))
+        debug_assert_eq!((marks.width(), marks.height()), (view.width, view.height), "marks of another size");
+        self.rgb_pass(tracer, view, rgb, Some((marks, Some(only))))
     }
 
     fn rgb_pass(
@@ -403,8 +426,7 @@ impl Renderer {
         tracer: &Tracer,
         view: &EyeView,
         rgb: &mut Vec<u32>,
-        marks: &mut PixelBits,
-        marking: Option<Pass>,
+        marking: Option<(&mut Marks, Option<&PixelBits>)>,
     ) -> RayCounts {
         let w = view.width as usize;
         rgb.resize(w * view.height as usize, 0);
@@ -413,23 +435,18 @@ impl Renderer {
         }
         self.bins.build(tracer, view);
         let eye = BinnedView { tracer, view, bins: &self.bins };
-        let pass = marking.unwrap_or(Pass::All);
-        if marking.is_none() {
+        let Some((marks, only)) = marking else {
             return rgb
                 .par_chunks_mut(w)
                 .enumerate()
-                .map(|(j, row)| trace_row(&eye, j as u32, w, &mut RgbRow(row), None, pass))
+                .map(|(j, row)| trace_row(&eye, j as u32, w, &mut RgbRow(row), None, Pass::All))
                 .sum();
-        }
-        if (marks.width(), marks.height()) != (view.width, view.height) {
-            debug_assert_eq!(pass, Pass::All, "marks of another size");
-            marks.resize(view.width, view.height);
-        }
-        let stride = marks.stride();
-        (rgb.par_chunks_mut(w), marks.words_mut().par_chunks_mut(stride))
+        };
+        let pass = |j: usize| only.map_or(Pass::All, |bits| Pass::Only(bits.row(j as u32)));
+        (rgb.par_chunks_mut(w), marks.rows_mut())
             .into_par_iter()
             .enumerate()
-            .map(|(j, (row, m))| trace_row(&eye, j as u32, w, &mut RgbRow(row), Some(m), pass))
+            .map(|(j, (row, m))| trace_row(&eye, j as u32, w, &mut RgbRow(row), Some(m), pass(j)))
             .sum()
     }
 

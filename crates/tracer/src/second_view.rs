@@ -31,6 +31,7 @@ use crate::film::Film;
 use crate::primary::BinnedView;
 use crate::stats::RayCounts;
 use crate::surface::Hit;
+use crate::swept::Touch;
 use crate::tracer::Tracer;
 use crate::wavefront::{with_wavefront, Wavefront};
 
@@ -80,32 +81,40 @@ impl<'a> SecondView<'a> {
         Self { eye, mark: false }
     }
 
-    /// This view, telling with each pixel it hands out whether that pixel's ray tree meets
-    /// a moving sphere's swept volume (`swept.rs`): the `dynamic` argument of the `out`
-    /// callbacks, otherwise always `false`.
+    /// This view, telling with each pixel it hands out where that pixel's ray tree meets the
+    /// moving spheres' swept volumes (`swept.rs`): the `touch` argument of the `out`
+    /// callbacks, otherwise always [`Touch::NONE`].
     #[must_use]
     pub fn marking(self, mark: bool) -> Self {
         Self { mark, ..self }
     }
 
-    /// Whether the primary ray `dir` of pixel (i, j), which meets nothing, meets a moving
-    /// sphere's swept volume (when marking).
-    fn background_moves(&self, i: u32, j: u32, dir: Vec3) -> bool {
-        self.mark
-            && self.eye.bins.may_meet_moving(i, j)
-            && self.eye.tracer.meets_moving(self.eye.view.origin, dir, f32::INFINITY)
-    }
-
-    /// Marks the batch's samples, when marking.
-    fn mark_batch(&self, wavefront: &mut Wavefront) {
-        if self.mark {
-            wavefront.mark_dynamic(self.eye.tracer);
+    /// Where the primary ray of pixel (i, j), which meets nothing, meets the moving spheres'
+    /// swept volumes (when marking).
+    fn background_touch(&self, i: u32, j: u32) -> Touch {
+        if self.mark && self.eye.bins.may_meet_moving(i, j) {
+            let dir = self.eye.view.primary_ray(i, j).dir;
+            self.eye.tracer.touch_moving(self.eye.view.origin, dir, f32::INFINITY)
+        } else {
+            Touch::NONE
         }
     }
 
-    /// Sample `e`'s mark (`false` when not marking).
-    fn dynamic(&self, wavefront: &Wavefront, e: usize) -> bool {
-        self.mark && wavefront.dynamic(e)
+    /// Marks the batch's samples of row `j`, when marking; `own` says whether their rays
+    /// are this view's (not another view's, whose pixels carry those rays' marks).
+    fn mark_batch(&self, wavefront: &mut Wavefront, j: u32, own: bool) {
+        if self.mark {
+            wavefront.mark_dynamic(self.eye.tracer, |tag| own && self.eye.bins.may_meet_moving(tag & !RETRACED, j));
+        }
+    }
+
+    /// Sample `e`'s mark ([`Touch::NONE`] when not marking).
+    fn touch(&self, wavefront: &Wavefront, e: usize) -> Touch {
+        if self.mark {
+            wavefront.touch(e)
+        } else {
+            Touch::NONE
+        }
     }
 
     /// Lanes of the quad from column `base` that lie in the image.
@@ -114,7 +123,7 @@ impl<'a> SecondView<'a> {
     }
 
     /// Pushes the pixels `mask` names of the quad from `base` with full primary rays; the
-    /// ones that see only background go straight to `out(tag, colour, dynamic)`. Tags are
+    /// ones that see only background go straight to `out(tag, colour, touch)`. Tags are
     /// columns | `flag`.
     pub(crate) fn push_traced(
         &self,
@@ -123,7 +132,7 @@ impl<'a> SecondView<'a> {
         j: u32,
         mask: u32,
         flag: u32,
-        out: &mut impl FnMut(u32, u32, bool),
+        out: &mut impl FnMut(u32, u32, Touch),
     ) {
         let hits = self.eye.hits4(base, j, self.lanes_from(base));
         for (k, first) in hits.into_iter().enumerate() {
@@ -134,20 +143,19 @@ impl<'a> SecondView<'a> {
             if let Some((ray, hit)) = first {
                 wavefront.push_hit(&ray, hit, None, i | flag);
             } else {
-                let moves = self.background_moves(i, j, self.eye.view.primary_ray(i, j).dir);
-                out(i | flag, self.eye.tracer.background_rgb, moves);
+                out(i | flag, self.eye.tracer.background_rgb, self.background_touch(i, j));
             }
         }
     }
 
     /// Traces the pixels `cols` (ascending columns) of row `j` with full primary rays, and
-    /// hands each pixel's sRGB colour to `out(column, colour, dynamic)`.
+    /// hands each pixel's sRGB colour to `out(column, colour, touch)`.
     pub fn trace_pixels(
         &self,
         j: u32,
         cols: impl IntoIterator<Item = u32>,
         counts: &mut RayCounts,
-        mut out: impl FnMut(u32, u32, bool),
+        mut out: impl FnMut(u32, u32, Touch),
     ) {
         with_wavefront(|wavefront| {
             by_quads(cols.into_iter().map(|i| (i, ())), |base, mask, _| {
@@ -155,9 +163,9 @@ impl<'a> SecondView<'a> {
                 self.push_traced(wavefront, base, j, mask, 0, &mut out);
             });
             wavefront.shade(self.eye.tracer, counts);
-            self.mark_batch(wavefront);
+            self.mark_batch(wavefront, j, true);
             for e in 0..wavefront.len() {
-                out(wavefront.tag(e), wavefront.rgb(e), self.dynamic(wavefront, e));
+                out(wavefront.tag(e), wavefront.rgb(e), self.touch(wavefront, e));
             }
         });
     }
@@ -168,7 +176,7 @@ impl<'a> SecondView<'a> {
     /// view-independent light and light bits (the point and normal remade from its ray and
     /// `t`, the light from its bits: bit-for-bit what it shaded), with highlights and
     /// reflection recomputed for this ray. Casts no shadow ray for the surface itself, and
-    /// hands each colour to `out(column, colour, dynamic)`. Seen along the ray that found it, a
+    /// hands each colour to `out(column, colour, touch)`. Seen along the ray that found it, a
     /// surface re-shades to bit-for-bit its own pixel. The film must keep at least
     /// [`crate::Record::Keys`], and each source must have seen a sphere.
     pub fn reshade(
@@ -177,7 +185,7 @@ impl<'a> SecondView<'a> {
         (other, film): (&EyeView, &Film),
         items: impl IntoIterator<Item = (u32, u32)>,
         counts: &mut RayCounts,
-        mut out: impl FnMut(u32, u32, bool),
+        mut out: impl FnMut(u32, u32, Touch),
     ) {
         debug_assert_ne!(film.record(), crate::Record::Colour, "re-shading needs the other eye's record");
         let (view, w) = (self.eye.view, film.width());
@@ -189,9 +197,9 @@ impl<'a> SecondView<'a> {
                 wavefront.push_seen(&ray, hit, film.lights[k], view.primary_ray(i, j).dir, i);
             }
             wavefront.shade(self.eye.tracer, counts);
-            self.mark_batch(wavefront);
+            self.mark_batch(wavefront, j, false);
             for e in 0..wavefront.len() {
-                out(wavefront.tag(e), wavefront.rgb(e), self.dynamic(wavefront, e));
+                out(wavefront.tag(e), wavefront.rgb(e), self.touch(wavefront, e));
             }
         });
     }
@@ -199,7 +207,7 @@ impl<'a> SecondView<'a> {
     /// For each `(column, object, light bits)` of row `j` (ascending columns): the pixel's
     /// own primary ray against the one sphere `object` alone, shaded with `lights` where it
     /// hits; where it misses that sphere (a silhouette), the pixel is retraced with a full
-    /// primary ray. Hands `out(column, colour, retraced, dynamic)` for each.
+    /// primary ray. Hands `out(column, colour, retraced, touch)` for each.
     ///
     /// With the sphere the pixel really sees and its true light bits, the colour is
     /// bit-for-bit the full trace's: the ray, its `t` and the shading are the same
@@ -209,11 +217,10 @@ impl<'a> SecondView<'a> {
         j: u32,
         items: impl IntoIterator<Item = (u32, u32, u32)>,
         counts: &mut RayCounts,
-        mut out: impl FnMut(u32, u32, bool, bool),
+        mut out: impl FnMut(u32, u32, bool, Touch),
     ) {
         let (tracer, view) = (self.eye.tracer, self.eye.view);
-        let mut out_tagged =
-            |tag: u32, rgb: u32, dynamic: bool| out(tag & !RETRACED, rgb, tag & RETRACED != 0, dynamic);
+        let mut out_tagged = |tag: u32, rgb: u32, touch: Touch| out(tag & !RETRACED, rgb, tag & RETRACED != 0, touch);
         with_wavefront(|wavefront| {
             for (i, object, lights) in items {
                 wavefront.push_named(view.origin, i, object, lights);
@@ -227,9 +234,9 @@ impl<'a> SecondView<'a> {
             });
             *wavefront.missed_mut() = missed;
             wavefront.shade(tracer, counts);
-            self.mark_batch(wavefront);
+            self.mark_batch(wavefront, j, true);
             for e in 0..wavefront.len() {
-                out_tagged(wavefront.tag(e), wavefront.rgb(e), self.dynamic(wavefront, e));
+                out_tagged(wavefront.tag(e), wavefront.rgb(e), self.touch(wavefront, e));
             }
         });
     }

@@ -12,6 +12,25 @@
 //! scene's white sphere) and what is above or below it. Every limit is widened by a margin
 //! ([`SweptRing::margin`]) far above the float error of the sphere's position and of the
 //! test itself, so rounding can only make the test say "meets" more often.
+//!
+//! A ray tree that meets a washer meets it somewhere: [`Touch`] keeps the arc of the
+//! ring's angle its segments cross. Angles are measured as *diamond angles*, a monotone
+//! stand-in for the angle that needs one division instead of an `atan2`: 0..4 for a whole
+//! turn, exactly 2 for half of one, so arcs compare and join as angles do. The sphere at one instant fills only a wedge of the
+//! washer ([`SweptRing::wedge`]), so a tree whose arc misses the wedges of two instants
+//! meets the sphere at neither, and is the same tree at both.
+//!
+//! ## Why reuse is exact
+//!
+//! *Lemma.* Let a pixel's ray tree at time t₀ meet no moving sphere's wedge at t₀ or t₁.
+//! Then its tree, colour and record at t₁ are those at t₀. Sketch, by induction down the
+//! tree: the primary ray does not depend on time. A segment of the tree at t₀ meets no
+//! moving sphere at t₀ (each sphere lies in its wedge, asserted whenever a tracer places
+//! it), so it meets the still spheres only, at the same parameters at t₁; and it meets no
+//! moving sphere at t₁ either, since its part in the washer lies outside that wedge too. So
+//! its hit, normal, shadow rays and mirror ray are the same operations on the same values
+//! at t₁; each of those is again a segment of the tree, and the induction goes on. A tree
+//! that meets no washer at all is the same at every instant.
 
 use glam::Vec3;
 
@@ -36,6 +55,9 @@ pub struct SweptRing {
     pub outer: f32,
     /// The widening each limit has.
     pub margin: f32,
+    /// The square of a radius about the centre that holds the washer, with room for
+    /// rounding.
+    ball2: f32,
     /// The sphere (its index in the scene) that moves in it.
     pub object: u32,
 }
@@ -47,14 +69,77 @@ impl SweptRing {
     pub fn of(object: u32, radius: f32, motion: &Motion) -> Option<Self> {
         let Motion::Orbit { center, radius: ring, .. } = *motion else { return None };
         let margin = MARGIN * (1.0 + center.abs().max_element() + ring + radius);
+        let (half_height, outer) = (radius + margin, ring + radius + margin);
+        let ball = outer.hypot(half_height) + margin;
         Some(Self {
             center,
-            half_height: radius + margin,
+            half_height,
             inner: (ring - radius - margin).max(0.0),
-            outer: ring + radius + margin,
+            outer,
             margin,
+            ball2: ball * ball,
             object,
         })
+    }
+
+    /// The ring's angle of the point `p`, in units of 2⁻³² turn (see [`Arc`]): growing
+    /// with θ of `Motion::center_at`, 0 at θ = 0.
+    #[must_use]
+    pub fn angle_of(&self, p: Vec3) -> u32 {
+        let q = p - self.center;
+        units(diamond(q.x, -q.z))
+    }
+
+    /// The wedge of the washer that holds the sphere, of radius `r`, centred at `c`: every
+    /// angle of a point of the sphere lies in the arc. The whole circle when the sphere
+    /// reaches the axis.
+    #[must_use]
+    pub fn wedge(&self, c: Vec3, r: f32) -> Arc {
+        let q = c - self.center;
+        let (a, b) = (-q.z, q.x);
+        let rho = a.hypot(b);
+        let sine = (r + 2.0 * self.margin) / rho;
+        if sine.is_nan() || sine >= 1.0 {
+            return Arc::FULL;
+        }
+        // The centre's direction turned by ∓ the half-angle asin(sine) < π/2.
+        let cosine = (1.0 - sine * sine).sqrt();
+        let from = units(diamond(a * (-sine) + b * cosine, a * cosine + b * sine));
+        let to = units(diamond(a * sine + b * cosine, a * cosine - b * sine));
+        Arc::widened(from, to.wrapping_sub(from))
+    }
+
+    /// The arc of angles the segment `o + s·d`, 0 ≤ s ≤ `s_max`, crosses the washer in, if
+    /// it meets it ([`SweptRing::meets`]). Conservative: the part of the segment between
+    /// the slab's planes and inside the outer cylinder, hole and all, swept as seen from
+    /// the axis.
+    #[must_use]
+    pub fn touch(&self, o: Vec3, d: Vec3, s_max: f32) -> Option<Arc> {
+        let Crossing { q, mut lo, mut hi, a, b, k } = self.crossing(o, d, s_max)?;
+        if a > 0.0 {
+            // ρ²(s) ≤ outer²: between the roots of a·s² + 2b·s + (k − outer²).
+            let disc = b * b - a * (k - self.outer * self.outer);
+            if disc > 0.0 {
+                let root = disc.sqrt();
+                (lo, hi) = (lo.max((-b - root) / a), hi.min((-b + root) / a));
+            }
+        }
+        if lo.is_nan() || hi.is_nan() || lo > hi || !hi.is_finite() {
+            // Rounding at a tangent, or a ray along the axis: claim the whole circle.
+            return Some(Arc::FULL);
+        }
+        let (pa, pb) = (q + lo * d, q + hi * d);
+        // Seen from the axis, a straight segment sweeps less than half a turn, unless it
+        // passes (nearly) through the axis.
+        let (fa, fb) = (units(diamond(pa.x, -pa.z)), units(diamond(pb.x, -pb.z)));
+        let sweep = fb.wrapping_sub(fa) as i32;
+        let near_axis = pa.x * pa.x + pa.z * pa.z < self.margin * self.margin
+            || pb.x * pb.x + pb.z * pb.z < self.margin * self.margin;
+        if sweep.unsigned_abs() > (1 << 31) - SLACK_UNITS * 8 || near_axis {
+            return Some(Arc::FULL);
+        }
+        let start = if sweep >= 0 { fa } else { fb };
+        Some(Arc::widened(start, sweep.unsigned_abs()))
     }
 
     /// Radius of a ball about [`SweptRing::center`] that holds the washer.
@@ -77,19 +162,42 @@ impl SweptRing {
     /// `d` need not be unit. Conservative: never `false` for a segment that meets it.
     #[must_use]
     pub fn meets(&self, o: Vec3, d: Vec3, s_max: f32) -> bool {
+        self.crossing(o, d, s_max).is_some()
+    }
+
+    /// The segment's part in the slab, if it meets the washer there (see
+    /// [`SweptRing::meets`]).
+    #[inline]
+    fn crossing(&self, o: Vec3, d: Vec3, s_max: f32) -> Option<Crossing> {
         let q = o - self.center;
+        // First the cheap test most segments fail: their nearest point to the centre lies
+        // outside a ball that holds the washer.
+        // (Without a division: the nearest point is the origin, the end, or the foot of the
+        // perpendicular at distance² |q|² − (q·d)²/|d|².)
+        let (along, dd, qq) = (-q.dot(d), d.length_squared(), q.length_squared());
+        let far = if along <= 0.0 {
+            qq > self.ball2
+        } else if along >= s_max * dd {
+            (q + s_max * d).length_squared() > self.ball2
+        } else {
+            qq * dd - along * along > self.ball2 * dd
+        };
+        if far {
+            return None;
+        }
         // The slab: the part of the segment between the planes y = ±half_height.
         let (mut lo, mut hi) = (0.0f32, s_max);
         if d.y == 0.0 {
             if q.y.abs() > self.half_height {
-                return false;
+                return None;
             }
         } else {
-            let (a, b) = ((-self.half_height - q.y) / d.y, (self.half_height - q.y) / d.y);
+            let inv = d.y.recip();
+            let (a, b) = ((-self.half_height - q.y) * inv, (self.half_height - q.y) * inv);
             lo = lo.max(a.min(b));
             hi = hi.min(a.max(b));
-            if lo > hi {
-                return false;
+            if lo.is_nan() || hi.is_nan() || lo > hi {
+                return None;
             }
         }
         // The annulus: ρ²(s) = a·s² + 2b·s + k is convex, so over [lo, hi] it takes every
@@ -99,7 +207,149 @@ impl SweptRing {
         let vertex = if a > 0.0 { (-b / a).clamp(lo, hi) } else { lo };
         let least = rho2(vertex);
         let greatest = if a > 0.0 { rho2(lo).max(rho2(hi)) } else { k };
-        least <= self.outer * self.outer && greatest >= self.inner * self.inner
+        (least <= self.outer * self.outer && greatest >= self.inner * self.inner).then_some(Crossing {
+            q,
+            lo,
+            hi,
+            a,
+            b,
+            k,
+        })
+    }
+}
+
+/// A segment's part in a washer's slab: its origin from the ring's centre, its parameter
+/// range, and ρ²(s) = a·s² + 2b·s + k.
+#[derive(Clone, Copy, Debug)]
+struct Crossing {
+    q: Vec3,
+    lo: f32,
+    hi: f32,
+    a: f32,
+    b: f32,
+    k: f32,
+}
+
+/// Widening of every arc, in units of 2⁻³² turn: 1e-4 of diamond angle (whose slope is at
+/// most 1 per radian), far above the rounding of the points and of the division.
+const SLACK_UNITS: u32 = 107_374;
+
+/// The diamond angle of the direction (x, y): in [0, 4), growing with `atan2(y, x)` taken
+/// in [0, 2π), a quarter turn per unit, exact at the axes.
+#[inline]
+fn diamond(y: f32, x: f32) -> f32 {
+    if y >= 0.0 {
+        if x >= 0.0 {
+            if x + y > 0.0 {
+                y / (x + y)
+            } else {
+                0.0
+            }
+        } else {
+            1.0 - x / (y - x)
+        }
+    } else if x < 0.0 {
+        2.0 - y / (-x - y)
+    } else {
+        3.0 + x / (x - y)
+    }
+}
+
+/// A diamond angle in units of 2⁻³² turn, so that angles wrap as `u32`s do.
+#[inline]
+fn units(diamond: f32) -> u32 {
+    (f64::from(diamond) * f64::from(1u32 << 30)) as u64 as u32
+}
+
+/// An arc of a ring's angle: from `start`, `len` anticlockwise (as θ grows), in units of
+/// 2⁻³² turn (a diamond angle times 2³⁰), so that angles wrap around as `u32`s do.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Arc {
+    /// First angle.
+    pub start: u32,
+    /// Length; `u32::MAX` is the whole circle.
+    pub len: u32,
+}
+
+impl Arc {
+    /// The whole circle.
+    pub const FULL: Self = Self { start: 0, len: u32::MAX };
+
+    /// The arc from `start`, `len` long, widened by the slack at both ends.
+    fn widened(start: u32, len: u32) -> Self {
+        match len.checked_add(2 * SLACK_UNITS) {
+            Some(len) if len < u32::MAX => Self { start: start.wrapping_sub(SLACK_UNITS), len },
+            _ => Self::FULL,
+        }
+    }
+
+    /// Whether the two arcs share an angle.
+    #[must_use]
+    pub fn overlaps(self, other: Self) -> bool {
+        other.start.wrapping_sub(self.start) <= self.len || self.start.wrapping_sub(other.start) <= other.len
+    }
+
+    /// The shortest arc holding both.
+    #[must_use]
+    pub fn hull(self, other: Self) -> Self {
+        let reach =
+            |a: Self, b: Self| u64::from(a.len).max(u64::from(b.start.wrapping_sub(a.start)) + u64::from(b.len));
+        let (from_self, from_other) = (reach(self, other), reach(other, self));
+        let (start, len) = if from_self <= from_other { (self.start, from_self) } else { (other.start, from_other) };
+        if len >= u64::from(u32::MAX) {
+            Self::FULL
+        } else {
+            Self { start, len: len as u32 }
+        }
+    }
+}
+
+/// Where a ray tree meets the moving spheres' swept volumes: nowhere, an arc of one ring,
+/// or more than one ring (then it is taken to meet every wedge).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Touch {
+    /// The ring (its index among the tracer's swept volumes), [`Touch::NONE_RING`] or
+    /// [`Touch::MANY_RINGS`].
+    pub ring: u32,
+    /// The arc of that ring.
+    pub arc: Arc,
+}
+
+impl Default for Touch {
+    fn default() -> Self {
+        Self::NONE
+    }
+}
+
+impl Touch {
+    /// `ring` of a tree that meets no swept volume.
+    pub const NONE_RING: u32 = u32::MAX;
+    /// `ring` of a tree that meets several.
+    pub const MANY_RINGS: u32 = u32::MAX - 1;
+    /// Meets nothing that moves.
+    pub const NONE: Self = Self { ring: Self::NONE_RING, arc: Arc { start: 0, len: 0 } };
+
+    /// Whether the tree meets any swept volume.
+    #[must_use]
+    pub fn is_some(self) -> bool {
+        self.ring != Self::NONE_RING
+    }
+
+    /// Both trees' meetings together.
+    #[must_use]
+    pub fn union(self, other: Self) -> Self {
+        match (self.ring, other.ring) {
+            (Self::NONE_RING, _) => other,
+            (_, Self::NONE_RING) => self,
+            (a, b) if a == b && a != Self::MANY_RINGS => Self { ring: a, arc: self.arc.hull(other.arc) },
+            _ => Self { ring: Self::MANY_RINGS, arc: Arc::FULL },
+        }
+    }
+
+    /// Whether the tree may meet a sphere whose wedge of ring `ring` is `wedge`.
+    #[must_use]
+    pub fn meets_wedge(self, ring: u32, wedge: Arc) -> bool {
+        self.ring == Self::MANY_RINGS || (self.ring == ring && self.arc.overlaps(wedge))
     }
 }
 
@@ -153,6 +403,61 @@ mod tests {
         assert!(!ring.holds(c, 0.5 + 2.0 * ring.margin), "grown");
     }
 
+    #[test]
+    fn the_diamond_angle_grows_with_the_angle() {
+        let mut last = -1.0;
+        for k in 0..4000 {
+            let theta = k as f32 * std::f32::consts::TAU / 4000.0;
+            let d = diamond(theta.sin(), theta.cos());
+            assert!(d > last && (0.0..4.0).contains(&d), "θ = {theta}: {d} after {last}");
+            // Opposite directions are half a turn apart.
+            let opposite = diamond(-theta.sin(), -theta.cos());
+            assert!((units(opposite).wrapping_sub(units(d)) as i64 - (1 << 31)).abs() < 1 << 12, "θ = {theta}");
+            last = d;
+        }
+        assert_eq!(
+            [diamond(0.0, 1.0), diamond(1.0, 0.0), diamond(0.0, -1.0), diamond(-1.0, 0.0)],
+            [0.0, 1.0, 2.0, 3.0]
+        );
+    }
+
+    #[test]
+    fn arcs_overlap_and_join_across_the_seam() {
+        // In diamond angle: 4 to the turn.
+        let arc = |start: f32, len: f32| Arc { start: units(start), len: units(len) };
+        let a = arc(3.8, 0.4); // across the seam at 4 ≡ 0
+        let b = arc(0.1, 0.2);
+        assert!(a.overlaps(b) && b.overlaps(a));
+        assert!(!a.overlaps(arc(1.0, 1.0)));
+        let h = a.hull(arc(0.5, 0.1));
+        assert!(h.start == units(3.8) && h.len.abs_diff(units(0.8)) < 256, "{h:?}");
+        assert_eq!(arc(0.0, 2.5).hull(arc(2.2, 2.0)), Arc::FULL);
+        assert!(Arc::FULL.overlaps(b) && b.overlaps(Arc::FULL));
+        let none = Touch::NONE;
+        let one = Touch { ring: 0, arc: a };
+        assert_eq!(none.union(one), one);
+        assert!(one.meets_wedge(0, b) && !one.meets_wedge(1, b));
+        assert_eq!(one.union(Touch { ring: 1, arc: a }).ring, Touch::MANY_RINGS);
+    }
+
+    #[test]
+    fn the_sphere_lies_in_its_wedge_and_a_ray_to_it_touches_there() {
+        let motion = orbit(Vec3::new(0.0, 1.2, 15.0), 3.6);
+        let ring = SweptRing::of(0, 0.45, &motion).unwrap();
+        let c = motion.center_at(2.0);
+        let wedge = ring.wedge(c, 0.45);
+        // asin(0.45 / 3.6) = 0.125 rad each side: between half and all of that in diamond
+        // angle.
+        assert!(wedge.len > units(0.125) && wedge.len < units(0.26), "{wedge:?}");
+        // A ray from the camera to the sphere's centre crosses the washer where it is.
+        let o = Vec3::ZERO;
+        let touch = ring.touch(o, (c - o).normalize(), (c - o).length()).unwrap();
+        assert!(touch.overlaps(wedge));
+        // The sphere half a turn later is elsewhere.
+        let far = ring.wedge(motion.center_at(6.0), 0.45);
+        assert!(!wedge.overlaps(far));
+    }
+
     proptest! {
         /// Every position of the orbit is held, and every ray through a point of the moving
         /// sphere, or ending on it, meets the bound.
@@ -176,6 +481,13 @@ mod tests {
             let d = (p - o).normalize();
             prop_assert!(bound.meets(o, d, (p - o).length()), "a segment ending on the sphere");
             prop_assert!(bound.meets(o, p - o, f32::INFINITY), "a ray through the sphere");
+            // ... and it crosses the washer in an arc that meets the sphere's wedge.
+            let wedge = bound.wedge(centre, r);
+            let touch = bound.touch(o, d, (p - o).length()).unwrap();
+            prop_assert!(touch.overlaps(wedge), "{touch:?} misses {wedge:?}");
+            prop_assert!(bound.touch(o, p - o, f32::INFINITY).unwrap().overlaps(wedge));
+            // Every point of the sphere is in the wedge.
+            prop_assert!(Arc { start: bound.angle_of(p), len: 0 }.overlaps(wedge), "{p} outside {wedge:?}");
         }
     }
 }

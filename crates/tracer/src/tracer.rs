@@ -17,7 +17,7 @@ use crate::ray::{leaves_outwards, spawn_bound, Ray};
 use crate::scene::{Light, RenderSettings, Scene};
 use crate::shadow::ShadowBins;
 use crate::surface::{Hit, NO_OBJECT};
-use crate::swept::SweptRing;
+use crate::swept::{Arc, SweptRing, Touch};
 
 /// A scene at one instant, laid out for tracing. Build it once and [`Tracer::update`] it each
 /// frame: the buffers are reused, so a warm viewer does not allocate per frame.
@@ -105,12 +105,29 @@ impl Tracer {
         &self.rings
     }
 
-    /// Whether the segment `o + s·d`, 0 ≤ s ≤ `s_max`, meets the swept volume of any moving
-    /// sphere: if not, it meets the same spheres at every instant (see `swept.rs`).
+    /// Where the segment `o + s·d`, 0 ≤ s ≤ `s_max`, meets the swept volumes of the moving
+    /// spheres ([`Touch::NONE`] if nowhere: then it meets the same spheres at every
+    /// instant; see `swept.rs`).
     #[inline]
     #[must_use]
-    pub fn meets_moving(&self, o: Vec3, d: Vec3, s_max: f32) -> bool {
-        self.rings.iter().any(|ring| ring.meets(o, d, s_max))
+    pub fn touch_moving(&self, o: Vec3, d: Vec3, s_max: f32) -> Touch {
+        let mut touch = Touch::NONE;
+        for (k, ring) in self.rings.iter().enumerate() {
+            if let Some(arc) = ring.touch(o, d, s_max) {
+                touch = touch.union(Touch { ring: k as u32, arc });
+            }
+        }
+        touch
+    }
+
+    /// The wedge of its ring that each moving sphere fills now, in the order of
+    /// [`Tracer::swept`], into `out` (cleared first).
+    pub fn wedges(&self, out: &mut Vec<Arc>) {
+        out.clear();
+        out.extend(self.rings.iter().map(|ring| {
+            let k = ring.object as usize;
+            ring.wedge(self.centers[k], self.radii[k])
+        }));
     }
 
     /// Writes into `out` (cleared first) everything of this tracer that a frame depends on

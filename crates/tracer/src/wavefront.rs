@@ -22,6 +22,7 @@ use crate::ray::{reflect, spawn_ray, Ray};
 use crate::simd::F;
 use crate::stats::RayCounts;
 use crate::surface::{Hit, Surface};
+use crate::swept::Touch;
 use crate::tracer::Tracer;
 
 mod lanes;
@@ -78,9 +79,9 @@ struct Level {
     reflects: Vec<bool>,
     /// The entry's radiance, once folded.
     radiance: Column3,
-    /// Whether the entry's ray tree meets a moving sphere's swept volume, once marked
+    /// Where the entry's ray tree meets the moving spheres' swept volumes, once marked
     /// ([`Wavefront::mark_dynamic`]).
-    dynamic: Vec<bool>,
+    touch: Vec<Touch>,
     /// Scratch of the marking: whether the entry's mirror ray hit a sphere.
     mirror_hit: Vec<bool>,
 }
@@ -120,7 +121,7 @@ impl Level {
         self.lights.resize(n, 0);
         self.known.resize(n, false);
         self.reflects.resize(n, false);
-        self.dynamic.resize(n, false);
+        self.touch.resize(n, Touch::NONE);
         self.mirror_hit.resize(n, false);
     }
 
@@ -166,8 +167,6 @@ pub(crate) struct Wavefront {
     depth: usize,
     /// Columns whose named sphere their ray missed (see [`Wavefront::aim_named`]).
     missed: Vec<u32>,
-    /// Scratch words for a caller (a copy of a row's marks, say).
-    words: Vec<u64>,
 }
 
 impl Wavefront {
@@ -254,11 +253,6 @@ impl Wavefront {
         &mut self.missed
     }
 
-    /// Scratch words a caller may take and give back, to keep the buffer.
-    pub(crate) fn words_mut(&mut self) -> &mut Vec<u64> {
-        &mut self.words
-    }
-
     /// Adds a sample that another view's ray `ray` saw meet `hit`, with light bits `known`,
     /// to be shaded as seen along the unit direction `view` (this view's pixel ray): the
     /// point, normal and view-independent light come out as the other view's, bit for bit,
@@ -325,39 +319,44 @@ impl Wavefront {
         }
     }
 
-    /// Marks, after [`Wavefront::shade`], each sample whose ray tree meets the swept volume
-    /// of a moving sphere (`swept.rs`): its ray, its shadow rays, its mirror ray and, at
-    /// every depth, theirs. A sample not marked has the same tree, and so the same colour
-    /// and record, at every instant (`swept.rs` has the argument).
-    /// Read the marks with [`Wavefront::dynamic`].
-    pub(crate) fn mark_dynamic(&mut self, tracer: &Tracer) {
+    /// Marks, after [`Wavefront::shade`], where each sample's ray tree meets the swept
+    /// volumes of the moving spheres (`swept.rs`): its ray, its shadow rays, its mirror ray
+    /// and, at every depth, theirs. A sample whose tree meets none of the spheres' wedges at
+    /// two instants has the same tree, colour and record at both (`swept.rs` has the
+    /// argument). Read the marks with [`Wavefront::touch`].
+    ///
+    /// `incoming(tag)` says whether a sample's own ray (the first segment of its tree) can
+    /// meet a swept volume at all: `false` for a primary ray outside the screen bound of the
+    /// volumes, or for a ray another view cast (whose pixel carries that ray's marks).
+    pub(crate) fn mark_dynamic(&mut self, tracer: &Tracer, incoming: impl Fn(u32) -> bool) {
         let still = tracer.swept().is_empty();
         for k in (0..self.depth).rev() {
             let (upper, lower) = self.levels.split_at_mut(k + 1);
             let level = &mut upper[k];
             let n = level.len();
-            level.dynamic[..n].fill(false);
+            level.touch[..n].fill(Touch::NONE);
             if still {
                 continue;
             }
             // The mirror rays that hit are those an entry of the level below names; a
-            // subtree that meets the volume marks its root.
+            // subtree's meetings are its root's.
             level.mirror_hit[..n].fill(false);
             let below = &lower[0];
             for c in 0..below.len() {
                 let parent = below.parent[c] as usize;
                 level.mirror_hit[parent] = true;
-                level.dynamic[parent] |= below.dynamic[c];
+                level.touch[parent] = level.touch[parent].union(below.touch[c]);
             }
             for e in 0..n {
-                level.dynamic[e] = level.dynamic[e] || meets_moving(tracer, level, e, k == 0);
+                let own = k > 0 || incoming(level.parent[e]);
+                level.touch[e] = level.touch[e].union(touch_moving(tracer, level, e, (k == 0, own)));
             }
         }
     }
 
-    /// Whether sample `e`'s ray tree meets a moving sphere's swept volume, once marked.
-    pub(crate) fn dynamic(&self, e: usize) -> bool {
-        self.levels[0].dynamic[e]
+    /// Where sample `e`'s ray tree meets the moving spheres' swept volumes, once marked.
+    pub(crate) fn touch(&self, e: usize) -> Touch {
+        self.levels[0].touch[e]
     }
 
     /// Sample `e`'s hit parameter.
@@ -448,25 +447,29 @@ fn mirrors(tracer: &Tracer, level: &mut Level, next: &mut Level, counts: &mut Ra
     }
 }
 
-/// Whether a ray entry `e` itself casts meets a moving sphere's swept volume: the ray that
-/// found it, up to the hit; its shadow rays (those it traced, towards the lights it faces),
-/// up to the light; its mirror ray, if that met nothing, to infinity. (A mirror ray that hit
-/// is the ray of an entry one level down.) The tests are conservative (`swept.rs`), so the
-/// spawn offsets and the rounding of these rays do not matter.
-fn meets_moving(tracer: &Tracer, level: &Level, e: usize, first: bool) -> bool {
+/// Where the rays entry `e` itself casts meet the moving spheres' swept volumes: the ray
+/// that found it, up to the hit; its shadow rays (those it traced, towards the lights it
+/// faces), up to the light; its mirror ray, if that met nothing, to infinity. (A mirror ray
+/// that hit is the ray of an entry one level down.) The tests are conservative
+/// (`swept.rs`), so the spawn offsets and the rounding of these rays do not matter.
+/// `own` says whether to test the ray that found the entry.
+fn touch_moving(tracer: &Tracer, level: &Level, e: usize, (first, own): (bool, bool)) -> Touch {
     let (p, n) = (get3(&level.p, e), get3(&level.n, e));
-    if tracer.meets_moving(get3(&level.o, e), get3(&level.d, e), level.t[e]) {
-        return true;
-    }
+    let mut touch =
+        if own { tracer.touch_moving(get3(&level.o, e), get3(&level.d, e), level.t[e]) } else { Touch::NONE };
     if !(first && level.known[e]) {
-        for k in 0..tracer.lights.len() {
-            let (l, dist) = tracer.to_light(p, k);
-            if n.dot(l) > 0.0 && tracer.meets_moving(p, l, dist) {
-                return true;
+        for light in &tracer.lights {
+            // The segment to the light, as p + s·(light − p), 0 ≤ s ≤ 1.
+            let to = light.position - p;
+            if n.dot(to) > 0.0 {
+                touch = touch.union(tracer.touch_moving(p, to, 1.0));
             }
         }
     }
-    level.reflects[e] && !level.mirror_hit[e] && tracer.meets_moving(p, reflect(get3(&level.v, e), n), f32::INFINITY)
+    if level.reflects[e] && !level.mirror_hit[e] {
+        touch = touch.union(tracer.touch_moving(p, reflect(get3(&level.v, e), n), f32::INFINITY));
+    }
+    touch
 }
 
 thread_local! {

@@ -5,6 +5,13 @@
 //! turn (interleaved, so a noisy neighbour on the machine hurts all modes alike) after one
 //! untimed warm-up frame per mode. Times and counts are medians over the frames; quality is
 //! the worst frame's.
+//!
+//! The animation rows (`--animate N`) play N frames 1/60 s apart from the same start with
+//! the head still, per mode: each frame is traced fresh (reuse off) and, in a second
+//! `StereoFrame` that has seen the frame before, with exact reuse (`stereo`'s `reuse.rs`),
+//! interleaved. They report the median stereo time of each and the median share of pixels
+//! the reused frames made anew. The frame before the first, which primes reuse, is not
+//! counted.
 
 use std::fmt::Write as _;
 
@@ -35,6 +42,42 @@ struct Measured {
     quality: Vec<Quality>,
 }
 
+/// Seconds of scene time between the frames of an animation row.
+const ANIMATION_STEP_S: f32 = 1.0 / 60.0;
+
+/// One mode's animation row: medians over its frames.
+#[derive(Clone, Copy, Debug)]
+struct Animation {
+    frames: u32,
+    fresh_ms: f64,
+    reused_ms: f64,
+    retraced_share: f64,
+}
+
+/// Plays `frames` frames of the animation in mode `opts`, fresh and reused, interleaved.
+fn animate(setup: &FrameSetup, start: f32, (w, h): (u32, u32), opts: Options, frames: u32) -> Animation {
+    let mut tracer = Tracer::new(&setup.scene, start);
+    let (mut fresh, mut reusing) = (StereoFrame::new(), StereoFrame::new());
+    reusing.set_reuse(true);
+    reusing.render(&tracer, &setup.camera, w, h, opts);
+    fresh.render(&tracer, &setup.camera, w, h, opts);
+    let (mut fresh_ms, mut reused_ms, mut shares) = (Vec::new(), Vec::new(), Vec::new());
+    let stereo_ms = |s: &FrameStats| s.left.ms + s.right.ms;
+    for k in 1..=frames {
+        tracer.update(&setup.scene, start + k as f32 * ANIMATION_STEP_S);
+        fresh_ms.push(stereo_ms(&fresh.render(&tracer, &setup.camera, w, h, opts)));
+        let reused = reusing.render(&tracer, &setup.camera, w, h, opts);
+        reused_ms.push(stereo_ms(&reused));
+        shares.push(reused.reuse.retraced_share());
+    }
+    Animation {
+        frames,
+        fresh_ms: median(&mut fresh_ms),
+        reused_ms: median(&mut reused_ms),
+        retraced_share: median(&mut shares),
+    }
+}
+
 /// Runs the command.
 pub fn run(args: &BenchArgs) -> Result<()> {
     let setup = FrameSetup::load(&args.frame, 1)?;
@@ -59,10 +102,19 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         }
     }
 
+    let animations: Vec<Option<Animation>> = VARIANTS
+        .iter()
+        .map(|&(_, mode, retrace_edges)| {
+            let opts = Options { mode, retrace_edges };
+            (args.animate > 0).then(|| animate(&setup, args.frame.time, (w, h), opts, args.animate))
+        })
+        .collect();
+
     let mut lefts: Vec<f64> = results.iter().flat_map(|m| m.frames.iter().map(|s| s.left.ms)).collect();
     let mono_ms = median(&mut lefts);
     let threads = rayon::current_num_threads();
-    let summaries: Vec<Summary> = results.iter().map(|m| Summary::of(m, threads)).collect();
+    let summaries: Vec<Summary> =
+        results.iter().zip(animations).map(|(m, a)| Summary { animation: a, ..Summary::of(m, threads) }).collect();
 
     if args.json {
         let mut modes = Map::new();
@@ -74,6 +126,17 @@ pub fn run(args: &BenchArgs) -> Result<()> {
                 o.insert("stereo_over_mono".into(), json!(s.stereo_over_mono));
                 o.insert("stereo_ms_over_mono_ms".into(), json!(s.stereo_ms / mono_ms));
                 o.insert("mrays_per_s_per_core".into(), json!(s.mrays_per_core));
+                if let Some(a) = s.animation {
+                    o.insert(
+                        "animation".into(),
+                        json!({
+                            "frames": a.frames,
+                            "fresh_ms": a.fresh_ms,
+                            "reused_ms": a.reused_ms,
+                            "retraced_share": a.retraced_share,
+                        }),
+                    );
+                }
             }
             modes.insert(s.name.to_owned(), v);
         }
@@ -104,6 +167,8 @@ struct Summary {
     /// frame inside it (see [`Summary::of`]).
     stereo_over_mono: f64,
     mrays_per_core: f64,
+    /// The animation row, if measured.
+    animation: Option<Animation>,
 }
 
 impl Summary {
@@ -136,6 +201,7 @@ impl Summary {
             stereo_ms,
             stereo_over_mono,
             mrays_per_core: median(&mut rates),
+            animation: None,
         }
     }
 }
@@ -266,6 +332,27 @@ fn table(scene: &str, w: u32, h: u32, frames: u32, threads: usize, mono_ms: f64,
             "{:<14} {:>10.2} {:>10.2} {:>10.2} {:>10.2} {:>10.2}",
             r.name, st.trace_left, st.reproject, st.retrace, st.reshade, r.stereo_ms
         );
+    }
+    if let Some(frames) = rows.iter().find_map(|r| r.animation.map(|a| a.frames)) {
+        let _ = writeln!(
+            out,
+            "\nanimation: {frames} frames 1/60 s apart, head still; stereo ms per frame, fresh against exact reuse (medians)"
+        );
+        let _ =
+            writeln!(out, "{:<14} {:>9} {:>9} {:>9} {:>10}", "mode", "fresh ms", "reused ms", "reused %", "retraced %");
+        for r in rows {
+            if let Some(a) = r.animation {
+                let _ = writeln!(
+                    out,
+                    "{:<14} {:>9.2} {:>9.2} {:>8.0}% {:>9.1}%",
+                    r.name,
+                    a.fresh_ms,
+                    a.reused_ms,
+                    100.0 * a.reused_ms / a.fresh_ms.max(f64::MIN_POSITIVE),
+                    100.0 * a.retraced_share
+                );
+            }
+        }
     }
     out
 }

@@ -137,6 +137,10 @@ pub struct BenchArgs {
     /// Frames per mode; the report gives medians.
     #[arg(long, value_name = "N", default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
     pub frames: u32,
+    /// Frames of the animation rows: per mode, N consecutive frames 1/60 s apart with the
+    /// head still, traced fresh and with reuse (0 leaves the rows out).
+    #[arg(long, value_name = "N", default_value_t = 60, value_parser = clap::value_parser!(u32).range(0..=10_000))]
+    pub animate: u32,
     /// Print one JSON object instead of the table.
     #[arg(long)]
     pub json: bool,
