@@ -108,12 +108,7 @@ impl Axis {
 }
 
 /// The box filter in linear light, parallel over output rows; `sample(i)` is source pixel i.
-fn filter(
-    sample: impl Fn(usize) -> u32 + Sync,
-    (sw, sh): (u32, u32),
-    dst: &mut Vec<u32>,
-    (dw, dh): (u32, u32),
-) {
+fn filter(sample: impl Fn(usize) -> u32 + Sync, (sw, sh): (u32, u32), dst: &mut Vec<u32>, (dw, dh): (u32, u32)) {
     dst.resize(dw as usize * dh as usize, 0);
     if dw == 0 || dh == 0 {
         return;

@@ -127,7 +127,14 @@ pub struct RenderArgs {
     /// Print the frame report as JSON on stdout (includes quality against a full trace).
     #[arg(long)]
     pub json: bool,
+    /// Anti-aliasing: trace S × S samples per pixel (S = 1 to 4 per axis), so every stage runs
+    /// at (W·S) × (H·S), and box-filter them down to W × H in linear light.
+    #[arg(long, value_name = "S", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SUPERSAMPLE)))]
+    pub supersample: u32,
 }
+
+/// Largest `render --supersample` factor, per axis.
+pub const MAX_SUPERSAMPLE: u32 = 4;
 
 /// `stereotrace bench`.
 #[derive(Debug, Args)]

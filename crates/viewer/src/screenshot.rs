@@ -1,6 +1,7 @@
 //! Screenshots (key S): the frame on screen as PNGs named
 //! `stereotrace-YYYYmmdd-HHMMSS-<left|right|pair|mask>.png` (UTC) in a folder created if
-//! missing, and the note the panel shows about the last save.
+//! missing, and the note the panel shows about the last save. A supersampled frame's mask
+//! is saved per sample, at the size traced, as `render --mask` writes it.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
@@ -96,7 +97,12 @@ pub fn save(folder: &Path, frame: &Finished, look: Look, time: SystemTime) -> an
     let Look { layout, swap, show_mask } = look;
     let (w, h) = frame.size();
     let n = w as usize * h as usize;
-    if frame.info.is_none() || frame.left.len() != n || frame.right.len() != n || frame.mask.len() != n {
+    let (sw, sh) = frame.samples();
+    if frame.info.is_none()
+        || frame.left.len() != n
+        || frame.right.len() != n
+        || frame.mask.len() != sw as usize * sh as usize
+    {
         anyhow::bail!("nothing to save yet: no frame has been rendered");
     }
     std::fs::create_dir_all(folder).with_context(|| format!("cannot create the folder {}", folder.display()))?;
@@ -113,7 +119,7 @@ pub fn save(folder: &Path, frame: &Finished, look: Look, time: SystemTime) -> an
         ("left", &frame.left, (w, h)),
         ("right", &frame.right, (w, h)),
         ("pair", &pair, (pw, ph)),
-        ("mask", &mask, (w, h)),
+        ("mask", &mask, (sw, sh)),
     ] {
         if pixels.is_empty() {
             continue;
