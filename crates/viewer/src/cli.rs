@@ -58,6 +58,10 @@ pub struct WindowArgs {
     /// Start with live PSNR on (the right eye measured against a full trace every frame).
     #[arg(long)]
     pub live_psnr: bool,
+    /// Start at this render scale, in percent of the eye's size on screen (25 to 200; above
+    /// 100 supersampled, 200 = 2 × 2 samples per pixel).
+    #[arg(long, value_name = "PERCENT", value_parser = clap::value_parser!(u32).range(25..=200))]
+    pub render_scale: Option<u32>,
 }
 
 /// Camera and render overrides shared by `render` and `bench`.

@@ -268,7 +268,7 @@ fn help_documents_every_flag() {
     }
     let out = stereotrace(&["--help"]);
     let text = String::from_utf8_lossy(&out.stdout);
-    for flag in ["--scene", "--frames", "--dump", "render", "bench"] {
+    for flag in ["--scene", "--frames", "--dump", "--render-scale", "render", "bench"] {
         assert!(text.contains(flag), "--help lacks {flag}");
     }
 }
