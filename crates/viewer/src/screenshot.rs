@@ -148,6 +148,52 @@ mod tests {
         assert_eq!(stamp(UNIX_EPOCH - Duration::from_secs(5)), "19700101-000000");
     }
 
+    /// A supersampled frame: the eyes at their size, the mask per sample.
+    #[test]
+    fn a_supersampled_mask_is_saved_per_sample() {
+        use crate::worker::{FrameInfo, Request};
+        let dir = std::env::temp_dir().join(format!("stereotrace-shot-ss-test-{}", std::process::id()));
+        let request = Request {
+            camera: tracer::Camera::default(),
+            depth: 0,
+            opts: stereo::Options::default(),
+            time: 0.0,
+            width: 2,
+            height: 1,
+            samples: (4, 2),
+            psnr: false,
+            anaglyph: false,
+            swap: false,
+            light: None,
+        };
+        let info = FrameInfo {
+            seq: 1,
+            request,
+            samples: (4, 2),
+            stats: stereo::FrameStats::default(),
+            quality: None,
+            wall_ms: 0.0,
+        };
+        let frame = Finished {
+            info: Some(info),
+            left: vec![0; 2],
+            right: vec![0x00FF_FFFF; 2],
+            mask: vec![stereo::PixelClass::Reprojected; 8],
+            mask_overlay: vec![0; 2],
+            anaglyph: Vec::new(),
+        };
+        let look = Look { layout: stereo::Layout::SideBySide, swap: false, show_mask: true };
+        let paths = save(&dir, &frame, look, UNIX_EPOCH).unwrap();
+        let size = |p: &Path| {
+            let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(p).unwrap()));
+            let info = decoder.read_info().unwrap();
+            (info.info().width, info.info().height)
+        };
+        let sizes: Vec<(u32, u32)> = paths.iter().map(|p| size(p)).collect();
+        assert_eq!(sizes, [(2, 1), (2, 1), (4, 1), (4, 2)], "left, right, pair, mask");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
     #[test]
     fn saving_before_the_first_frame_fails_cleanly() {
         let dir = std::env::temp_dir().join(format!("stereotrace-shot-test-{}", std::process::id()));

@@ -432,6 +432,12 @@ fn supersampling_traces_the_samples_and_writes_the_requested_size() {
     assert!(v["quality"]["share_not_identical"].as_f64().unwrap() < 0.001, "filtered, still exact: {}", v["quality"]);
     assert_eq!(at_samples["supersample"], 1, "no supersampling by default");
     assert_eq!(at_samples["quality_samples"], at_samples["quality"], "without it, the two are one");
+    // An animation's combined frames are the requested size too.
+    let dir = tmp("ss-anim");
+    let args = ["render", "--width", "32", "--height", "18", "--supersample", "3", "--frames", "2", "--out-dir"];
+    let out = stereotrace(&[&args[..], &[dir.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(png_size(&dir.join("frame_00001.png")), (64, 18), "two 32 × 18 eyes side by side");
 }
 
 #[test]
