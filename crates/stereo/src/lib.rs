@@ -36,7 +36,10 @@
 //! - `retrace` (image, stats): stage 4;
 //! - `fill` (image, mode, stats): stage 5;
 //! - `frame` (reproject, retrace, fill, image, mode, stats): the stages in order;
-//! - `mask` (stats), `layout`: how a frame is shown, beside the pipeline.
+//! - `mask` (stats), `layout`: how a frame is shown, beside the pipeline;
+//! - `downsample` (mask, stats): a supersampled frame's eyes and mask filtered down to the
+//!   output size (box filter in linear light), beside the pipeline too: the stages run at
+//!   the sampled size and know nothing of it.
 //!
 //! ## Errors
 //!
@@ -52,6 +55,7 @@
 //! no pixel: fewer than `u32::MAX - 1` spheres (see `classify.rs`).
 
 mod classify;
+mod downsample;
 mod fill;
 mod frame;
 mod image;
@@ -64,6 +68,7 @@ mod retrace;
 mod reuse;
 mod stats;
 
+pub use downsample::{downsample, downsample_mask};
 pub use frame::StereoFrame;
 pub use image::Image;
 pub use layout::{anaglyph_pixel, compose, Layout};

@@ -137,6 +137,9 @@ impl Viewer {
         };
         settings.paused = clock.is_paused();
         settings.live_psnr = args.live_psnr;
+        if let Some(percent) = args.render_scale {
+            settings.render_scale = percent as f32 / 100.0;
+        }
         let egui = egui::Context::default();
         ui::setup_style(&egui);
         Ok(Self {

@@ -58,6 +58,10 @@ pub struct WindowArgs {
     /// Start with live PSNR on (the right eye measured against a full trace every frame).
     #[arg(long)]
     pub live_psnr: bool,
+    /// Start at this render scale, in percent of the eye's size on screen (25 to 200; above
+    /// 100 supersampled, 200 = 2 × 2 samples per pixel).
+    #[arg(long, value_name = "PERCENT", value_parser = clap::value_parser!(u32).range(25..=200))]
+    pub render_scale: Option<u32>,
 }
 
 /// Camera and render overrides shared by `render` and `bench`.
@@ -127,7 +131,14 @@ pub struct RenderArgs {
     /// Print the frame report as JSON on stdout (includes quality against a full trace).
     #[arg(long)]
     pub json: bool,
+    /// Anti-aliasing: trace S × S samples per pixel (S = 1 to 4 per axis), so every stage runs
+    /// at (W·S) × (H·S), and box-filter them down to W × H in linear light.
+    #[arg(long, value_name = "S", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SUPERSAMPLE)))]
+    pub supersample: u32,
 }
+
+/// Largest `render --supersample` factor, per axis.
+pub const MAX_SUPERSAMPLE: u32 = 4;
 
 /// `stereotrace bench`.
 #[derive(Debug, Args)]

@@ -105,7 +105,7 @@ mod tests {
         (stats.left.ms, stats.right.ms) = (20.0, 5.5);
         let request = settings.request(&scene, 0.0, 8, 8);
         let quality = Some(Quality { psnr_db: f64::INFINITY, ..Quality::default() });
-        let frame = FrameInfo { seq: 1, request, stats, quality, wall_ms: 30.0 };
+        let frame = FrameInfo { seq: 1, request, samples: request.samples, stats, quality, wall_ms: 30.0 };
         report.frame = Some(&frame);
         let l = line(&report, Duration::ZERO, 0);
         assert!(l.contains(" left_ms=20.0 right_ms=5.5 ") && l.ends_with(" psnr=inf"), "{l}");

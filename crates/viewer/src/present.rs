@@ -6,14 +6,16 @@
 //! size — the window was just resized — it is scaled nearest-neighbour, so a resize never
 //! shows stale or uninitialised memory. The layouts are [`stereo::Layout`]'s, with the eyes
 //! where [`Layout::slots`] puts them: side by side, cross-eyed (eyes swapped), or the red–cyan
-//! anaglyph, which the worker composes and which is shown centred at the eye size.
+//! anaglyph, which the worker composes and which is shown centred at the eye size. The
+//! debug mask is the worker's overlay image (the mask's colours at the eye size, filtered
+//! from the samples when supersampled), blended half and half over the right eye.
 //!
 //! This runs on the UI thread without rayon: the global pool belongs to the tracer, and
 //! waiting on it would make the UI wait for the render.
 
 use std::ops::Range;
 
-use stereo::{mask_color, Layout};
+use stereo::Layout;
 use tracer::Eye;
 
 use crate::worker::Finished;
@@ -102,7 +104,8 @@ impl Compositor {
         let (ew, eh) = (ew as usize, eh as usize);
         let (fw, fh) = frame.size();
         let (fw, fh) = (fw as usize, fh as usize);
-        let complete = frame.left.len() == fw * fh && frame.right.len() == fw * fh && frame.mask.len() == fw * fh;
+        let n = fw * fh;
+        let complete = frame.left.len() == n && frame.right.len() == n && frame.mask_overlay.len() == n;
         if ew == 0 || fw == 0 || fh == 0 || !complete {
             dst.fill(BACKGROUND);
             return false;
@@ -113,11 +116,11 @@ impl Compositor {
         // Same width: whole rows are copied, not gathered column by column.
         let direct = fw == ew;
         let Look { layout, swap, show_mask } = look;
-        let (left, right, mask) = (&frame.left, &frame.right, &frame.mask);
+        let (left, right, mask) = (&frame.left, &frame.right, &frame.mask_overlay);
         let anaglyph = (layout == Layout::Anaglyph && frame.anaglyph.len() == fw * fh).then_some(&frame.anaglyph);
         let halves = if layout == Layout::Anaglyph { Layout::SideBySide } else { layout };
         let left_first = halves.slots(swap)[0] == Eye::Left;
-        let overlay = |p: u32, s: usize| if show_mask { blend_half(p, mask_color(mask[s])) } else { p };
+        let overlay = |p: u32, s: usize| if show_mask { blend_half(p, mask[s]) } else { p };
         for (y, row) in dst.chunks_exact_mut(width).enumerate() {
             let src_row = (y * fh / eh) * fw;
             if let Some(image) = anaglyph {
@@ -159,7 +162,7 @@ fn fill_eye(dst: &mut [u32], columns: &[u32], pixel: impl Fn(usize) -> u32) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use stereo::PixelClass;
+    use stereo::{mask_color, PixelClass};
 
     use crate::worker::{FrameInfo, Request};
 
@@ -176,6 +179,7 @@ mod tests {
             time: 0.0,
             width: w,
             height: h,
+            samples: (w, h),
             psnr: false,
             anaglyph: false,
             swap: false,
@@ -185,6 +189,7 @@ mod tests {
             info: Some(FrameInfo {
                 seq: 1,
                 request,
+                samples: (w, h),
                 stats: stereo::FrameStats::default(),
                 quality: None,
                 wall_ms: 0.0,
@@ -192,6 +197,7 @@ mod tests {
             left: (0..n as u32).collect(),
             right: (0..n as u32).map(|p| p | 0x0010_0000).collect(),
             mask: vec![PixelClass::Reprojected; n],
+            mask_overlay: vec![mask_color(PixelClass::Reprojected); n],
             anaglyph: Vec::new(),
         }
     }

@@ -1,5 +1,11 @@
 //! `stereotrace render`: one stereo frame to PNG files and an optional JSON report, or an
 //! animation of the orbit as numbered combined frames.
+//!
+//! With `--supersample S` every stage runs at (W·S) × (H·S) samples and the eyes are
+//! filtered down to W × H ([`stereo::downsample`]: a box filter in linear light) before they
+//! are written or measured. The mask PNG stays at the sampled size, one pixel per sample,
+//! as the report's ray and pixel counts do; `quality` compares the filtered right eye with
+//! a full trace filtered alike, `quality_samples` the samples themselves.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -8,7 +14,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use serde_json::json;
-use stereo::{compose, mask_image, Options, StereoFrame};
+use stereo::{compose, downsample, mask_image, Options, StereoFrame};
 use tracer::{RayCounts, Tracer};
 
 use crate::cli::RenderArgs;
@@ -31,38 +37,45 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     for path in [&args.left, &args.right, &args.mask, &args.out].into_iter().flatten() {
         check_output_dir(path)?;
     }
-    let setup = FrameSetup::load(&args.frame, 1)?;
-    let (w, h) = (args.frame.width, args.frame.height);
+    let setup = FrameSetup::load_supersampled(&args.frame, 1, args.supersample)?;
+    let size = Sizes::of(args);
+    let (w, h) = size.out;
     let tracer = Tracer::new(&setup.scene, args.frame.time);
     let opts = Options { mode: args.mode, retrace_edges: args.retrace_edges };
     let mut frame = StereoFrame::new();
-    let stats = frame.render(&tracer, &setup.camera, w, h, opts);
+    let stats = frame.render(&tracer, &setup.camera, size.samples.0, size.samples.1, opts);
+    let mut filtered = Filtered::default();
+    let (left, right) = filtered.eyes(&frame, size);
 
     if let Some(p) = &args.left {
-        write_png(p, w, h, &frame.left().rgb)?;
+        write_png(p, w, h, left)?;
     }
     if let Some(p) = &args.right {
-        write_png(p, w, h, &frame.right().rgb)?;
+        write_png(p, w, h, right)?;
     }
     if let Some(p) = &args.mask {
         let mut mask = Vec::new();
         mask_image(frame.mask(), &mut mask);
-        write_png(p, w, h, &mask)?;
+        write_png(p, size.samples.0, size.samples.1, &mask)?;
     }
     if let Some(p) = &args.out {
         let mut pair = Vec::new();
-        compose(args.layout, args.swap_eyes, &frame.left().rgb, &frame.right().rgb, w, h, &mut pair);
+        compose(args.layout, args.swap_eyes, left, right, w, h, &mut pair);
         let (ow, oh) = args.layout.size(w, h);
         write_png(p, ow, oh, &pair)?;
     }
     if args.json {
         let mut reference = Reference::default();
-        reference.trace(&tracer, &setup.camera, w, h);
-        let q = reference.compare(&frame.right().rgb);
+        reference.trace(&tracer, &setup.camera, size.samples.0, size.samples.1);
+        let per_sample = reference.compare(&frame.right().rgb);
+        let q = reference.compare_filtered(right, size.samples, size.out);
         let mut out = json!({
             "scene": setup.path.display().to_string(),
             "width": w,
             "height": h,
+            "supersample": args.supersample,
+            "sample_width": size.samples.0,
+            "sample_height": size.samples.1,
             "mode": args.mode.name(),
             "retrace_edges": args.retrace_edges,
             "ipd": shortest(setup.camera.ipd),
@@ -72,6 +85,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             "threads": rayon::current_num_threads(),
             "lanes": tracer::lane_width(),
             "quality": report::quality(&q),
+            "quality_samples": report::quality(&per_sample),
         });
         if let (Some(o), serde_json::Value::Object(f)) = (out.as_object_mut(), report::frame(&stats)) {
             o.extend(f);
@@ -79,6 +93,43 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&out)?);
     }
     Ok(())
+}
+
+/// An eye's output size and the size it is traced at.
+#[derive(Clone, Copy, Debug)]
+struct Sizes {
+    /// Width and height of the images written, per eye.
+    out: (u32, u32),
+    /// Width and height traced: `out` × `--supersample`.
+    samples: (u32, u32),
+}
+
+impl Sizes {
+    fn of(args: &RenderArgs) -> Self {
+        let (w, h, s) = (args.frame.width, args.frame.height, args.supersample);
+        // FrameSetup::load_supersampled checked that an eye has fewer than u32::MAX samples.
+        Self { out: (w, h), samples: (w * s, h * s) }
+    }
+}
+
+/// The eyes filtered down to the output size, kept from frame to frame.
+#[derive(Debug, Default)]
+struct Filtered {
+    left: Vec<u32>,
+    right: Vec<u32>,
+}
+
+impl Filtered {
+    /// The frame's left and right images at the output size: the frame's own without
+    /// supersampling, else filtered into these buffers.
+    fn eyes<'a>(&'a mut self, frame: &'a StereoFrame, size: Sizes) -> (&'a [u32], &'a [u32]) {
+        if size.samples == size.out {
+            return (&frame.left().rgb, &frame.right().rgb);
+        }
+        downsample(&frame.left().rgb, size.samples, &mut self.left, size.out);
+        downsample(&frame.right().rgb, size.samples, &mut self.right, size.out);
+        (&self.left, &self.right)
+    }
 }
 
 /// An f32 as the f64 with the same shortest decimal form (0.65, not 0.6499999761581421).
@@ -92,7 +143,7 @@ fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
     if !(args.fps.is_finite() && args.fps > 0.0) {
         return Err(BadInput(format!("--fps {}: must be a number > 0", args.fps)).into());
     }
-    let setup = FrameSetup::load(&args.frame, 1)?;
+    let setup = FrameSetup::load_supersampled(&args.frame, 1, args.supersample)?;
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let stop = Arc::new(AtomicBool::new(false));
     {
@@ -100,11 +151,13 @@ fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
         // If a handler is already installed (only in tests), Ctrl-C keeps its default.
         let _ = ctrlc::set_handler(move || stop.store(true, Ordering::SeqCst));
     }
-    let (w, h) = (args.frame.width, args.frame.height);
+    let size = Sizes::of(args);
+    let (w, h) = size.out;
     let (ow, oh) = args.layout.size(w, h);
     let opts = Options { mode: args.mode, retrace_edges: args.retrace_edges };
     let mut tracer = Tracer::new(&setup.scene, args.frame.time);
     let mut frame = StereoFrame::new();
+    let mut filtered = Filtered::default();
     let mut pair = Vec::new();
     let (mut left_rays, mut right_rays) = (RayCounts::default(), RayCounts::default());
     let bar = indicatif::ProgressBar::new(u64::from(frames)).with_style(
@@ -120,10 +173,11 @@ fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
             break;
         }
         tracer.update(&setup.scene, args.frame.time + k as f32 / args.fps);
-        let stats = frame.render(&tracer, &setup.camera, w, h, opts);
+        let stats = frame.render(&tracer, &setup.camera, size.samples.0, size.samples.1, opts);
         left_rays += stats.left.rays;
         right_rays += stats.right.rays;
-        compose(args.layout, args.swap_eyes, &frame.left().rgb, &frame.right().rgb, w, h, &mut pair);
+        let (left, right) = filtered.eyes(&frame, size);
+        compose(args.layout, args.swap_eyes, left, right, w, h, &mut pair);
         write_png(&dir.join(format!("frame_{k:05}.png")), ow, oh, &pair)?;
         written += 1;
         bar.inc(1);

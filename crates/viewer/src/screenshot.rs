@@ -1,6 +1,7 @@
 //! Screenshots (key S): the frame on screen as PNGs named
 //! `stereotrace-YYYYmmdd-HHMMSS-<left|right|pair|mask>.png` (UTC) in a folder created if
-//! missing, and the note the panel shows about the last save.
+//! missing, and the note the panel shows about the last save. A supersampled frame's mask
+//! is saved per sample, at the size traced, as `render --mask` writes it.
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
@@ -96,7 +97,12 @@ pub fn save(folder: &Path, frame: &Finished, look: Look, time: SystemTime) -> an
     let Look { layout, swap, show_mask } = look;
     let (w, h) = frame.size();
     let n = w as usize * h as usize;
-    if frame.info.is_none() || frame.left.len() != n || frame.right.len() != n || frame.mask.len() != n {
+    let (sw, sh) = frame.samples();
+    if frame.info.is_none()
+        || frame.left.len() != n
+        || frame.right.len() != n
+        || frame.mask.len() != sw as usize * sh as usize
+    {
         anyhow::bail!("nothing to save yet: no frame has been rendered");
     }
     std::fs::create_dir_all(folder).with_context(|| format!("cannot create the folder {}", folder.display()))?;
@@ -113,7 +119,7 @@ pub fn save(folder: &Path, frame: &Finished, look: Look, time: SystemTime) -> an
         ("left", &frame.left, (w, h)),
         ("right", &frame.right, (w, h)),
         ("pair", &pair, (pw, ph)),
-        ("mask", &mask, (w, h)),
+        ("mask", &mask, (sw, sh)),
     ] {
         if pixels.is_empty() {
             continue;
@@ -140,6 +146,52 @@ mod tests {
         // 2100-03-01 00:00:00 UTC (2100 is not a leap year).
         assert_eq!(stamp(UNIX_EPOCH + Duration::from_secs(4_107_542_400)), "21000301-000000");
         assert_eq!(stamp(UNIX_EPOCH - Duration::from_secs(5)), "19700101-000000");
+    }
+
+    /// A supersampled frame: the eyes at their size, the mask per sample.
+    #[test]
+    fn a_supersampled_mask_is_saved_per_sample() {
+        use crate::worker::{FrameInfo, Request};
+        let dir = std::env::temp_dir().join(format!("stereotrace-shot-ss-test-{}", std::process::id()));
+        let request = Request {
+            camera: tracer::Camera::default(),
+            depth: 0,
+            opts: stereo::Options::default(),
+            time: 0.0,
+            width: 2,
+            height: 1,
+            samples: (4, 2),
+            psnr: false,
+            anaglyph: false,
+            swap: false,
+            light: None,
+        };
+        let info = FrameInfo {
+            seq: 1,
+            request,
+            samples: (4, 2),
+            stats: stereo::FrameStats::default(),
+            quality: None,
+            wall_ms: 0.0,
+        };
+        let frame = Finished {
+            info: Some(info),
+            left: vec![0; 2],
+            right: vec![0x00FF_FFFF; 2],
+            mask: vec![stereo::PixelClass::Reprojected; 8],
+            mask_overlay: vec![0; 2],
+            anaglyph: Vec::new(),
+        };
+        let look = Look { layout: stereo::Layout::SideBySide, swap: false, show_mask: true };
+        let paths = save(&dir, &frame, look, UNIX_EPOCH).unwrap();
+        let size = |p: &Path| {
+            let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(p).unwrap()));
+            let info = decoder.read_info().unwrap();
+            (info.info().width, info.info().height)
+        };
+        let sizes: Vec<(u32, u32)> = paths.iter().map(|p| size(p)).collect();
+        assert_eq!(sizes, [(2, 1), (2, 1), (4, 1), (4, 2)], "left, right, pair, mask");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]

@@ -24,6 +24,9 @@ pub const MAX_REFLECTION_DEPTH: u32 = 8;
 /// Smallest share of the on-screen eye size an eye is traced at.
 pub const MIN_RENDER_SCALE: f32 = 0.25;
 
+/// Largest render scale: 200 % traces 2 × 2 samples per pixel (supersampling).
+pub const MAX_RENDER_SCALE: f32 = 2.0;
+
 /// How far the light sliders reach from the origin on each axis.
 pub const LIGHT_RANGE: f32 = 30.0;
 
@@ -58,8 +61,10 @@ pub struct Settings {
     pub retrace_edges: bool,
     /// How the eyes are arranged.
     pub layout: Layout,
-    /// Eyes are traced at this fraction of their on-screen size ([`MIN_RENDER_SCALE`]..1)
-    /// and scaled up.
+    /// Eyes are traced at this multiple of their on-screen size per axis
+    /// ([`MIN_RENDER_SCALE`]..[`MAX_RENDER_SCALE`]): below 1 scaled up to the screen, above 1
+    /// supersampled (anti-aliased) and filtered down to it, by a box filter in linear light
+    /// (`stereo::downsample`); 2 traces 2 × 2 samples per pixel.
     pub render_scale: f32,
     /// Blend the debug mask over the right eye (key M).
     pub show_mask: bool,
@@ -161,11 +166,12 @@ impl Settings {
         self.pitch_deg = (self.pitch_deg - dy * TURN_PER_PIXEL).clamp(-MAX_PITCH, MAX_PITCH);
     }
 
-    /// The size to trace an eye at, for an eye of `width` × `height` on screen.
+    /// The size to trace an eye at, for an eye of `width` × `height` on screen: smaller
+    /// below 100 %, larger (the samples) above it.
     #[must_use]
     pub fn render_size(&self, width: u32, height: u32) -> (u32, u32) {
-        let scale = self.render_scale.clamp(MIN_RENDER_SCALE, 1.0);
-        let scaled = |n: u32| ((n as f32 * scale).round() as u32).clamp(1, n.max(1));
+        let scale = self.render_scale.clamp(MIN_RENDER_SCALE, MAX_RENDER_SCALE);
+        let scaled = |n: u32| ((n as f32 * scale).round() as u32).max(1);
         (scaled(width), scaled(height))
     }
 
@@ -185,7 +191,10 @@ impl Settings {
     /// scene is always rendered at 0) and an eye of `width` × `height` on screen.
     #[must_use]
     pub fn request(&self, scene: &Scene, time: f32, width: u32, height: u32) -> Request {
-        let (width, height) = self.render_size(width, height);
+        let samples = self.render_size(width, height);
+        // Below 100 % the images are the traced size (the window scales them up); above it,
+        // the eye size the samples are filtered down to.
+        let (width, height) = (samples.0.min(width), samples.1.min(height));
         let anaglyph = self.layout == Layout::Anaglyph;
         Request {
             camera: self.camera(&scene.camera),
@@ -194,6 +203,7 @@ impl Settings {
             time: if scene.is_animated() { time } else { 0.0 },
             width,
             height,
+            samples,
             psnr: self.live_psnr,
             anaglyph,
             swap: anaglyph && self.swap_eyes,
@@ -232,6 +242,12 @@ mod tests {
         assert_eq!(s.render_size(801, 600), (401, 300), "half scale, rounded");
         s.render_scale = 0.0;
         assert_eq!(s.render_size(3, 1), (1, 1), "never below one pixel");
+        s.render_scale = MAX_RENDER_SCALE;
+        assert_eq!(s.render_size(801, 600), (1602, 1200), "200 %: 2 × 2 samples per pixel");
+        s.render_scale = 9.0;
+        assert_eq!(s.render_size(801, 600), (1602, 1200), "never above 200 %");
+        s.render_scale = 1.5;
+        assert_eq!(s.render_size(801, 600), (1202, 900), "150 %, rounded");
     }
 
     #[test]
@@ -285,7 +301,11 @@ mod tests {
         s.render_scale = 0.5;
         s.swap_eyes = true;
         let r = s.request(&scene, 3.0, 400, 300);
-        assert_eq!((r.width, r.height), (200, 150), "traced at the render scale");
+        assert_eq!((r.width, r.height, r.samples), (200, 150, (200, 150)), "traced at the render scale");
+        s.render_scale = 2.0;
+        let r = s.request(&scene, 3.0, 400, 300);
+        assert_eq!((r.width, r.height, r.samples), (400, 300, (800, 600)), "supersampled, shown at the eye size");
+        s.render_scale = 0.5;
         assert_eq!(r.time, 0.0, "a still scene is rendered at time 0");
         assert!(!r.anaglyph && !r.swap, "side by side swaps on screen, not in the worker");
         assert_eq!((r.camera.ipd, r.depth, r.opts), (0.5, MAX_REFLECTION_DEPTH, s.options()), "the settings' camera");

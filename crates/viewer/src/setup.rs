@@ -54,6 +54,12 @@ pub struct FrameSetup {
 impl FrameSetup {
     /// Loads `args.scene` and applies the overrides; checks the frame fits in memory.
     pub fn load(args: &FrameArgs, frames_in_memory: u64) -> Result<Self> {
+        Self::load_supersampled(args, frames_in_memory, 1)
+    }
+
+    /// As [`FrameSetup::load`] for a frame traced at `supersample` × `supersample` samples
+    /// per pixel (`render --supersample`): the checks count the samples.
+    pub fn load_supersampled(args: &FrameArgs, frames_in_memory: u64, supersample: u32) -> Result<Self> {
         let path = resolve_scene(&args.scene);
         let mut scene = Scene::load(&path)?;
         if let Some(ipd) = args.ipd {
@@ -77,7 +83,9 @@ impl FrameSetup {
         if !args.time.is_finite() {
             return Err(BadInput(format!("--time {}: must be a finite number of seconds", args.time)).into());
         }
-        check_memory(args.width, args.height, frames_in_memory)?;
+        let frame = Frame { width: args.width, height: args.height, supersample };
+        frame.check_samples()?;
+        check_memory(frame, frames_in_memory)?;
         Ok(Self { camera: scene.camera, scene, path })
     }
 }
@@ -103,23 +111,76 @@ pub const MEMORY_ENV: &str = "STEREOTRACE_MEMORY_AVAILABLE";
 
 /// Bytes one eye-pixel costs across a stereo frame and its full-trace reference: colour,
 /// depth, hit parameter and the visible-surface record for three films, plus the source
-/// map and mask.
+/// map and mask. With supersampling this is per sample: every stage runs at the sampled size.
 const BYTES_PER_PIXEL: u64 = 3 * (4 + 4 + 4 + 44) + 4 + 1 + 4;
 
-/// Refuses, before allocating anything, a frame that cannot fit in the memory available.
-fn check_memory(width: u32, height: u32, frames: u64) -> Result<()> {
-    fits_in_memory(width, height, frames, available_memory()?)
+/// Bytes a supersampled frame adds per output pixel: the filtered left eye, right eye and
+/// reference (colour only).
+const BYTES_PER_FILTERED_PIXEL: u64 = 3 * 4;
+
+/// The size of one frame as the command line asks for it.
+#[derive(Clone, Copy, Debug)]
+struct Frame {
+    /// Output width per eye, pixels.
+    width: u32,
+    /// Output height per eye, pixels.
+    height: u32,
+    /// Samples per pixel per axis.
+    supersample: u32,
 }
 
-/// Whether `frames` frames of `width` × `height` eyes fit in `available` bytes (`None`: no
-/// limit known).
-fn fits_in_memory(width: u32, height: u32, frames: u64, available: Option<u64>) -> Result<()> {
-    let need = u64::from(width) * u64::from(height) * BYTES_PER_PIXEL * frames.max(1);
+impl Frame {
+    /// Samples per eye.
+    fn samples(self) -> u64 {
+        u64::from(self.width) * u64::from(self.height) * u64::from(self.supersample).pow(2)
+    }
+
+    /// Bytes one frame needs: [`BYTES_PER_PIXEL`] per sample, and with supersampling
+    /// [`BYTES_PER_FILTERED_PIXEL`] per output pixel.
+    fn bytes(self) -> u64 {
+        let filtered = if self.supersample > 1 { u64::from(self.width) * u64::from(self.height) } else { 0 };
+        self.samples() * BYTES_PER_PIXEL + filtered * BYTES_PER_FILTERED_PIXEL
+    }
+
+    /// The flags that set the size, as typed.
+    fn flags(self) -> String {
+        let s = if self.supersample > 1 { format!(" --supersample {}", self.supersample) } else { String::new() };
+        format!("--width {} --height {}{s}", self.width, self.height)
+    }
+
+    /// Refuses an eye of `u32::MAX` samples or more, which the reprojection's source map
+    /// cannot name (only reachable with supersampling: 16384 × 16384 × 4 × 4).
+    fn check_samples(self) -> Result<()> {
+        if self.samples() >= u64::from(u32::MAX) {
+            let (w, h) = (
+                u64::from(self.width) * u64::from(self.supersample),
+                u64::from(self.height) * u64::from(self.supersample),
+            );
+            return Err(BadInput(format!(
+                "{}: {w} × {h} samples per eye; an eye must have fewer than {} samples",
+                self.flags(),
+                u32::MAX
+            ))
+            .into());
+        }
+        Ok(())
+    }
+}
+
+/// Refuses, before allocating anything, a frame that cannot fit in the memory available.
+fn check_memory(frame: Frame, frames: u64) -> Result<()> {
+    fits_in_memory(frame, frames, available_memory()?)
+}
+
+/// Whether `frames` frames fit in `available` bytes (`None`: no limit known).
+fn fits_in_memory(frame: Frame, frames: u64, available: Option<u64>) -> Result<()> {
+    let need = frame.bytes().saturating_mul(frames.max(1));
     let available = available.unwrap_or(u64::MAX);
     if need > available {
         let gib = |b: u64| b as f64 / f64::from(1u32 << 30);
         return Err(BadInput(format!(
-            "--width {width} --height {height}: the frame needs {:.1} GiB but only {:.1} GiB of memory is available",
+            "{}: the frame needs {:.1} GiB but only {:.1} GiB of memory is available",
+            frame.flags(),
             gib(need),
             gib(available)
         ))
@@ -128,9 +189,28 @@ fn fits_in_memory(width: u32, height: u32, frames: u64, available: Option<u64>) 
     Ok(())
 }
 
+/// Bytes the viewer's render worker needs for a frame traced at `samples` and shown at `out`
+/// (per eye): [`BYTES_PER_PIXEL`] and the three rotating copies of the class mask (1 byte
+/// each) per sample, and per shown pixel the three copies of the left eye, right eye, mask
+/// overlay and anaglyph plus the filtered reference (4 bytes each).
+#[must_use]
+pub fn viewer_frame_bytes(samples: (u32, u32), out: (u32, u32)) -> u64 {
+    let pixels = |(w, h): (u32, u32)| u64::from(w) * u64::from(h);
+    pixels(samples) * (BYTES_PER_PIXEL + 3) + pixels(out) * (3 * 4 * 4 + 4)
+}
+
+/// Whether the viewer may trace a frame at `samples` to show it at `out`: fewer than
+/// `u32::MAX` samples per eye, and [`viewer_frame_bytes`] within `available` (`None`: no
+/// limit known).
+#[must_use]
+pub fn viewer_frame_fits(samples: (u32, u32), out: (u32, u32), available: Option<u64>) -> bool {
+    u64::from(samples.0) * u64::from(samples.1) < u64::from(u32::MAX)
+        && available.is_none_or(|a| viewer_frame_bytes(samples, out) <= a)
+}
+
 /// The memory available: [`MEMORY_ENV`] if set, else `MemAvailable` from /proc/meminfo where
 /// there is one.
-fn available_memory() -> Result<Option<u64>> {
+pub fn available_memory() -> Result<Option<u64>> {
     match std::env::var(MEMORY_ENV) {
         Ok(v) => v
             .trim()
@@ -156,18 +236,58 @@ fn meminfo_available() -> Option<u64> {
 mod tests {
     use super::*;
 
+    fn frame(width: u32, height: u32, supersample: u32) -> Frame {
+        Frame { width, height, supersample }
+    }
+
     #[test]
     fn a_frame_fits_up_to_the_last_byte() {
         let need = 64 * 64 * BYTES_PER_PIXEL;
-        assert!(fits_in_memory(64, 64, 1, Some(need)).is_ok(), "exactly enough");
-        assert!(fits_in_memory(64, 64, 1, None).is_ok(), "no limit known");
-        let e = fits_in_memory(64, 64, 1, Some(need - 1)).unwrap_err();
+        assert!(fits_in_memory(frame(64, 64, 1), 1, Some(need)).is_ok(), "exactly enough");
+        assert!(fits_in_memory(frame(64, 64, 1), 1, None).is_ok(), "no limit known");
+        let e = fits_in_memory(frame(64, 64, 1), 1, Some(need - 1)).unwrap_err();
         assert!(e.downcast_ref::<BadInput>().is_some(), "bad input, exit 2: {e}");
-        let e = fits_in_memory(16_384, 16_384, 1, Some(16 << 30)).unwrap_err().to_string();
+        let e = fits_in_memory(frame(16_384, 16_384, 1), 1, Some(16 << 30)).unwrap_err().to_string();
         assert_eq!(
             e, "--width 16384 --height 16384: the frame needs 44.2 GiB but only 16.0 GiB of memory is available",
             "the message names the flags and both sizes"
         );
-        assert!(fits_in_memory(64, 64, 2, Some(need)).is_err(), "two frames need twice as much");
+        assert!(fits_in_memory(frame(64, 64, 1), 2, Some(need)).is_err(), "two frames need twice as much");
+    }
+
+    #[test]
+    fn supersampling_counts_every_sample_and_the_filtered_eyes() {
+        // 64 × 64 at S = 2: 128 × 128 samples at 177 bytes, and 64 × 64 filtered pixels of the
+        // left, right and reference images at 4 bytes each.
+        assert_eq!(BYTES_PER_PIXEL, 177);
+        let need = 128 * 128 * 177 + 64 * 64 * 12;
+        assert_eq!(frame(64, 64, 2).bytes(), need);
+        assert!(fits_in_memory(frame(64, 64, 2), 1, Some(need)).is_ok(), "exactly enough");
+        let e = fits_in_memory(frame(64, 64, 2), 1, Some(need - 1)).unwrap_err().to_string();
+        assert!(e.starts_with("--width 64 --height 64 --supersample 2: the frame needs"), "{e}");
+        assert_eq!(frame(64, 64, 4).samples(), 256 * 256);
+    }
+
+    #[test]
+    fn the_viewer_supersamples_only_what_fits() {
+        // 8 × 4 shown, 16 × 8 traced: 128 samples at 180 bytes, 32 pixels at 52.
+        assert_eq!(viewer_frame_bytes((16, 8), (8, 4)), 128 * 180 + 32 * 52);
+        let need = viewer_frame_bytes((16, 8), (8, 4));
+        assert!(viewer_frame_fits((16, 8), (8, 4), Some(need)), "exactly enough");
+        assert!(!viewer_frame_fits((16, 8), (8, 4), Some(need - 1)), "one byte short");
+        assert!(viewer_frame_fits((16, 8), (8, 4), None), "no limit known");
+        assert!(!viewer_frame_fits((65_536, 65_536), (32_768, 32_768), None), "u32::MAX samples never fit");
+    }
+
+    #[test]
+    fn an_eye_of_u32_max_samples_is_refused() {
+        assert!(frame(16_384, 16_384, 3).check_samples().is_ok(), "49152² = 2415919104 samples");
+        let e = frame(16_384, 16_384, 4).check_samples().unwrap_err();
+        assert!(e.downcast_ref::<BadInput>().is_some(), "bad input, exit 2: {e}");
+        assert_eq!(
+            e.to_string(),
+            "--width 16384 --height 16384 --supersample 4: 65536 × 65536 samples per eye; an eye must have fewer than 4294967295 samples"
+        );
+        assert!(frame(16_384, 16_384, 1).check_samples().is_ok());
     }
 }

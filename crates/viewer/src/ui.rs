@@ -11,7 +11,8 @@ use stereo::{mask_color, Layout, Mode, MASK_LEGEND};
 
 use crate::frame_times::{FrameTimes, SERIES_LEN, SERIES_NAMES};
 use crate::settings::{
-    Settings, DISTANCE_RANGE, LIGHT_RANGE, MAX_IPD, MAX_ORBIT_SPEED, MAX_REFLECTION_DEPTH, MIN_RENDER_SCALE,
+    Settings, DISTANCE_RANGE, LIGHT_RANGE, MAX_IPD, MAX_ORBIT_SPEED, MAX_REFLECTION_DEPTH, MAX_RENDER_SCALE,
+    MIN_RENDER_SCALE,
 };
 use crate::worker::FrameInfo;
 
@@ -108,12 +109,15 @@ fn controls(ui: &mut egui::Ui, s: &mut Settings, readout: &Readout<'_>, actions:
     ui.add(Slider::new(&mut s.depth, 0..=MAX_REFLECTION_DEPTH).text("reflections"))
         .on_hover_text("reflection depth (bounces)");
     ui.add(
-        Slider::new(&mut s.render_scale, MIN_RENDER_SCALE..=1.0)
+        Slider::new(&mut s.render_scale, MIN_RENDER_SCALE..=MAX_RENDER_SCALE)
             .text("render scale")
             .custom_formatter(|v, _| format!("{:.0} %", v * 100.0))
             .custom_parser(|t| t.trim().trim_end_matches('%').trim().parse::<f64>().ok().map(|v| v / 100.0)),
     )
-    .on_hover_text("trace each eye at this share of its window size, then scale it up");
+    .on_hover_text(
+        "trace each eye at this multiple of its window size: below 100 % scaled up; above it \
+         supersampled (anti-aliased) and box-filtered down, 200 % = 2 × 2 samples per pixel",
+    );
     ui.horizontal(|ui| {
         ui.label("mode");
         for m in Mode::ALL {
@@ -204,6 +208,11 @@ fn statistics(ui: &mut egui::Ui, s: &Settings, r: &Readout<'_>) {
         };
         let st = &f.stats;
         row("eye", format!("{} × {} · t {:.2} s", f.request.width, f.request.height, r.time));
+        if f.request.samples != (f.request.width, f.request.height) {
+            let (w, h) = f.samples;
+            let note = if f.samples == f.request.samples { "" } else { " (no memory for more)" };
+            row("samples", format!("{w} × {h}{note}"));
+        }
         row("ms per eye", format!("L {:.1} · R {:.1}", st.left.ms, st.right.ms));
         row("rays per eye", format!("L {} · R {}", mega(st.left.rays.total()), mega(st.right.rays.total())));
         row("reprojected", format!("{:.1} %", 100.0 * st.pixels.reprojected_share()));

@@ -6,6 +6,14 @@
 //! pictures into a [`Finished`] frame and swaps it into a second one-slot mailbox. The UI thread
 //! swaps the newest finished frame out whenever it draws. The three `Finished` buffers (the
 //! worker's, the mailbox's, the UI's) rotate by swapping, so once warm nothing is allocated.
+//!
+//! A request may ask for more samples than pixels (a render scale above 100 %): the frame is
+//! traced at the sampled size and its eyes, its mask's colours and the live-PSNR reference
+//! are filtered down to the eye size ([`stereo::downsample`], a box filter in linear light)
+//! into the `Finished` frame's buffers. The class mask stays per sample. A sampled size
+//! whose buffers would not fit in the memory that was available when the worker started
+//! ([`crate::setup::viewer_frame_fits`]) is traced at the eye size instead, and the frame
+//! says so ([`FrameInfo::samples`]).
 
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
@@ -16,6 +24,7 @@ use stereo::{FrameStats, Layout, Options, PixelClass, Quality, StereoFrame};
 use tracer::{Camera, Scene, Tracer};
 
 use crate::reference::Reference;
+use crate::setup;
 
 /// Everything that determines one stereo frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -28,10 +37,13 @@ pub struct Request {
     pub opts: Options,
     /// Scene time, seconds.
     pub time: f32,
-    /// Eye width in pixels.
+    /// Eye width in pixels: the images the frame delivers.
     pub width: u32,
     /// Eye height in pixels.
     pub height: u32,
+    /// The size each eye is traced at: `width` × `height`, or larger to supersample (the
+    /// images are then filtered down to `width` × `height`).
+    pub samples: (u32, u32),
     /// Also trace the right eye fully and measure the right image against it.
     pub psnr: bool,
     /// Also make the red–cyan anaglyph of the pair.
@@ -49,16 +61,21 @@ pub struct FrameInfo {
     pub seq: u64,
     /// The request it answers.
     pub request: Request,
+    /// The size each eye was traced at: `request.samples`, or the eye size when that many
+    /// samples would not fit in memory.
+    pub samples: (u32, u32),
     /// Time, rays and pixel classes.
     pub stats: FrameStats,
-    /// The right eye against a full trace, when the request asked for it.
+    /// The right eye against a full trace, when the request asked for it; both filtered to
+    /// the eye size when supersampled.
     pub quality: Option<Quality>,
     /// Wall time of the whole job (including the PSNR reference trace, the anaglyph and the
     /// copies for the UI), milliseconds.
     pub wall_ms: f64,
 }
 
-/// A finished stereo frame: both eyes and the right eye's mask, `width × height` each.
+/// A finished stereo frame: both eyes and the right eye's mask colours, `width × height`
+/// each, and its class mask per sample.
 #[derive(Debug, Default)]
 pub struct Finished {
     /// Metadata; `None` until the first frame arrives.
@@ -67,8 +84,11 @@ pub struct Finished {
     pub left: Vec<u32>,
     /// Right eye, `0x00RRGGBB`, row-major.
     pub right: Vec<u32>,
-    /// How each right pixel was made.
+    /// How each right sample was made, [`Finished::samples`] in size.
     pub mask: Vec<PixelClass>,
+    /// The mask's colours (`stereo::mask_color`) at the eye size, each pixel's samples
+    /// filtered together as the eyes are: what the overlay shows.
+    pub mask_overlay: Vec<u32>,
     /// The red–cyan anaglyph (`0x00RRGGBB`) when the request asked for it, else empty.
     pub anaglyph: Vec<u32>,
 }
@@ -80,23 +100,30 @@ impl Finished {
         self.info.map_or((0, 0), |i| (i.request.width, i.request.height))
     }
 
-    /// Copies a rendered frame in, reusing this frame's allocations.
-    fn fill_from(&mut self, frame: &StereoFrame, info: &FrameInfo) {
-        self.left.clear();
-        self.left.extend_from_slice(&frame.left().rgb);
-        self.right.clear();
-        self.right.extend_from_slice(&frame.right().rgb);
+    /// The size the eyes were traced at (of [`Finished::mask`]), (0, 0) before the first
+    /// frame.
+    #[must_use]
+    pub fn samples(&self) -> (u32, u32) {
+        self.info.map_or((0, 0), |i| i.samples)
+    }
+
+    /// Copies a frame rendered at `samples` in for `request`, filtered down to its eye size,
+    /// reusing this frame's allocations. The metadata is the caller's to set.
+    fn fill_from(&mut self, frame: &StereoFrame, samples: (u32, u32), request: &Request) {
+        let eye = (request.width, request.height);
+        stereo::downsample(&frame.left().rgb, samples, &mut self.left, eye);
+        stereo::downsample(&frame.right().rgb, samples, &mut self.right, eye);
+        stereo::downsample_mask(frame.mask(), samples, &mut self.mask_overlay, eye);
         self.mask.clear();
         self.mask.extend_from_slice(frame.mask());
-        if info.request.anaglyph {
+        if request.anaglyph {
             // Dubois's matrices decode every channel to linear light: too slow for the UI
             // thread at 120 Hz, so it is done here, once per frame, on the rayon pool.
-            let (w, h, swap) = (info.request.width, info.request.height, info.request.swap);
-            stereo::compose(Layout::Anaglyph, swap, &self.left, &self.right, w, h, &mut self.anaglyph);
+            let (w, h) = eye;
+            stereo::compose(Layout::Anaglyph, request.swap, &self.left, &self.right, w, h, &mut self.anaglyph);
         } else {
             self.anaglyph.clear();
         }
-        self.info = Some(*info);
     }
 }
 
@@ -134,11 +161,19 @@ pub struct Worker {
 }
 
 impl Worker {
-    /// Starts the render thread for `scene`.
+    /// Starts the render thread for `scene`; supersampled frames must fit in the memory
+    /// available now ([`setup::available_memory`]).
     pub fn spawn(scene: Scene) -> anyhow::Result<Self> {
+        Self::spawn_with_memory(scene, setup::available_memory()?)
+    }
+
+    /// Starts the render thread with `memory` bytes for supersampled frames (`None`: no
+    /// limit).
+    fn spawn_with_memory(scene: Scene, memory: Option<u64>) -> anyhow::Result<Self> {
         let shared = Arc::new(Shared::default());
         let theirs = Arc::clone(&shared);
-        let thread = std::thread::Builder::new().name("render".into()).spawn(move || render_loop(scene, &theirs))?;
+        let thread =
+            std::thread::Builder::new().name("render".into()).spawn(move || render_loop(scene, memory, &theirs))?;
         Ok(Self { shared, thread: Some(thread), front: Finished::default(), last_posted: None })
     }
 
@@ -196,8 +231,9 @@ impl Drop for Worker {
 }
 
 /// The worker thread's state: scene, tracer and all buffers, reused frame after frame. The
-/// scene is a working copy whose first light the requests move.
-fn render_loop(mut scene: Scene, shared: &Shared) {
+/// scene is a working copy whose first light the requests move; `memory` bounds the
+/// supersampled frames.
+fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
     let mut tracer = Tracer::new(&scene, 0.0);
     let scene_light = scene.lights.first().map(|l| l.position);
     let mut frame = StereoFrame::new();
@@ -223,17 +259,21 @@ fn render_loop(mut scene: Scene, shared: &Shared) {
         }
         tracer.update(&scene, request.time);
         tracer.set_max_depth(request.depth);
-        let (w, h) = (request.width, request.height);
-        let stats = frame.render(&tracer, &request.camera, w, h, request.opts);
+        let eye = (request.width, request.height);
+        let samples = if request.samples == eye || setup::viewer_frame_fits(request.samples, eye, memory) {
+            request.samples
+        } else {
+            eye
+        };
+        let stats = frame.render(&tracer, &request.camera, samples.0, samples.1, request.opts);
+        back.fill_from(&frame, samples, &request);
         let quality = request.psnr.then(|| {
-            reference.trace(&tracer, &request.camera, w, h);
-            reference.compare(&frame.right().rgb)
+            reference.trace(&tracer, &request.camera, samples.0, samples.1);
+            reference.compare_filtered(&back.right, samples, eye)
         });
         seq += 1;
-        back.fill_from(&frame, &FrameInfo { seq, request, stats, quality, wall_ms: 0.0 });
-        if let Some(info) = back.info.as_mut() {
-            info.wall_ms = started.elapsed().as_secs_f64() * 1e3;
-        }
+        let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+        back.info = Some(FrameInfo { seq, request, samples, stats, quality, wall_ms });
         let mut out = lock(&shared.outbox);
         std::mem::swap(&mut out.frame, &mut back);
         out.fresh = true;
@@ -261,6 +301,7 @@ mod tests {
             time: 0.0,
             width,
             height: 24,
+            samples: (width, 24),
             psnr,
             anaglyph: psnr,
             swap: false,
@@ -323,6 +364,47 @@ mod tests {
         assert_ne!(before, moved);
         worker.post(request(16, true));
         assert_eq!(wait_for(&mut worker, 3).left, before, "no override: the scene's light again");
+    }
+
+    /// At 200 % the frame is traced at 2 × 2 samples per pixel: the eyes are those samples
+    /// filtered down, the mask stays per sample, the overlay is the mask's colours filtered.
+    #[test]
+    fn a_supersampled_frame_is_traced_at_the_samples_and_filtered_to_the_eye() {
+        let mut worker = Worker::spawn_with_memory(scene(), None).unwrap();
+        let req = Request { camera: Camera { ipd: 1.0, ..Camera::default() }, samples: (64, 48), ..request(32, true) };
+        worker.post(req);
+        let f = wait_for(&mut worker, 1);
+        let info = f.info.unwrap();
+        assert_eq!((f.size(), f.samples(), info.samples), ((32, 24), (64, 48), (64, 48)));
+        let mut direct = StereoFrame::new();
+        let mut tracer = Tracer::new(&scene(), 0.0);
+        tracer.set_max_depth(2);
+        direct.render(&tracer, &req.camera, 64, 48, req.opts);
+        let (mut left, mut right, mut overlay) = (Vec::new(), Vec::new(), Vec::new());
+        stereo::downsample(&direct.left().rgb, (64, 48), &mut left, (32, 24));
+        stereo::downsample(&direct.right().rgb, (64, 48), &mut right, (32, 24));
+        stereo::downsample_mask(direct.mask(), (64, 48), &mut overlay, (32, 24));
+        assert_eq!((&f.left, &f.right, &f.mask_overlay), (&left, &right, &overlay));
+        assert_eq!(f.mask, direct.mask(), "the mask per sample");
+        assert_eq!(f.anaglyph.len(), 32 * 24, "the anaglyph of the filtered eyes");
+        assert_eq!(info.stats.left.rays.primary, 64 * 48, "one primary ray per sample");
+        let mut reference = Reference::default();
+        reference.trace(&tracer, &req.camera, 64, 48);
+        assert_eq!(info.quality, Some(reference.compare_filtered(&right, (64, 48), (32, 24))), "the filtered eyes");
+    }
+
+    #[test]
+    fn samples_that_do_not_fit_in_memory_are_traced_at_the_eye_size() {
+        let eye = (32, 24);
+        let need = setup::viewer_frame_bytes((64, 48), eye);
+        let mut worker = Worker::spawn_with_memory(scene(), Some(need - 1)).unwrap();
+        worker.post(Request { samples: (64, 48), ..request(32, false) });
+        let f = wait_for(&mut worker, 1);
+        assert_eq!((f.size(), f.samples()), (eye, eye), "one byte short: no supersampling");
+        assert_eq!(f.info.unwrap().request.samples, (64, 48), "the frame still names what was asked");
+        let mut worker = Worker::spawn_with_memory(scene(), Some(need)).unwrap();
+        worker.post(Request { samples: (64, 48), ..request(32, false) });
+        assert_eq!(wait_for(&mut worker, 1).samples(), (64, 48), "exactly enough");
     }
 
     /// A handle whose render thread never started: what `post` sends stays in the inbox,

@@ -262,12 +262,13 @@ fn help_documents_every_flag() {
         "--right",
         "--mask",
         "--json",
+        "--supersample",
     ] {
         assert!(text.contains(flag), "render --help lacks {flag}");
     }
     let out = stereotrace(&["--help"]);
     let text = String::from_utf8_lossy(&out.stdout);
-    for flag in ["--scene", "--frames", "--dump", "render", "bench"] {
+    for flag in ["--scene", "--frames", "--dump", "--render-scale", "render", "bench"] {
         assert!(text.contains(flag), "--help lacks {flag}");
     }
 }
@@ -392,4 +393,64 @@ fn layouts_and_an_animation_export() {
     for n in &names {
         assert_eq!(png_size(&dir.join(n)), (64, 18), "{n}: side by side");
     }
+}
+
+/// `--supersample 2` traces every stage at twice the size per axis and writes the eyes
+/// box-filtered down: exactly the filtered images of a render at the sampled size. The mask
+/// and the counts stay per sample.
+#[test]
+fn supersampling_traces_the_samples_and_writes_the_requested_size() {
+    let paths = |tag: &str| ["l", "r", "m"].map(|eye| tmp(&format!("ss-{tag}-{eye}.png")));
+    let render = |size: [&str; 2], extra: &[&str], [l, r, m]: &[PathBuf; 3]| {
+        let mut args = vec!["render", "--width", size[0], "--height", size[1], "--mode", "exact", "--json"];
+        args.extend_from_slice(extra);
+        args.extend(["--left", l.to_str().unwrap(), "--right", r.to_str().unwrap(), "--mask", m.to_str().unwrap()]);
+        json(&stereotrace(&args))
+    };
+    let (big, small) = (paths("big"), paths("small"));
+    let at_samples = render(["320", "180"], &[], &big);
+    let v = render(["160", "90"], &["--supersample", "2"], &small);
+    assert_eq!(png_size(&small[0]), (160, 90), "the left eye at the requested size");
+    assert_eq!(png_size(&small[1]), (160, 90), "the right eye at the requested size");
+    assert_eq!(png_size(&small[2]), (320, 180), "the mask per sample");
+    assert_eq!((count(&v, "width"), count(&v, "height"), count(&v, "supersample")), (160, 90, 2), "the report's sizes");
+    assert_eq!((count(&v, "sample_width"), count(&v, "sample_height")), (320, 180));
+    for eye in [0, 1] {
+        let (_, _, samples) = read_png(&big[eye]);
+        let (_, _, pixels) = read_png(&small[eye]);
+        let mut filtered = Vec::new();
+        stereo::downsample(&samples, (320, 180), &mut filtered, (160, 90));
+        assert_eq!(pixels, filtered, "eye {eye}: the samples of a 320 × 180 render, box-filtered");
+    }
+    assert_eq!(read_png(&small[2]).2, read_png(&big[2]).2, "the mask is the sampled render's");
+    for key in ["left", "right"] {
+        assert_eq!(v[key]["rays"], at_samples[key]["rays"], "{key}: the rays of every sample");
+    }
+    assert_eq!(count(&v["left"]["rays"], "primary"), 320 * 180, "one primary ray per sample");
+    assert_eq!(v["right"]["pixels"], at_samples["right"]["pixels"], "the classes of every sample");
+    assert_eq!(v["quality_samples"], at_samples["quality"], "per sample: the sampled render's quality");
+    assert!(v["quality"]["share_not_identical"].as_f64().unwrap() < 0.001, "filtered, still exact: {}", v["quality"]);
+    assert_eq!(at_samples["supersample"], 1, "no supersampling by default");
+    assert_eq!(at_samples["quality_samples"], at_samples["quality"], "without it, the two are one");
+    // An animation's combined frames are the requested size too.
+    let dir = tmp("ss-anim");
+    let args = ["render", "--width", "32", "--height", "18", "--supersample", "3", "--frames", "2", "--out-dir"];
+    let out = stereotrace(&[&args[..], &[dir.to_str().unwrap()]].concat());
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(png_size(&dir.join("frame_00001.png")), (64, 18), "two 32 × 18 eyes side by side");
+}
+
+#[test]
+fn a_supersample_factor_outside_1_to_4_exits_2() {
+    for bad in ["0", "5", "1.5", "two"] {
+        let out = stereotrace(&["render", "--supersample", bad, "--json"]);
+        assert_eq!(out.status.code(), Some(2), "--supersample {bad}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(&format!("invalid value '{bad}' for '--supersample <S>'")), "{err}");
+        assert!(out.stdout.is_empty(), "nothing rendered for --supersample {bad}");
+    }
+    let out = stereotrace(&["render", "--width", "16384", "--height", "16384", "--supersample", "4", "--json"]);
+    assert_eq!(out.status.code(), Some(2), "2³² samples per eye");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("65536 × 65536 samples per eye; an eye must have fewer than 4294967295 samples"), "{err}");
 }

@@ -244,3 +244,64 @@ fn keys_move_the_head_switch_layouts_and_save_screenshots() {
     assert!(pair.chunks_exact(3).any(|p| p[0] != p[1] || p[1] != p[2]), "the anaglyph has colour fringes");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// At a render scale of 200 % the window shows the eyes supersampled: the right eye on
+/// screen is, pixel for pixel, what `render --supersample 2` writes for the same view (the
+/// panel covers only the left eye), and differs from the eye traced at 100 %.
+#[test]
+fn a_render_scale_of_200_shows_the_supersampled_eyes() {
+    if !on_path("xvfb-run") {
+        assert!(std::env::var_os("CI").is_none(), "xvfb-run not found, but CI must install xvfb and xauth");
+        eprintln!("SKIPPED: xvfb-run not found — install xvfb xauth");
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("stereotrace-scale-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (dump, log) = (dir.join("dump.png"), dir.join("stderr.txt"));
+    let mut child = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1920x1080x24", env!("CARGO_BIN_EXE_stereotrace")])
+        .arg("--scene")
+        .arg(seed_scene())
+        .args(["--frames", "3", "--time", "1.0", "--render-scale", "200", "--width", "800", "--height", "300"])
+        .arg("--dump")
+        .arg(&dump)
+        .current_dir(&dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(File::create(&log).unwrap())
+        .process_group(0)
+        .spawn()
+        .expect("cannot start xvfb-run");
+    let started = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if started.elapsed() > TIMEOUT {
+            let _ = Command::new("kill").args(["-KILL", &format!("-{}", child.id())]).status();
+            let _ = child.wait();
+            panic!("the viewer did not exit within {TIMEOUT:?}; stderr:\n{}", std::fs::read_to_string(&log).unwrap());
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    assert!(status.success(), "viewer failed ({status}); stderr:\n{}", std::fs::read_to_string(&log).unwrap());
+    let (w, h, rgb) = read_rgb_png(&dump);
+    assert_eq!((w, h), (800, 300));
+    let shown = columns(&rgb, w, 400, 800);
+    let render = |supersample: &str| {
+        let right = dir.join(format!("right-{supersample}.png"));
+        let out = Command::new(env!("CARGO_BIN_EXE_stereotrace"))
+            .args(["render", "--width", "400", "--height", "300", "--time", "1.0", "--supersample", supersample])
+            .arg("--scene")
+            .arg(seed_scene())
+            .arg("--right")
+            .arg(&right)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        read_rgb_png(&right).2
+    };
+    assert!(shown == render("2"), "the right eye on screen is the supersampled render");
+    assert!(shown != render("1"), "and not the render at one sample per pixel");
+    let _ = std::fs::remove_dir_all(&dir);
+}
