@@ -2,7 +2,8 @@
 //! and mouse drags turn it.
 //!
 //! Keys, as games and 3-D viewers have them ([`KEYS`] lists them for the panel, the key
-//! overlay and the README): W/↑ forward, S/↓ back, A/← and D/→ sideways, Q down and E up
+//! overlay and the README; arrows are spelled out, egui's fonts have no arrow glyphs): W/↑
+//! forward, S/↓ back, A/← and D/→ sideways, Q down and E up
 //! (held: `HEAD_SPEED` units a second, forward and sideways along the head's own axes, up and
 //! down straight along world y; see `settings.rs`); right-drag (or left-drag outside the
 //! panel) turns the head; R resets it; 1, 2, 3 choose side-by-side, cross-eyed, anaglyph;
@@ -26,8 +27,8 @@ const MAX_MOVE_STEP: f32 = 0.1;
 
 /// Every key and what it does, in the order the key overlay and the README list them.
 pub const KEYS: [(&str, &str); 15] = [
-    ("W / ↑, S / ↓", "move the head forward, back"),
-    ("A / ←, D / →", "move the head left, right"),
+    ("W / Up, S / Down", "move the head forward, back"),
+    ("A / Left, D / Right", "move the head left, right"),
     ("Q, E", "move the head down, up"),
     ("right drag (left drag off the panel)", "turn the head (yaw, pitch)"),
     ("R", "reset the head to the scene's camera"),

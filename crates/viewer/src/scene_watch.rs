@@ -256,8 +256,8 @@ mod tests {
             let path = self.0.join(name);
             let before = stamp(&path);
             std::fs::write(&path, text).unwrap();
-            if before.is_some() && stamp(&path) == before {
-                let later = before.unwrap().0 + Duration::from_secs(1);
+            if let Some((time, _)) = before.filter(|_| stamp(&path) == before) {
+                let later = time + Duration::from_secs(1);
                 std::fs::File::options().write(true).open(&path).unwrap().set_modified(later).unwrap();
             }
             path
@@ -294,7 +294,9 @@ mod tests {
         let expected = format!("{}:3: spheres[0].radius = -2: must be > 0", path.display());
         assert_eq!(watch.error(), Some(&*expected), "file, line of the table, field, value, why");
         assert_eq!(Scene::load(&path).unwrap_err().to_string(), expected, "the command line's wording");
+        assert_eq!(watch.failures(), 1, "one failed load");
         assert!(watch.poll(t0 + 2 * POLL_INTERVAL).is_none(), "an unchanged broken file is not read again");
+        assert_eq!(watch.failures(), 1, "not read again");
         assert!(watch.error().is_some(), "the error stays until a good save");
 
         // Fixed: it reloads, and the head stays where the user walked to.
@@ -350,10 +352,7 @@ mod tests {
         std::thread::sleep(Duration::from_millis(20));
         let second = dir.write("z.toml", GOOD);
         // A folder's time can be coarse: make sure it moved.
-        std::fs::File::open(&dir.0)
-            .unwrap()
-            .set_modified(SystemTime::now() + Duration::from_secs(2))
-            .unwrap_or_else(|_| ());
+        std::fs::File::open(&dir.0).unwrap().set_modified(SystemTime::now() + Duration::from_secs(2)).unwrap_or(());
         watch.poll(t0 + POLL_INTERVAL);
         assert_eq!(watch.files(), [first.clone(), second], "the new file is listed");
 

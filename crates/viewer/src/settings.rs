@@ -323,7 +323,7 @@ mod tests {
         let walked = s;
         // A sphere added: nothing of the settings changes.
         let mut new = old.clone();
-        new.spheres.push(new.spheres[0].clone());
+        new.spheres.push(new.spheres[0]);
         s.follow_reload(&old, &new);
         assert_eq!(s, walked, "the head pose and the sliders are kept");
         // The file's IPD changed: that one value follows the file.

@@ -73,11 +73,15 @@ pub struct SceneReadout<'a> {
 }
 
 /// Buttons pressed this frame.
+#[expect(
+    clippy::struct_excessive_bools,
+    reason = "each flag is one button's click this frame, independent of the others"
+)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Actions {
     /// "reset camera" was clicked.
     pub reset: bool,
-    /// "save pair (S)" was clicked.
+    /// "save pair (F12)" was clicked.
     pub save: bool,
     /// "reset light" was clicked.
     pub reset_light: bool,
