@@ -17,8 +17,8 @@
 //!
 //! The app also keeps what is shown over the eyes ([`Chrome`]): Tab hides the panel, the hint
 //! and every other UI pixel, so both eyes are clean for stereo viewing (Tab never reaches
-//! egui, which would move its focus with it); ? or F1 opens the key overlay, which Esc
-//! closes before it quits. F11 (or the panel's checkbox) switches borderless fullscreen.
+//! egui, which would move its focus with it); ? or F1 opens the key overlay (shown even
+//! with the UI hidden, since it was asked for), which Esc closes before it quits. F11 (or the panel's checkbox) switches borderless fullscreen.
 //! The scene file is watched (`scene_watch.rs`, polled on the tick): a good save reloads it
 //! keeping the head where it is, a broken one keeps the last good scene and shows the error
 //! in the panel (and shows the UI if it was hidden). A `.toml` file dropped on the window,
@@ -151,6 +151,11 @@ impl Chrome {
     fn hint(&self, now: Instant) -> bool {
         !self.hidden && self.hint_until.is_some_and(|t| now < t)
     }
+
+    /// Esc: closes the key overlay if it is open; otherwise it means quit (returns true).
+    fn escape_quits(&mut self) -> bool {
+        !std::mem::take(&mut self.keys_open)
+    }
 }
 
 /// Everything the viewer keeps that does not depend on the window.
@@ -240,8 +245,11 @@ impl Viewer {
     fn apply(&mut self, command: Command, window: &Window, event_loop: &ActiveEventLoop) {
         let s = &mut self.settings;
         match command {
-            Command::Quit if self.chrome.keys_open => self.chrome.keys_open = false,
-            Command::Quit => event_loop.exit(),
+            Command::Quit => {
+                if self.chrome.escape_quits() {
+                    event_loop.exit();
+                }
+            }
             Command::ToggleUi => self.chrome.toggle_hidden(),
             Command::ToggleKeys => self.chrome.keys_open ^= true,
             Command::ToggleFullscreen => window.set_fullscreen(!window.is_fullscreen()),
@@ -379,9 +387,9 @@ impl Viewer {
         info
     }
 
-    /// Runs the egui panel over `frame`'s statistics (and the hint and key overlay, unless
-    /// the UI is hidden) and applies what the user changed. Returns the UI to draw: nothing
-    /// at all when it is hidden.
+    /// Runs the egui panel over `frame`'s statistics (and the hint, unless the UI is hidden,
+    /// and the key overlay when it is open) and applies what the user changed. Returns the
+    /// UI to draw: nothing at all when it is hidden and the overlay closed.
     fn panel(&mut self, window: &mut Window, frame: Option<&FrameInfo>, now: Instant) -> egui::FullOutput {
         let raw_input = window.take_egui_input();
         let w = &self.watch;
@@ -402,15 +410,16 @@ impl Viewer {
         let chrome = &mut self.chrome;
         let hint = chrome.hint(now);
         let mut output = self.egui.run_ui(raw_input, |ui| {
+            // Asked for, the key overlay shows even with the UI hidden (until closed).
+            if chrome.keys_open {
+                ui::keys_overlay(ui.ctx(), &mut chrome.keys_open);
+            }
             if chrome.hidden {
                 return;
             }
             actions = ui::panel(ui.ctx(), &mut settings, &readout, folder);
             if hint {
                 ui::tab_hint(ui.ctx());
-            }
-            if chrome.keys_open {
-                ui::keys_overlay(ui.ctx(), &mut chrome.keys_open);
             }
         });
         self.pacing.dirty |=
@@ -530,5 +539,26 @@ impl ApplicationHandler for App {
             State::Running(window) => Some(&**window),
         };
         self.viewer.tick(window, event_loop);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tab_hides_the_ui_and_ends_the_hint_and_esc_closes_the_overlay_first() {
+        let t0 = Instant::now();
+        let mut chrome = Chrome::new(t0);
+        assert!(!chrome.hidden && chrome.hint(t0), "the UI and the hint show at first");
+        assert!(!chrome.hint(t0 + HINT_SHOWN), "the hint goes by itself after a while");
+        chrome.toggle_hidden();
+        assert!(chrome.hidden && !chrome.hint(t0), "Tab hides everything");
+        chrome.toggle_hidden();
+        assert!(!chrome.hidden && !chrome.hint(t0), "Tab again shows the UI; the hint has done its job");
+        chrome.keys_open = true;
+        assert!(!chrome.escape_quits(), "Esc closes the key overlay first");
+        assert!(!chrome.keys_open, "closed");
+        assert!(chrome.escape_quits(), "then Esc quits");
     }
 }
