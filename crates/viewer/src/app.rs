@@ -18,8 +18,8 @@
 //! The app also keeps what is shown over the eyes ([`Chrome`]): Tab hides the panel, the hint
 //! and every other UI pixel, so both eyes are clean for stereo viewing (Tab never reaches
 //! egui, which would move its focus with it); ? or F1 opens the key overlay (shown even
-//! with the UI hidden, since it was asked for), which Esc closes before it quits. F11 (or the panel's checkbox) switches borderless fullscreen.
-//! The scene file is watched (`scene_watch.rs`, polled on the tick): a good save reloads it
+//! with the UI hidden, since it was asked for), which Esc closes before it quits. F11 (or
+//! the panel's checkbox) switches borderless fullscreen. The scene file is watched (`scene_watch.rs`, polled on the tick): a good save reloads it
 //! keeping the head where it is, a broken one keeps the last good scene and shows the error
 //! in the panel (and shows the UI if it was hidden). A `.toml` file dropped on the window,
 //! or picked in the panel's list, opens at its own head pose.
@@ -267,8 +267,8 @@ impl Viewer {
 
     /// Makes a new scene current: the worker renders it from the next request on; a reload
     /// of the same file keeps the head (and what the file did not change), another file
-    /// starts at its own camera and light.
-    /// `failures` is the watch's count of failed loads before the attempt.
+    /// starts at its own camera and light. Without a new scene, a load that failed since
+    /// `failures` (the watch's count of failed loads before the attempt) shows the UI.
     fn adopt(&mut self, change: Option<Change>, failures: u64, window: &Window) {
         if let Some(Change { previous, same_file }) = change {
             let scene = self.watch.scene();

@@ -5,13 +5,14 @@
 //! scrolls instead. It only draws: it edits a [`Settings`] value (the model, `settings.rs`)
 //! and reports button presses; the app applies them and turns the settings into render
 //! requests. Beside it are the key overlay ([`keys_overlay`], ? or F1) and the first-run hint
-//! that Tab hides the UI ([`tab_hint`]); with the UI hidden the app draws none of them.
+//! that Tab hides the UI ([`tab_hint`]); with the UI hidden the app draws neither the panel
+//! nor the hint (the overlay only when asked for).
+
+use std::path::PathBuf;
 
 use egui::{Align2, Color32, RichText, Slider};
 use glam::Vec3;
 use stereo::{mask_color, Layout, Mode, MASK_LEGEND};
-
-use std::path::PathBuf;
 
 use crate::frame_times::{FrameTimes, SERIES_LEN, SERIES_NAMES};
 use crate::input::KEYS;
