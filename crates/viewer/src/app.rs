@@ -14,6 +14,15 @@
 //! an unchanged window. A redraw takes the newest frame, runs the egui panel, posts the
 //! settings as the next render request and presents. Keys and drags are `input.rs`'s, the
 //! settings and the request they make `settings.rs`'s, the stderr log `fps_log.rs`'s.
+//!
+//! The app also keeps what is shown over the eyes ([`Chrome`]): Tab hides the panel, the hint
+//! and every other UI pixel, so both eyes are clean for stereo viewing (Tab never reaches
+//! egui, which would move its focus with it); ? or F1 opens the key overlay (shown even
+//! with the UI hidden, since it was asked for), which Esc closes before it quits. F11 (or
+//! the panel's checkbox) switches borderless fullscreen. The scene file is watched (`scene_watch.rs`, polled on the tick): a good save reloads it
+//! keeping the head where it is, a broken one keeps the last good scene and shows the error
+//! in the panel (and shows the UI if it was hidden). A `.toml` file dropped on the window,
+//! or picked in the panel's list, opens at its own head pose.
 
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -29,13 +38,14 @@ use winit::window::WindowId;
 use crate::cli::{WindowArgs, DEFAULT_SCENE};
 use crate::fps_log::{FpsLog, Report};
 use crate::frame_times::{self, FrameTimes};
-use crate::input::{Command, Input};
+use crate::input::{self, Command, Input};
 use crate::present;
+use crate::scene_watch::{Change, SceneWatch};
 use crate::screenshot::Screenshots;
 use crate::settings::Settings;
 use crate::syslibs;
 use crate::timing::{RateMeter, SceneClock};
-use crate::ui::{self, Actions, Readout};
+use crate::ui::{self, Actions, Readout, SceneReadout};
 use crate::window::{self, Dump, Size, Window};
 use crate::worker::{FrameInfo, Worker};
 
@@ -47,6 +57,9 @@ const FRAME_INTERVAL: Duration = Duration::from_micros(8_333);
 /// panel keep moving).
 const IDLE_REDRAW: Duration = Duration::from_millis(250);
 
+/// How long the hint that Tab hides the UI is shown, unless Tab is pressed first.
+const HINT_SHOWN: Duration = Duration::from_secs(12);
+
 /// Opens the window and runs until it is closed, Esc is pressed or `--frames` is reached.
 pub fn run(args: &WindowArgs) -> anyhow::Result<()> {
     let scene_path = crate::setup::resolve_scene(args.scene.as_deref().unwrap_or(Path::new(DEFAULT_SCENE)));
@@ -54,8 +67,8 @@ pub fn run(args: &WindowArgs) -> anyhow::Result<()> {
     let backend = syslibs::backend_from_env()?;
     syslibs::check_runtime_libraries(backend)?;
     let event_loop = window::build_event_loop(backend)?;
-    let name = scene_path.file_name().map_or_else(|| scene_path.display().to_string(), |n| n.to_string_lossy().into());
-    let mut app = App { viewer: Viewer::new(args, scene, format!("stereotrace — {name}"))?, state: State::Initial };
+    let watch = SceneWatch::new(scene_path, scene, Instant::now());
+    let mut app = App { viewer: Viewer::new(args, watch)?, state: State::Initial };
     event_loop.run_app(&mut app).context("the window's event loop failed")?;
     app.viewer.finish()
 }
@@ -74,9 +87,13 @@ enum State {
     Running(Box<Window>),
 }
 
+/// The window title for a scene file's name.
+fn title(name: &str) -> String {
+    format!("stereotrace — {name}")
+}
+
 /// Options that do not change while the window is open.
 struct Config {
-    title: String,
     size: LogicalSize<f64>,
     /// `--frames`: stop after this many frames showing the eyes.
     frames: Option<u64>,
@@ -108,10 +125,45 @@ struct Meters {
     history: FrameTimes,
 }
 
+/// What is drawn over the eyes besides the panel's contents.
+#[derive(Clone, Copy, Debug)]
+struct Chrome {
+    /// Tab: nothing of the UI is drawn.
+    hidden: bool,
+    /// The hint that Tab hides the UI shows until this time (or the first Tab).
+    hint_until: Option<Instant>,
+    /// ? or F1: the key overlay is open.
+    keys_open: bool,
+}
+
+impl Chrome {
+    fn new(now: Instant) -> Self {
+        Self { hidden: false, hint_until: Some(now + HINT_SHOWN), keys_open: false }
+    }
+
+    /// Tab: hides or shows the UI; the hint has done its job.
+    fn toggle_hidden(&mut self) {
+        self.hidden ^= true;
+        self.hint_until = None;
+    }
+
+    /// Whether the hint shows at `now`.
+    fn hint(&self, now: Instant) -> bool {
+        !self.hidden && self.hint_until.is_some_and(|t| now < t)
+    }
+
+    /// Esc: closes the key overlay if it is open; otherwise it means quit (returns true).
+    fn escape_quits(&mut self) -> bool {
+        !std::mem::take(&mut self.keys_open)
+    }
+}
+
 /// Everything the viewer keeps that does not depend on the window.
 struct Viewer {
     config: Config,
-    scene: Scene,
+    /// The scene file, watched, and the last good scene from it.
+    watch: SceneWatch,
+    chrome: Chrome,
     settings: Settings,
     clock: SceneClock,
     worker: Worker,
@@ -128,9 +180,9 @@ struct Viewer {
 }
 
 impl Viewer {
-    fn new(args: &WindowArgs, scene: Scene, title: String) -> anyhow::Result<Self> {
+    fn new(args: &WindowArgs, watch: SceneWatch) -> anyhow::Result<Self> {
         let now = Instant::now();
-        let mut settings = Settings::from_scene(&scene);
+        let mut settings = Settings::from_scene(watch.scene());
         let clock = match args.time {
             Some(t) => SceneClock::paused_at(t),
             None => SceneClock::running(now),
@@ -144,12 +196,12 @@ impl Viewer {
         ui::setup_style(&egui);
         Ok(Self {
             config: Config {
-                title,
                 size: LogicalSize::new(f64::from(args.width), f64::from(args.height)),
                 frames: args.frames,
             },
-            worker: Worker::spawn(scene.clone())?,
-            scene,
+            worker: Worker::spawn(watch.scene().clone())?,
+            watch,
+            chrome: Chrome::new(now),
             settings,
             clock,
             egui,
@@ -193,10 +245,17 @@ impl Viewer {
     }
 
     /// Does what a key asked for.
-    fn apply(&mut self, command: Command, event_loop: &ActiveEventLoop) {
+    fn apply(&mut self, command: Command, window: &Window, event_loop: &ActiveEventLoop) {
         let s = &mut self.settings;
         match command {
-            Command::Quit => event_loop.exit(),
+            Command::Quit => {
+                if self.chrome.escape_quits() {
+                    event_loop.exit();
+                }
+            }
+            Command::ToggleUi => self.chrome.toggle_hidden(),
+            Command::ToggleKeys => self.chrome.keys_open ^= true,
+            Command::ToggleFullscreen => window.set_fullscreen(!window.is_fullscreen()),
             Command::Save => self.screenshots.save(self.worker.current(), s.look()),
             Command::TogglePause => {
                 s.paused ^= true;
@@ -204,13 +263,56 @@ impl Viewer {
             }
             Command::ToggleMask => s.show_mask ^= true,
             Command::SwapEyes => s.swap_eyes ^= true,
-            Command::ResetHead => s.reset_camera(&self.scene),
+            Command::ResetHead => s.reset_camera(self.watch.scene()),
             Command::Layout(layout) => s.layout = layout,
         }
     }
 
+    /// Makes a new scene current: the worker renders it from the next request on; a reload
+    /// of the same file keeps the head (and what the file did not change), another file
+    /// starts at its own camera and light. Without a new scene, a load that failed since
+    /// `failures` (the watch's count of failed loads before the attempt) shows the UI.
+    fn adopt(&mut self, change: Option<Change>, failures: u64, window: &Window) {
+        if let Some(Change { previous, same_file }) = change {
+            let scene = self.watch.scene();
+            if same_file {
+                self.settings.follow_reload(&previous, scene);
+            } else {
+                self.settings.reset_camera(scene);
+                self.settings.reset_light(scene);
+                window.set_title(&title(self.watch.name()));
+            }
+            self.worker.set_scene(scene.clone());
+        } else if self.watch.failures() > failures {
+            // A load just failed: show the UI, which says why.
+            self.chrome.hidden = false;
+        }
+        self.pacing.dirty = true;
+    }
+
+    /// Opens a scene file (dropped on the window or picked in the panel).
+    fn open(&mut self, path: &Path, window: &Window) {
+        let failures = self.watch.failures();
+        let change = self.watch.open(path);
+        self.adopt(change, failures, window);
+    }
+
+    /// Reloads the scene file when a poll is due and it was saved.
+    fn poll_scene(&mut self, now: Instant, window: &Window) {
+        let failures = self.watch.failures();
+        let change = self.watch.poll(now);
+        if change.is_some() || self.watch.failures() > failures {
+            self.adopt(change, failures, window);
+        }
+    }
+
     fn on_window_event(&mut self, window: &mut Window, event_loop: &ActiveEventLoop, event: WindowEvent) {
-        window.on_event(&event);
+        // Tab is the viewer's: egui would move its keyboard focus with it.
+        let for_egui =
+            !matches!(&event, WindowEvent::KeyboardInput { event, .. } if input::hidden_from_egui(&event.logical_key));
+        if for_egui {
+            window.on_event(&event);
+        }
         if !matches!(event, WindowEvent::RedrawRequested) {
             self.pacing.dirty = true;
         }
@@ -225,9 +327,10 @@ impl Viewer {
                 let pressed = state == ElementState::Pressed;
                 let egui_wants = self.egui.egui_wants_keyboard_input();
                 if let Some(command) = self.input.key(physical_key, &logical_key, pressed, repeat, egui_wants) {
-                    self.apply(command, event_loop);
+                    self.apply(command, window, event_loop);
                 }
             }
+            WindowEvent::DroppedFile(path) => self.open(&path, window),
             WindowEvent::Focused(false) => self.input.focus_lost(),
             WindowEvent::MouseInput { state, button, .. } => {
                 let on_panel = self.egui.is_pointer_over_egui() || self.egui.egui_wants_pointer_input();
@@ -287,37 +390,60 @@ impl Viewer {
         info
     }
 
-    /// Runs the egui panel over `frame`'s statistics and applies what the user changed.
-    /// Returns the UI to draw.
+    /// Runs the egui panel over `frame`'s statistics (and the hint, unless the UI is hidden,
+    /// and the key overlay when it is open) and applies what the user changed. Returns the
+    /// UI to draw: nothing at all when it is hidden and the overlay closed.
     fn panel(&mut self, window: &mut Window, frame: Option<&FrameInfo>, now: Instant) -> egui::FullOutput {
         let raw_input = window.take_egui_input();
+        let w = &self.watch;
         let readout = Readout {
             ui_fps: self.meters.ui.rate(),
             render_fps: self.meters.render.rate(),
             frame,
             time: self.clock.time(now),
-            animated: self.scene.is_animated(),
+            animated: w.scene().is_animated(),
             history: &self.meters.history,
             saved: self.screenshots.note.recent(now),
+            scene: SceneReadout { name: w.name(), error: w.error(), files: w.files(), folder_error: w.folder_error() },
+            fullscreen: window.is_fullscreen(),
         };
         let mut settings = self.settings;
         let mut actions = Actions::default();
         let folder = &mut self.screenshots.folder;
-        let mut output =
-            self.egui.run_ui(raw_input, |ui| actions = ui::panel(ui.ctx(), &mut settings, &readout, folder));
+        let chrome = &mut self.chrome;
+        let hint = chrome.hint(now);
+        let mut output = self.egui.run_ui(raw_input, |ui| {
+            // Asked for, the key overlay shows even with the UI hidden (until closed).
+            if chrome.keys_open {
+                ui::keys_overlay(ui.ctx(), &mut chrome.keys_open);
+            }
+            if chrome.hidden {
+                return;
+            }
+            actions = ui::panel(ui.ctx(), &mut settings, &readout, folder);
+            if hint {
+                ui::tab_hint(ui.ctx());
+            }
+        });
         self.pacing.dirty |=
             output.viewport_output.get(&egui::ViewportId::ROOT).is_some_and(|v| v.repaint_delay.is_zero());
         window.handle_platform_output(std::mem::take(&mut output.platform_output));
         if actions.reset {
-            settings.reset_camera(&self.scene);
+            settings.reset_camera(self.watch.scene());
         }
         if actions.reset_light {
-            settings.reset_light(&self.scene);
+            settings.reset_light(self.watch.scene());
         }
         self.settings = settings;
         self.sync_clock(now);
         if actions.save {
             self.screenshots.save(self.worker.current(), self.settings.look());
+        }
+        if actions.toggle_fullscreen {
+            window.set_fullscreen(!window.is_fullscreen());
+        }
+        if let Some(path) = actions.open_scene.and_then(|k| self.watch.files().get(k)).cloned() {
+            self.open(&path, window);
         }
         output
     }
@@ -327,7 +453,7 @@ impl Viewer {
     fn post_request(&mut self, (width, height): (u32, u32), now: Instant) {
         let (eye_w, eye_h) = present::eye_size(width, height);
         if eye_w > 0 {
-            let request = self.settings.request(&self.scene, self.clock.time(now), eye_w, eye_h);
+            let request = self.settings.request(self.watch.scene(), self.clock.time(now), eye_w, eye_h);
             self.worker.post(request);
         }
     }
@@ -357,16 +483,19 @@ impl Viewer {
         Ok(())
     }
 
-    /// A tick of the 120 Hz cadence: redraw when there is something new to show, else keep
-    /// the renderer fed.
+    /// A tick of the 120 Hz cadence: look at the scene file when that is due, redraw when
+    /// there is something new to show, else keep the renderer fed.
     fn tick(&mut self, window: Option<&Window>, event_loop: &ActiveEventLoop) {
         if let Err(e) = self.worker.check_alive() {
             self.fail(event_loop, e);
             return;
         }
         let now = Instant::now();
-        let p = &self.pacing;
-        if now >= p.next_tick {
+        if now >= self.pacing.next_tick {
+            if let Some(window) = window {
+                self.poll_scene(now, window);
+            }
+            let p = &self.pacing;
             let due =
                 p.dirty || self.input.is_moving() || self.worker.has_fresh() || now - p.last_redraw >= IDLE_REDRAW;
             if let Some(window) = window {
@@ -392,7 +521,7 @@ impl ApplicationHandler for App {
             return;
         }
         let v = &mut self.viewer;
-        match Window::open(event_loop, &v.config.title, v.config.size, &v.egui) {
+        match Window::open(event_loop, &title(v.watch.name()), v.config.size, &v.egui) {
             Ok(window) => {
                 window.request_redraw();
                 self.state = State::Running(Box::new(window));
@@ -413,5 +542,26 @@ impl ApplicationHandler for App {
             State::Running(window) => Some(&**window),
         };
         self.viewer.tick(window, event_loop);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tab_hides_the_ui_and_ends_the_hint_and_esc_closes_the_overlay_first() {
+        let t0 = Instant::now();
+        let mut chrome = Chrome::new(t0);
+        assert!(!chrome.hidden && chrome.hint(t0), "the UI and the hint show at first");
+        assert!(!chrome.hint(t0 + HINT_SHOWN), "the hint goes by itself after a while");
+        chrome.toggle_hidden();
+        assert!(chrome.hidden && !chrome.hint(t0), "Tab hides everything");
+        chrome.toggle_hidden();
+        assert!(!chrome.hidden && !chrome.hint(t0), "Tab again shows the UI; the hint has done its job");
+        chrome.keys_open = true;
+        assert!(!chrome.escape_quits(), "Esc closes the key overlay first");
+        assert!(!chrome.keys_open, "closed");
+        assert!(chrome.escape_quits(), "then Esc quits");
     }
 }

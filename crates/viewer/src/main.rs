@@ -10,7 +10,8 @@
 //! - `timing` (scene clock, rate meters), `syslibs` (start-up checks), `frame_times` (the
 //!   frame-time history), `input` (keys and drags);
 //! - `worker` (the render thread and its requests), `present` (a frame into the window's
-//!   buffer), `settings` (the settings model, head movement, the request), `screenshot`,
+//!   buffer), `settings` (the settings model, head movement, the request), `scene_watch`
+//!   (the scene file watched and reloaded, other files opened), `screenshot`,
 //!   `fps_log` (the stderr log), `ui` (the panel, drawing only), `window` (the window and
 //!   presenting into it);
 //! - `app`, the event loop's handler, which ties the viewer together.
@@ -25,6 +26,7 @@ mod present;
 mod reference;
 mod render_cmd;
 mod report;
+mod scene_watch;
 mod screenshot;
 mod settings;
 mod setup;

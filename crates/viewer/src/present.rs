@@ -214,6 +214,43 @@ mod tests {
         assert_eq!(&dst[13..17], &f.right[4..8]);
     }
 
+    /// The two halves line up to the pixel in every window size: with the same picture in
+    /// both eyes, every row's left half equals its right half (same width, same columns,
+    /// same rows), whether the frame matches the window or is scaled; an odd width's spare
+    /// column is the last one, at the right edge, so neither eye moves by it.
+    #[test]
+    fn the_halves_line_up_in_every_window_size() {
+        let mut c = Compositor::default();
+        for (fw, fh) in [(0, 0), (5, 3), (13, 7)] {
+            for width in 2..=41usize {
+                for height in [1usize, 3, 8] {
+                    let (fw, fh) = if fw == 0 { (width as u32 / 2, height as u32) } else { (fw, fh) };
+                    let mut f = frame(fw, fh);
+                    f.right.clone_from(&f.left);
+                    let mut dst = vec![0xFFFF_FFFF; width * height];
+                    for layout in [Layout::SideBySide, Layout::CrossEyed] {
+                        assert!(c.compose(&mut dst, width, height, &f, look(layout, false, false)));
+                        let ew = width / 2;
+                        for (y, row) in dst.chunks_exact(width).enumerate() {
+                            assert_eq!(
+                                row[..ew],
+                                row[ew..2 * ew],
+                                "{width}×{height} from {fw}×{fh}, row {y}: halves differ"
+                            );
+                            assert!(row[2 * ew..].iter().all(|&p| p == BACKGROUND), "{width}: the spare column");
+                        }
+                        let expect_top = f.left[0];
+                        assert_eq!(
+                            (dst[0], dst[ew]),
+                            (expect_top, expect_top),
+                            "both eyes start at their half's left edge"
+                        );
+                    }
+                }
+            }
+        }
+    }
+
     #[test]
     fn a_stale_frame_is_scaled_and_small_windows_show_background() {
         let f = frame(2, 1);

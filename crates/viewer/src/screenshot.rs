@@ -1,4 +1,4 @@
-//! Screenshots (key S): the frame on screen as PNGs named
+//! Screenshots (F12 or P): the frame on screen as PNGs named
 //! `stereotrace-YYYYmmdd-HHMMSS-<left|right|pair|mask>.png` (UTC) in a folder created if
 //! missing, and the note the panel shows about the last save. A supersampled frame's mask
 //! is saved per sample, at the size traced, as `render --mask` writes it.

@@ -151,12 +151,41 @@ impl Settings {
         self.position += rot * Vec3::new(right, 0.0, forward);
     }
 
-    /// Walks the head for `seconds` at [`HEAD_SPEED`] in the direction (`forward`, `right`),
-    /// each −1..=1 (movement keys held).
-    pub fn walk(&mut self, (forward, right): (f32, f32), seconds: f32) {
-        if forward != 0.0 || right != 0.0 {
+    /// Walks the head for `seconds` at [`HEAD_SPEED`] in the direction (`forward`, `right`,
+    /// `up`), each −1..=1 (movement keys held): forward and right along the head's own axes,
+    /// up straight along world +y (Q and E, as in a fly camera).
+    pub fn walk(&mut self, (forward, right, up): (f32, f32, f32), seconds: f32) {
+        if forward != 0.0 || right != 0.0 || up != 0.0 {
             let step = HEAD_SPEED * seconds;
             self.move_head(forward * step, right * step);
+            self.position.y += up * step;
+        }
+    }
+
+    /// Follows a reload of the same scene file from `old` to `new`: what the file changed
+    /// (a camera value, the reflection depth, the first light) takes the file's new value;
+    /// everything else — above all the head pose the user walked to, and the sliders —
+    /// stays as it is.
+    pub fn follow_reload(&mut self, old: &Scene, new: &Scene) {
+        let mut from_file = *self;
+        from_file.reset_camera(new);
+        from_file.reset_light(new);
+        let (o, n) = (&old.camera, &new.camera);
+        if o.ipd != n.ipd {
+            self.ipd = from_file.ipd;
+        }
+        if o.distance != n.distance {
+            self.distance = from_file.distance;
+        }
+        if old.render.max_depth != new.render.max_depth {
+            self.depth = from_file.depth;
+        }
+        if (o.position, o.yaw_deg, o.pitch_deg) != (n.position, n.yaw_deg, n.pitch_deg) {
+            (self.position, self.yaw_deg, self.pitch_deg) =
+                (from_file.position, from_file.yaw_deg, from_file.pitch_deg);
+        }
+        if old.lights.first().map(|l| l.position) != new.lights.first().map(|l| l.position) {
+            self.light = from_file.light;
         }
     }
 
@@ -279,9 +308,14 @@ mod tests {
         );
         s.move_head(0.0, 1.0);
         assert!((s.position - Vec3::new(1.0, 0.0, 1.0)).length() < 1e-5, "and right is -z: {:?}", s.position);
-        s.walk((-1.0, 0.0), 0.25);
+        s.walk((-1.0, 0.0, 0.0), 0.25);
         let walked = Vec3::new(1.0 - 0.25 * HEAD_SPEED, 0.0, 1.0);
         assert!((s.position - walked).length() < 1e-5, "walking back at the head speed: {:?}", s.position);
+        s.walk((0.0, 0.0, 1.0), 0.5);
+        let risen = walked + Vec3::Y * 0.5 * HEAD_SPEED;
+        assert!((s.position - risen).length() < 1e-5, "E rises straight up: {:?}", s.position);
+        s.walk((0.0, 0.0, -1.0), 0.5);
+        assert!((s.position - walked).length() < 1e-5, "Q sinks back: {:?}", s.position);
         s.turn_head(0.0, -1e6);
         assert_eq!(s.pitch_deg, MAX_PITCH, "dragging up looks up, clamped");
         let cam = s.camera(&scene.camera);
@@ -292,6 +326,32 @@ mod tests {
         );
         s.reset_camera(&scene);
         assert_eq!((s.position, s.yaw_deg, s.pitch_deg), (Vec3::ZERO, 0.0, 0.0), "reset puts the head back");
+    }
+
+    #[test]
+    fn a_reload_keeps_the_head_and_sliders_and_takes_what_the_file_changed() {
+        let old = scene();
+        let mut s = Settings::from_scene(&old);
+        s.move_head(3.0, 1.0);
+        s.turn_head(50.0, 20.0);
+        s.ipd = 1.2;
+        s.mode = Mode::Copy;
+        let walked = s;
+        // A sphere added: nothing of the settings changes.
+        let mut new = old.clone();
+        new.spheres.push(new.spheres[0]);
+        s.follow_reload(&old, &new);
+        assert_eq!(s, walked, "the head pose and the sliders are kept");
+        // The file's IPD changed: that one value follows the file.
+        new.camera.ipd = 0.3;
+        s.follow_reload(&old, &new);
+        assert_eq!(s, Settings { ipd: 0.3, ..walked }, "only the IPD follows the file");
+        // The file's camera pose changed: the head goes where the file now puts it.
+        let mut moved = new.clone();
+        moved.camera.position = Vec3::new(0.0, 1.0, -2.0);
+        s.follow_reload(&new, &moved);
+        assert_eq!((s.position, s.yaw_deg, s.pitch_deg), (moved.camera.position, 0.0, 0.0), "the file's new pose");
+        assert_eq!((s.ipd, s.mode), (0.3, Mode::Copy), "the rest stays");
     }
 
     #[test]

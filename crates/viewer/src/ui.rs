@@ -1,25 +1,32 @@
 //! The egui panel: the render settings the user controls and the live statistics.
 //!
 //! The panel is a small, semi-transparent, collapsible window anchored at the top-left corner,
-//! so the eyes stay visible behind it. It only draws: it edits a [`Settings`] value (the
-//! model, `settings.rs`) and reports button presses; the app applies them and turns the
-//! settings into render requests.
+//! so the eyes stay visible behind it; it never grows past the window's bottom edge but
+//! scrolls instead. It only draws: it edits a [`Settings`] value (the model, `settings.rs`)
+//! and reports button presses; the app applies them and turns the settings into render
+//! requests. Beside it are the key overlay ([`keys_overlay`], ? or F1) and the first-run hint
+//! that Tab hides the UI ([`tab_hint`]); with the UI hidden the app draws neither the panel
+//! nor the hint (the overlay only when asked for).
+
+use std::path::PathBuf;
 
 use egui::{Align2, Color32, RichText, Slider};
 use glam::Vec3;
 use stereo::{mask_color, Layout, Mode, MASK_LEGEND};
 
 use crate::frame_times::{FrameTimes, SERIES_LEN, SERIES_NAMES};
+use crate::input::KEYS;
 use crate::settings::{
     Settings, DISTANCE_RANGE, LIGHT_RANGE, MAX_IPD, MAX_ORBIT_SPEED, MAX_REFLECTION_DEPTH, MAX_RENDER_SCALE,
     MIN_RENDER_SCALE,
 };
 use crate::worker::FrameInfo;
 
-/// The keys, as the panel lists them.
-pub const HELP: &str = "W/↑ forward · ↓ back · A/← D/→ sideways · right-drag (or left-drag outside \
-                        the panel) turns · R reset · 1 2 3 layout · X swap · M mask · Space pause · \
-                        S save · Esc quit";
+/// The hint shown until Tab is first pressed.
+pub const TAB_HINT: &str = "Tab hides the UI · ? lists the keys";
+
+/// The colour of error text (a scene that did not load).
+const ERROR_COLOR: Color32 = Color32::from_rgb(255, 120, 100);
 
 /// The line colour of each series of the frame-time plot, in [`SERIES_NAMES`] order.
 pub const SERIES_COLORS: [Color32; SERIES_LEN] = [
@@ -48,17 +55,42 @@ pub struct Readout<'a> {
     pub history: &'a FrameTimes,
     /// What the last screenshot wrote, while it is recent.
     pub saved: Option<&'a str>,
+    /// The scene file and its neighbours.
+    pub scene: SceneReadout<'a>,
+    /// Whether the window is fullscreen.
+    pub fullscreen: bool,
+}
+
+/// The scene file shown, why the last load failed, and the scenes beside it.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SceneReadout<'a> {
+    /// The file's name.
+    pub name: &'a str,
+    /// Why the last load failed (the last good scene is still shown), if it did.
+    pub error: Option<&'a str>,
+    /// The `.toml` files in the scene's folder.
+    pub files: &'a [PathBuf],
+    /// Why the folder could not be listed, if it could not.
+    pub folder_error: Option<&'a str>,
 }
 
 /// Buttons pressed this frame.
+#[expect(
+    clippy::struct_excessive_bools,
+    reason = "each flag is one button's click this frame, independent of the others"
+)]
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Actions {
     /// "reset camera" was clicked.
     pub reset: bool,
-    /// "save pair (S)" was clicked.
+    /// "save pair (F12)" was clicked.
     pub save: bool,
     /// "reset light" was clicked.
     pub reset_light: bool,
+    /// A scene of the list was picked: its index in [`SceneReadout::files`].
+    pub open_scene: Option<usize>,
+    /// The fullscreen checkbox was clicked.
+    pub toggle_fullscreen: bool,
 }
 
 /// Formats a ray count as millions, e.g. "1.23 M".
@@ -77,17 +109,22 @@ pub fn panel(ctx: &egui::Context, settings: &mut Settings, readout: &Readout<'_>
     let mut actions = Actions::default();
     let frame = egui::Frame::window(&ctx.global_style()).fill(Color32::from_rgba_unmultiplied(24, 24, 28, 215));
     egui::Window::new("stereotrace")
-        .anchor(Align2::LEFT_TOP, [8.0, 8.0])
+        .anchor(Align2::LEFT_TOP, [0.0, 0.0])
         .collapsible(true)
         .resizable(false)
         .default_width(250.0)
+        // A long message (a scene's load error) wraps rather than widening the panel.
+        .max_width(300.0)
         .frame(frame)
-        // The scroll area may use the whole window height (egui clamps this minimum to the
-        // screen); the panel itself still wraps its contents, and scrolls only when the window
-        // is too short for them.
+        // Kept inside the window, a margin from its edges (the anchor is that area's corner).
+        // The scroll area may use the whole height (egui clamps this minimum to the area);
+        // the panel itself still wraps its contents, and scrolls only when the window is too
+        // short for them.
+        .constrain_to(panel_bounds(ctx, frame))
         .min_height(ctx.content_rect().height())
         .show(ctx, |ui| {
             egui::ScrollArea::vertical().show(ui, |ui| {
+                scene(ui, &readout.scene, &mut actions);
                 controls(ui, settings, readout, &mut actions);
                 screenshots(ui, readout, folder);
                 egui::CollapsingHeader::new("light").show(ui, |ui| light(ui, settings, readout, &mut actions));
@@ -100,6 +137,46 @@ pub fn panel(ctx: &egui::Context, settings: &mut Settings, readout: &Readout<'_>
             });
         });
     actions
+}
+
+/// The area the panel must stay in: the window less the anchor's margin on every side, and
+/// less the frame's margins (egui caps a window's content at the area's height, not counting
+/// the frame), so the whole panel, frame included, fits the window.
+fn panel_bounds(ctx: &egui::Context, frame: egui::Frame) -> egui::Rect {
+    let margin = frame.total_margin();
+    let mut r = ctx.content_rect().shrink(PANEL_MARGIN);
+    r.max.y -= margin.sum().y;
+    r
+}
+
+/// The panel's distance from the window's edges, points.
+const PANEL_MARGIN: f32 = 8.0;
+
+/// The scene file: a list of the scenes beside it to switch to, and why the last save (or
+/// drop) did not load.
+fn scene(ui: &mut egui::Ui, r: &SceneReadout<'_>, actions: &mut Actions) {
+    ui.horizontal(|ui| {
+        ui.label("scene");
+        egui::ComboBox::from_id_salt("scene file").selected_text(r.name).show_ui(ui, |ui| {
+            for (k, path) in r.files.iter().enumerate() {
+                let name = path.file_name().map_or_else(|| path.to_string_lossy(), |n| n.to_string_lossy());
+                if ui.selectable_label(name == r.name, name).clicked() {
+                    actions.open_scene = Some(k);
+                }
+            }
+            if r.files.is_empty() {
+                ui.label(RichText::new(r.folder_error.unwrap_or("no .toml files beside this scene")).small().weak());
+            }
+        });
+    })
+    .response
+    .on_hover_text(
+        "the .toml files in the scene's folder; the file is reloaded when saved, and a dropped .toml file opens",
+    );
+    if let Some(error) = r.error {
+        ui.label(RichText::new("not loaded (still showing the last good scene):").small().color(ERROR_COLOR));
+        ui.label(RichText::new(error).small().monospace().color(ERROR_COLOR));
+    }
 }
 
 fn controls(ui: &mut egui::Ui, s: &mut Settings, readout: &Readout<'_>, actions: &mut Actions) {
@@ -145,8 +222,10 @@ fn controls(ui: &mut egui::Ui, s: &mut Settings, readout: &Readout<'_>, actions:
     });
     ui.horizontal(|ui| {
         actions.reset = ui.button("reset camera (R)").clicked();
-        actions.save = ui.button("save pair (S)").clicked();
+        actions.save = ui.button("save pair (F12)").clicked();
     });
+    let mut fullscreen = readout.fullscreen;
+    actions.toggle_fullscreen = ui.checkbox(&mut fullscreen, "fullscreen (F11)").clicked();
     ui.label(
         RichText::new(format!(
             "head at {:.1}, {:.1}, {:.1} · yaw {:.0}° · pitch {:.0}°",
@@ -154,14 +233,55 @@ fn controls(ui: &mut egui::Ui, s: &mut Settings, readout: &Readout<'_>, actions:
         ))
         .small(),
     );
-    egui::CollapsingHeader::new("keys").show(ui, |ui| ui.label(RichText::new(HELP).small()));
+    egui::CollapsingHeader::new("keys").show(ui, |ui| {
+        // One wrapped line a key: the panel stays narrow (the overlay has the table).
+        for (key, action) in KEYS {
+            ui.label(RichText::new(format!("{key}: {action}")).small());
+        }
+    });
+}
+
+/// Every key and what it does, in two columns.
+fn key_grid(ui: &mut egui::Ui) {
+    egui::Grid::new(ui.next_auto_id()).num_columns(2).spacing([12.0, 2.0]).show(ui, |ui| {
+        for (key, action) in KEYS {
+            ui.label(RichText::new(key).strong());
+            ui.label(action);
+            ui.end_row();
+        }
+    });
+}
+
+/// The key overlay (? or F1): every key, in a window at the centre. Closing it with its
+/// button clears `open`.
+pub fn keys_overlay(ctx: &egui::Context, open: &mut bool) {
+    egui::Window::new("keys")
+        .open(open)
+        .anchor(Align2::CENTER_CENTER, [0.0, 0.0])
+        .collapsible(false)
+        .resizable(false)
+        .frame(egui::Frame::window(&ctx.global_style()).fill(Color32::from_rgba_unmultiplied(24, 24, 28, 235)))
+        .show(ctx, |ui| {
+            key_grid(ui);
+            ui.label(RichText::new("? or F1 or Esc closes this").small().weak());
+        });
+}
+
+/// The hint that Tab hides the UI, at the bottom centre of the window.
+pub fn tab_hint(ctx: &egui::Context) {
+    egui::Area::new(egui::Id::new("tab hint")).anchor(Align2::CENTER_BOTTOM, [0.0, -12.0]).interactable(false).show(
+        ctx,
+        |ui| {
+            egui::Frame::popup(&ctx.global_style()).show(ui, |ui| ui.label(TAB_HINT));
+        },
+    );
 }
 
 fn screenshots(ui: &mut egui::Ui, r: &Readout<'_>, folder: &mut String) {
     ui.horizontal(|ui| {
         ui.label("folder");
         ui.add(egui::TextEdit::singleline(folder).desired_width(150.0))
-            .on_hover_text("screenshots (S) go here; created if missing");
+            .on_hover_text("screenshots (F12 or P) go here; created if missing");
     });
     if let Some(saved) = r.saved {
         ui.label(RichText::new(saved).small().color(Color32::from_rgb(150, 230, 150)));

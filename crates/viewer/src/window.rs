@@ -119,6 +119,22 @@ impl Window {
         self.winit.inner_size()
     }
 
+    /// Whether the window is fullscreen.
+    #[must_use]
+    pub fn is_fullscreen(&self) -> bool {
+        self.winit.fullscreen().is_some()
+    }
+
+    /// Borderless fullscreen on the window's monitor, or back to a normal window.
+    pub fn set_fullscreen(&self, on: bool) {
+        self.winit.set_fullscreen(on.then_some(winit::window::Fullscreen::Borderless(None)));
+    }
+
+    /// Sets the window's title.
+    pub fn set_title(&self, title: &str) {
+        self.winit.set_title(title);
+    }
+
     /// Asks winit for a `RedrawRequested` event.
     pub fn request_redraw(&self) {
         self.winit.request_redraw();

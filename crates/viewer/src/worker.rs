@@ -14,6 +14,11 @@
 //! whose buffers would not fit in the memory that was available when the worker started
 //! ([`crate::setup::viewer_frame_fits`]) is traced at the eye size instead, and the frame
 //! says so ([`FrameInfo::samples`]).
+//!
+//! The worker owns its copy of the scene. A new one (the scene file was saved, or another
+//! file opened) goes into the inbox beside the request with [`Worker::set_scene`]; the
+//! worker takes both under the same lock, so the next request it starts is rendered with
+//! the new scene. Nothing about this costs anything per frame: the slot is empty then.
 
 use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
@@ -130,6 +135,8 @@ impl Finished {
 #[derive(Default)]
 struct Inbox {
     request: Option<Request>,
+    /// A scene to render from the next request on.
+    scene: Option<Scene>,
     quit: bool,
 }
 
@@ -188,6 +195,13 @@ impl Worker {
         self.shared.wake.notify_one();
     }
 
+    /// Renders `scene` from the next request on (the request after this call is sent even if
+    /// it equals the last one, so an unchanged view of a new scene is rendered).
+    pub fn set_scene(&mut self, scene: Scene) {
+        self.last_posted = None;
+        lock(&self.shared.inbox).scene = Some(scene);
+    }
+
     /// The newest finished frame (swapped in if the worker has finished one since the last
     /// call).
     pub fn latest(&mut self) -> &Finished {
@@ -235,7 +249,7 @@ impl Drop for Worker {
 /// supersampled frames.
 fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
     let mut tracer = Tracer::new(&scene, 0.0);
-    let scene_light = scene.lights.first().map(|l| l.position);
+    let mut scene_light = scene.lights.first().map(|l| l.position);
     let mut frame = StereoFrame::new();
     let mut reference = Reference::default();
     let mut back = Finished::default();
@@ -248,6 +262,11 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
                     return;
                 }
                 if let Some(r) = inbox.request.take() {
+                    if let Some(new) = inbox.scene.take() {
+                        // The tracer is rebuilt from the scene for every frame below.
+                        scene = new;
+                        scene_light = scene.lights.first().map(|l| l.position);
+                    }
                     break r;
                 }
                 inbox = shared.wake.wait(inbox).unwrap_or_else(PoisonError::into_inner);
@@ -407,6 +426,25 @@ mod tests {
         assert_eq!(wait_for(&mut worker, 1).samples(), (64, 48), "exactly enough");
     }
 
+    #[test]
+    fn a_new_scene_is_rendered_from_the_next_request_even_an_unchanged_one() {
+        let mut worker = Worker::spawn(scene()).unwrap();
+        worker.post(request(16, false));
+        let before = wait_for(&mut worker, 1).left.clone();
+        let bigger = Scene::from_toml(
+            "[[lights]]\nposition = [0.0, 5.0, 0.0]\n[[spheres]]\ncenter = [0.0, 0.0, 12.0]\nradius = 4.0\n",
+            "bigger.toml",
+        )
+        .unwrap();
+        worker.set_scene(bigger.clone());
+        worker.post(request(16, false));
+        let after = wait_for(&mut worker, 2).left.clone();
+        assert_ne!(before, after, "the bigger sphere covers more of the eye");
+        let mut alone = Worker::spawn(bigger).unwrap();
+        alone.post(request(16, false));
+        assert_eq!(wait_for(&mut alone, 1).left, after, "exactly what a worker started on the new scene renders");
+    }
+
     /// A handle whose render thread never started: what `post` sends stays in the inbox,
     /// where the test takes it out as the thread would.
     fn unstarted() -> Worker {
@@ -430,5 +468,9 @@ mod tests {
         assert_eq!(take(&worker), Some(request(18, false)), "a request not yet started is replaced");
         worker.post(request(18, true));
         assert_eq!(take(&worker), Some(request(18, true)), "any field counts as a change");
+        worker.set_scene(scene());
+        assert!(lock(&worker.shared.inbox).scene.is_some(), "the new scene waits beside the request");
+        worker.post(request(18, true));
+        assert_eq!(take(&worker), Some(request(18, true)), "after a new scene the same request is sent again");
     }
 }

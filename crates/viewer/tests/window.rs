@@ -138,9 +138,12 @@ fn window_shows_both_eyes_under_xvfb() {
         columns(&rgb, w, w - strip, w),
         "the same strip of the two eyes should differ by the disparity"
     );
-    // The egui panel is drawn into the dump, over the left eye's top-left corner.
-    let corner = &rgb[((20 * w + 20) * 3) as usize..][..3];
-    assert!(corner.iter().all(|&c| c < 100), "the panel should be dark at (20, 20): {corner:?}");
+    // The egui panel is drawn into the dump, over the left eye's top-left corner, 8 points
+    // from the window's edges (its frame's left margin, below the title bar, is dark).
+    let corner = &rgb[((60 * w + 12) * 3) as usize..][..3];
+    assert!(corner.iter().all(|&c| c < 100), "the panel should be dark at (12, 60): {corner:?}");
+    let outside = &rgb[((60 * w + 4) * 3) as usize..][..3];
+    assert!(outside.iter().all(|&c| c > 200), "the scene's white shows left of the panel at (4, 60): {outside:?}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -154,7 +157,7 @@ fn last_logged<'a>(log: &'a str, key: &str) -> Option<&'a str> {
 }
 
 /// Keys driven with xdotool: Up held moves the head forward, 3 picks the anaglyph, X swaps
-/// the eyes, S saves screenshots; exact mode stays identical to a full trace while moving.
+/// the eyes, F12 saves screenshots; exact mode stays identical to a full trace while moving.
 #[test]
 fn keys_move_the_head_switch_layouts_and_save_screenshots() {
     if !on_path("xvfb-run") || !on_path("xdotool") {
@@ -182,7 +185,7 @@ fn keys_move_the_head_switch_layouts_and_save_screenshots() {
         xdotool keydown Up; sleep 1.0; xdotool keyup Up
         xdotool key 3; xdotool key x
         sleep 2.5
-        xdotool key s
+        xdotool key F12
         sleep 1.0
         xdotool key Escape
         wait $viewer
@@ -303,5 +306,84 @@ fn a_render_scale_of_200_shows_the_supersampled_eyes() {
     };
     assert!(shown == render("2"), "the right eye on screen is the supersampled render");
     assert!(shown != render("1"), "and not the render at one sample per pixel");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Tab hides the whole UI: after it, the presented frame (`--dump`) is in both halves
+/// exactly what `stereotrace render` makes of the same frame, so no UI pixel covers an eye.
+#[test]
+fn tab_hides_the_ui_and_leaves_both_eyes_clean() {
+    if !on_path("xvfb-run") || !on_path("xdotool") {
+        assert!(std::env::var_os("CI").is_none(), "xvfb-run or xdotool not found, but CI must install them");
+        eprintln!("SKIPPED: xvfb-run or xdotool not found — install xvfb xauth xdotool");
+        return;
+    }
+    let dir = std::env::temp_dir().join(format!("stereotrace-tab-test-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let log = dir.join("stderr.txt");
+    let script = r#"
+        "$0" --scene "$1" --width 400 --height 200 --time 1.0 --dump dump.png &
+        viewer=$!
+        wid=""
+        for _ in $(seq 300); do
+            wid=$(xdotool search --name stereotrace 2>/dev/null | head -n 1)
+            [ -n "$wid" ] && break
+            sleep 0.1
+        done
+        [ -n "$wid" ] || { echo "no window" >&2; kill $viewer; exit 3; }
+        sleep 1.5
+        xdotool windowfocus --sync "$wid" 2>/dev/null
+        xdotool key Tab
+        sleep 1.5
+        xdotool key Escape
+        wait $viewer
+    "#;
+    let mut child = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1920x1080x24", "sh", "-c", script, env!("CARGO_BIN_EXE_stereotrace")])
+        .arg(seed_scene())
+        .current_dir(&dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(File::create(&log).unwrap())
+        .process_group(0)
+        .spawn()
+        .expect("cannot start xvfb-run");
+    let started = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap() {
+            break status;
+        }
+        if started.elapsed() > TIMEOUT {
+            let _ = Command::new("kill").args(["-KILL", &format!("-{}", child.id())]).status();
+            let _ = child.wait();
+            panic!("the viewer did not exit within {TIMEOUT:?}; stderr:\n{}", std::fs::read_to_string(&log).unwrap());
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let stderr = std::fs::read_to_string(&log).unwrap();
+    assert!(status.success(), "viewer failed ({status}); stderr:\n{stderr}");
+
+    // The same frame headless: the viewer's defaults are the scene's camera in exact mode.
+    let render = Command::new(env!("CARGO_BIN_EXE_stereotrace"))
+        .arg("render")
+        .arg("--scene")
+        .arg(seed_scene())
+        .args(["--width", "200", "--height", "200", "--time", "1.0", "--mode", "exact"])
+        .args(["--left", "left.png", "--right", "right.png"])
+        .current_dir(&dir)
+        .output()
+        .unwrap();
+    assert!(render.status.success(), "render failed: {}", String::from_utf8_lossy(&render.stderr));
+    let (w, h, dump) = read_rgb_png(&dir.join("dump.png"));
+    assert_eq!((w, h), (400, 200), "the window's size");
+    let (_, _, left) = read_rgb_png(&dir.join("left.png"));
+    let (_, _, right) = read_rgb_png(&dir.join("right.png"));
+    for (name, half, eye) in [("left", columns(&dump, w, 0, 200), left), ("right", columns(&dump, w, 200, 400), right)]
+    {
+        assert_eq!(half.len(), eye.len(), "the {name} half is eye-sized");
+        let first = half.chunks_exact(3).zip(eye.chunks_exact(3)).position(|(a, b)| a != b);
+        assert_eq!(first.map(|k| (k % 200, k / 200)), None, "the {name} half differs from the {name} eye at (x, y)");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -21,7 +21,17 @@ fn lit_scene() -> Scene {
 
 /// What the panel shows before the first frame arrives.
 fn idle_readout(history: &FrameTimes) -> Readout<'_> {
-    Readout { ui_fps: 60.0, render_fps: 30.0, frame: None, time: 0.0, animated: true, history, saved: None }
+    Readout {
+        ui_fps: 60.0,
+        render_fps: 30.0,
+        frame: None,
+        time: 0.0,
+        animated: true,
+        history,
+        saved: None,
+        scene: SceneReadout { name: "s.toml", ..SceneReadout::default() },
+        fullscreen: false,
+    }
 }
 
 /// What the harness keeps between frames: the panel's model and every action reported.
@@ -33,15 +43,22 @@ struct State {
 
 /// The panel for `scene` in a kittest harness, the way the app runs it.
 fn harness<'a>(scene: &Scene, readout: Readout<'a>) -> Harness<'a, State> {
+    harness_sized(scene, readout, egui::vec2(1600.0, 900.0))
+}
+
+/// [`harness`] in a window of `size` points.
+fn harness_sized<'a>(scene: &Scene, readout: Readout<'a>, size: egui::Vec2) -> Harness<'a, State> {
     let state =
         State { settings: Settings::from_scene(scene), folder: "./screenshots".into(), actions: Actions::default() };
-    let mut harness = Harness::builder().with_size(egui::vec2(1600.0, 900.0)).build_ui_state(
+    let mut harness = Harness::builder().with_size(size).build_ui_state(
         move |ui, st: &mut State| {
             setup_style(ui.ctx());
             let actions = panel(ui.ctx(), &mut st.settings, &readout, &mut st.folder);
             st.actions.reset |= actions.reset;
             st.actions.save |= actions.save;
             st.actions.reset_light |= actions.reset_light;
+            st.actions.toggle_fullscreen |= actions.toggle_fullscreen;
+            st.actions.open_scene = st.actions.open_scene.or(actions.open_scene);
         },
         state,
     );
@@ -122,7 +139,7 @@ fn panel_widgets_change_the_render_settings() {
     assert!(harness.state().settings.options().retrace_edges, "edges are retraced");
 
     // The buttons report their clicks to the app.
-    harness.get_by_label("save pair (S)").click();
+    harness.get_by_label("save pair (F12)").click();
     harness.run();
     assert!(harness.state().actions.save, "the save click is reported");
     assert!(!harness.state().actions.reset, "and no other");
@@ -163,4 +180,104 @@ fn the_light_controls_move_the_light_and_change_the_orbit_speed() {
     let slower = harness.state().settings.orbit_speed;
     assert!(slower < speed && slower >= 0.0, "the orbit should slow down: {speed} -> {slower}");
     assert_eq!(harness.state().settings.light, Some(moved), "the light stays where it was moved");
+}
+
+/// The bug of issue 14: with the mask legend and every section open, the panel was taller
+/// than the default 600-point window (its top cut off, the legend running off the bottom).
+/// Now the whole panel stays inside the window, a margin from its edges, and scrolls.
+#[test]
+fn the_panel_fits_the_default_window_with_everything_open() {
+    let scene = lit_scene();
+    let history = FrameTimes::default();
+    let mut readout = idle_readout(&history);
+    readout.scene.error = Some("assets/scenes/seed.toml:12: spheres[1].radius = -1: must be > 0");
+    let mut harness = harness_sized(&scene, readout, egui::vec2(1600.0, 600.0));
+    harness.state_mut().settings.show_mask = true;
+    harness.state_mut().settings.live_psnr = true;
+    harness.run();
+    harness.get_by_label("keys").click();
+    harness.run();
+    harness.get_by_label("light").click();
+    harness.run();
+    let window = harness.get_by_role_and_label(Role::Window, "stereotrace").rect();
+    assert!(window.min.y >= 7.9 && window.min.x >= 7.9, "the panel's top left is in the window: {window:?}");
+    assert!(window.max.y <= 592.1, "the panel ends above the window's bottom margin: {window:?}");
+    assert!(window.height() > 500.0, "and uses the height it has: {window:?}");
+    assert!(window.width() < 330.0, "the long error wraps: {window:?}");
+    // The title is on screen and the legend can be scrolled to.
+    assert!(harness.get_by_label("stereotrace").rect().min.y >= 8.0, "the title is visible");
+    let _ = harness.get_by_label("mask, blended 50 % over the right eye");
+}
+
+/// The scene section: the folder's scenes in a list whose pick is reported, and a scene
+/// that did not load shown with the command line's message.
+#[test]
+fn the_scene_list_opens_a_scene_and_a_load_error_is_shown() {
+    let history = FrameTimes::default();
+    let files = [PathBuf::from("assets/scenes/many.toml"), PathBuf::from("assets/scenes/seed.toml")];
+    let error = "assets/scenes/seed.toml:5: spheres[0].radius = -2: must be > 0";
+    let mut readout = idle_readout(&history);
+    readout.scene = SceneReadout { name: "seed.toml", error: Some(error), files: &files, folder_error: None };
+    let mut harness = harness(&scene(), readout);
+    let _ = harness.get_by_label(error);
+    let _ = harness.get_by_label("not loaded (still showing the last good scene):");
+    harness.get_by_role(Role::ComboBox).click();
+    harness.run();
+    assert_eq!(harness.state().actions.open_scene, None, "opening the list picks nothing");
+    harness.get_by_label("many.toml").click();
+    harness.run();
+    assert_eq!(harness.state().actions.open_scene, Some(0), "many.toml is picked");
+}
+
+#[test]
+fn without_an_error_or_files_the_scene_section_says_so() {
+    let history = FrameTimes::default();
+    let mut readout = idle_readout(&history);
+    readout.scene.folder_error = Some("/gone: cannot list the folder: No such file or directory (os error 2)");
+    let mut harness = harness(&scene(), readout);
+    assert!(harness.query_by_label_contains("not loaded").is_none(), "no error, no error text");
+    harness.get_by_role(Role::ComboBox).click();
+    harness.run();
+    let _ = harness.get_by_label("/gone: cannot list the folder: No such file or directory (os error 2)");
+}
+
+#[test]
+fn the_fullscreen_checkbox_asks_for_fullscreen() {
+    let history = FrameTimes::default();
+    let mut harness = harness(&scene(), idle_readout(&history));
+    assert!(!harness.state().actions.toggle_fullscreen);
+    harness.get_by_label("fullscreen (F11)").click();
+    harness.run();
+    assert!(harness.state().actions.toggle_fullscreen, "the click is reported");
+}
+
+/// The key overlay lists every key of [`KEYS`]; its close button closes it.
+#[test]
+fn the_key_overlay_lists_every_key_and_closes() {
+    let mut harness = Harness::builder().with_size(egui::vec2(1600.0, 600.0)).build_ui_state(
+        |ui, open: &mut bool| {
+            setup_style(ui.ctx());
+            keys_overlay(ui.ctx(), open);
+        },
+        true,
+    );
+    harness.run();
+    for (key, action) in KEYS {
+        let _ = harness.get_by_label(key);
+        let _ = harness.get_by_label(action);
+    }
+    let _ = harness.get_by_label("F12 or P");
+    harness.get_by_label("Close window").click();
+    harness.run();
+    assert!(!*harness.state(), "closed");
+    assert!(harness.query_by_label("F12 or P").is_none(), "and gone");
+}
+
+#[test]
+fn the_tab_hint_says_tab_hides_the_ui() {
+    let mut harness = Harness::builder().with_size(egui::vec2(800.0, 600.0)).build_ui(|ui| tab_hint(ui.ctx()));
+    harness.run();
+    let hint = harness.get_by_label(TAB_HINT).rect();
+    assert!(hint.max.y < 600.0 && hint.min.y > 500.0, "at the bottom: {hint:?}");
+    assert!((hint.center().x - 400.0).abs() < 2.0, "centred: {hint:?}");
 }

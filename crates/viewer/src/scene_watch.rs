@@ -1,0 +1,375 @@
+//! Live scene editing: the viewer's scene file is watched and reloaded on save, another
+//! `.toml` file can be opened (dropped on the window, or picked from the panel's list of the
+//! scene's folder), and a broken file never replaces the last good scene.
+//!
+//! Watching is a modification-time poll on the UI thread, twice a second ([`POLL_INTERVAL`]):
+//! one `stat` of the file (its modification time and length; an editor that saves by
+//! renaming a new file over the old one changes both) and one of its folder, whose own
+//! modification time says when the list of scenes must be read again. Between polls a tick
+//! costs one comparison of instants, and nothing is allocated. A save that fails to load
+//! (unreadable, not TOML, a bad value) leaves the last good scene rendering and keeps the
+//! error — worded exactly as the command line prints it, `file:line: field = value: why`
+//! ([`tracer::SceneError`]) — until a good save arrives.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant, SystemTime};
+
+use tracer::Scene;
+
+/// How often the scene file and its folder are looked at.
+pub const POLL_INTERVAL: Duration = Duration::from_millis(500);
+
+/// What a file looked like at the last look: its modification time and length, or `None`
+/// when it could not be looked at (missing, unreadable).
+type Stamp = Option<(SystemTime, u64)>;
+
+/// The stamp of `path` now.
+fn stamp(path: &Path) -> Stamp {
+    let meta = std::fs::metadata(path).ok()?;
+    Some((meta.modified().ok()?, meta.len()))
+}
+
+/// A new scene became current.
+#[derive(Debug)]
+pub struct Change {
+    /// The scene it replaced.
+    pub previous: Scene,
+    /// Whether it came from the same file (a reload): the viewer keeps the head pose then.
+    pub same_file: bool,
+}
+
+/// The scene file being shown, the last good scene, and the `.toml` files beside it.
+#[derive(Debug)]
+pub struct SceneWatch {
+    /// The file shown (as given or resolved, not canonicalised, so messages name it so).
+    path: PathBuf,
+    /// Its file name, for the title and the panel.
+    name: String,
+    /// The last scene that loaded.
+    scene: Scene,
+    /// The file's stamp when it was last loaded (or failed to load).
+    stamp: Stamp,
+    /// Why the last load failed, until one succeeds.
+    error: Option<String>,
+    /// How many loads have failed so far.
+    failures: u64,
+    /// When the next poll is due.
+    next_poll: Instant,
+    /// The folder listed, its stamp at the last listing, and the `.toml` files in it (sorted).
+    folder: PathBuf,
+    folder_stamp: Stamp,
+    files: Vec<PathBuf>,
+    /// Why the folder could not be listed, if it could not.
+    folder_error: Option<String>,
+}
+
+impl SceneWatch {
+    /// Watches `path`, from which `scene` was just loaded; the first poll is due at `now`.
+    #[must_use]
+    pub fn new(path: PathBuf, scene: Scene, now: Instant) -> Self {
+        let mut watch = Self {
+            stamp: stamp(&path),
+            name: file_name(&path),
+            path,
+            scene,
+            error: None,
+            failures: 0,
+            next_poll: now,
+            folder: PathBuf::new(),
+            folder_stamp: None,
+            files: Vec::new(),
+            folder_error: None,
+        };
+        watch.list_folder();
+        watch
+    }
+
+    /// The last good scene.
+    #[must_use]
+    pub fn scene(&self) -> &Scene {
+        &self.scene
+    }
+
+    /// The scene file shown.
+    #[cfg(test)]
+    #[must_use]
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The scene file's name, for the title and the panel.
+    #[must_use]
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Why the last load failed (the command line's wording), until a load succeeds.
+    #[must_use]
+    pub fn error(&self) -> Option<&str> {
+        self.error.as_deref()
+    }
+
+    /// How many loads (reloads, drops, picks) have failed so far.
+    #[must_use]
+    pub fn failures(&self) -> u64 {
+        self.failures
+    }
+
+    /// The `.toml` files in the scene's folder, sorted by name.
+    #[must_use]
+    pub fn files(&self) -> &[PathBuf] {
+        &self.files
+    }
+
+    /// Why the scene's folder could not be listed, if it could not.
+    #[must_use]
+    pub fn folder_error(&self) -> Option<&str> {
+        self.folder_error.as_deref()
+    }
+
+    /// The folder whose scenes [`SceneWatch::files`] lists.
+    #[cfg(test)]
+    #[must_use]
+    pub fn folder(&self) -> &Path {
+        &self.folder
+    }
+
+    /// Looks at the file when a poll is due at `now`: reloads it when its stamp changed
+    /// since the last load, and lists the folder again when it changed. Returns the change
+    /// when the reload succeeded.
+    pub fn poll(&mut self, now: Instant) -> Option<Change> {
+        if now < self.next_poll {
+            return None;
+        }
+        self.next_poll = now + POLL_INTERVAL;
+        if stamp(&self.folder) != self.folder_stamp {
+            self.list_folder();
+        }
+        let current = stamp(&self.path);
+        if current == self.stamp {
+            return None;
+        }
+        self.stamp = current;
+        let path = self.path.clone();
+        self.load(path, true)
+    }
+
+    /// Opens another scene file (dropped on the window or picked in the panel). A file that
+    /// is not `.toml` or does not load keeps the current scene and sets the error. Opening
+    /// the file already shown is a reload of it.
+    pub fn open(&mut self, path: &Path) -> Option<Change> {
+        if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) {
+            let message = format!("{}: not a scene file: scenes are .toml files", path.display());
+            eprintln!("stereotrace: error: {message}");
+            self.error = Some(message);
+            self.failures += 1;
+            return None;
+        }
+        let same_file = same_file(path, &self.path);
+        let change = self.load(path.to_path_buf(), same_file)?;
+        if !same_file {
+            self.list_folder();
+        }
+        Some(change)
+    }
+
+    /// Loads `path`; on success it becomes the current file and scene.
+    fn load(&mut self, path: PathBuf, same_file: bool) -> Option<Change> {
+        let stamp_before = stamp(&path);
+        match Scene::load(&path) {
+            Ok(scene) => {
+                self.error = None;
+                self.stamp = stamp_before;
+                self.name = file_name(&path);
+                self.path = path;
+                eprintln!("stereotrace: loaded {}", self.path.display());
+                Some(Change { previous: std::mem::replace(&mut self.scene, scene), same_file })
+            }
+            Err(e) => {
+                eprintln!("stereotrace: error: {e}");
+                self.error = Some(e.to_string());
+                self.failures += 1;
+                None
+            }
+        }
+    }
+
+    /// Lists the `.toml` files of the current scene's folder.
+    fn list_folder(&mut self) {
+        self.folder = match self.path.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        self.folder_stamp = stamp(&self.folder);
+        self.files.clear();
+        match std::fs::read_dir(&self.folder) {
+            Ok(entries) => {
+                self.folder_error = None;
+                let tomls = entries
+                    .filter_map(Result::ok)
+                    .map(|e| e.path())
+                    .filter(|p| p.is_file() && p.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")));
+                self.files.extend(tomls);
+                self.files.sort();
+            }
+            Err(e) => self.folder_error = Some(format!("{}: cannot list the folder: {e}", self.folder.display())),
+        }
+    }
+}
+
+/// The file name of `path` (the whole path when it has none).
+fn file_name(path: &Path) -> String {
+    path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
+}
+
+/// Whether two paths name the same file (the same path, or the same file once resolved).
+fn same_file(a: &Path, b: &Path) -> bool {
+    a == b || matches!((std::fs::canonicalize(a), std::fs::canonicalize(b)), (Ok(x), Ok(y)) if x == y)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    use crate::settings::Settings;
+
+    const GOOD: &str = "[camera]\nposition = [0.0, 0.0, -1.0]\n[[spheres]]\ncenter = [0.0, 0.0, 10.0]\nradius = 1.0\n";
+    const BROKEN: &str =
+        "[camera]\nposition = [0.0, 0.0, -1.0]\n[[spheres]]\ncenter = [0.0, 0.0, 10.0]\nradius = -2.0\n";
+    const FIXED: &str = "[camera]\nposition = [0.0, 0.0, -1.0]\n[[spheres]]\ncenter = [0.0, 0.0, 10.0]\nradius = 3.0\n";
+
+    /// A fresh folder under the system's temporary one, removed when dropped.
+    struct TempDir(PathBuf);
+
+    impl TempDir {
+        fn new(name: &str) -> Self {
+            let dir = std::env::temp_dir().join(format!("stereotrace-watch-{name}-{}", std::process::id()));
+            let _ = std::fs::remove_dir_all(&dir);
+            std::fs::create_dir_all(&dir).unwrap();
+            Self(dir)
+        }
+
+        /// Writes `text` to `name` in the folder so that its stamp surely changes (the
+        /// length differs, or the modification time is set a second later).
+        fn write(&self, name: &str, text: &str) -> PathBuf {
+            let path = self.0.join(name);
+            let before = stamp(&path);
+            std::fs::write(&path, text).unwrap();
+            if let Some((time, _)) = before.filter(|_| stamp(&path) == before) {
+                let later = time + Duration::from_secs(1);
+                std::fs::File::options().write(true).open(&path).unwrap().set_modified(later).unwrap();
+            }
+            path
+        }
+    }
+
+    impl Drop for TempDir {
+        fn drop(&mut self) {
+            let _ = std::fs::remove_dir_all(&self.0);
+        }
+    }
+
+    fn radius(watch: &SceneWatch) -> f32 {
+        watch.scene().spheres[0].radius
+    }
+
+    #[test]
+    fn a_broken_save_keeps_the_scene_and_reports_the_error_until_a_good_one_reloads() {
+        let dir = TempDir::new("reload");
+        let path = dir.write("scene.toml", GOOD);
+        let scene = Scene::load(&path).unwrap();
+        let t0 = Instant::now();
+        let mut settings = Settings::from_scene(&scene);
+        let mut watch = SceneWatch::new(path.clone(), scene, t0);
+        assert!(watch.poll(t0).is_none(), "nothing changed");
+
+        // The user walks; then saves a broken file.
+        settings.move_head(2.0, 0.5);
+        let walked = settings.position;
+        dir.write("scene.toml", BROKEN);
+        assert!(watch.poll(t0 + POLL_INTERVAL / 2).is_none(), "no poll before the interval");
+        assert!(watch.poll(t0 + POLL_INTERVAL).is_none(), "the broken save is not taken");
+        assert_eq!(radius(&watch), 1.0, "the last good scene stays");
+        let expected = format!("{}:3: spheres[0].radius = -2: must be > 0", path.display());
+        assert_eq!(watch.error(), Some(&*expected), "file, line of the table, field, value, why");
+        assert_eq!(Scene::load(&path).unwrap_err().to_string(), expected, "the command line's wording");
+        assert_eq!(watch.failures(), 1, "one failed load");
+        assert!(watch.poll(t0 + 2 * POLL_INTERVAL).is_none(), "an unchanged broken file is not read again");
+        assert_eq!(watch.failures(), 1, "not read again");
+        assert!(watch.error().is_some(), "the error stays until a good save");
+
+        // Fixed: it reloads, and the head stays where the user walked to.
+        dir.write("scene.toml", FIXED);
+        let change = watch.poll(t0 + 3 * POLL_INTERVAL).expect("the fixed file reloads");
+        assert!(change.same_file, "a reload of the same file");
+        assert_eq!(radius(&watch), 3.0, "the new scene");
+        assert_eq!(change.previous.spheres[0].radius, 1.0, "it replaced the last good one");
+        assert_eq!(watch.error(), None, "the error is gone");
+        settings.follow_reload(&change.previous, watch.scene());
+        assert_eq!(settings.position, walked, "the head pose is kept");
+    }
+
+    #[test]
+    fn dropping_a_file_opens_it_or_reports_why_not() {
+        let dir = TempDir::new("drop");
+        let first = dir.write("a.toml", GOOD);
+        let other = dir.write("b.toml", &GOOD.replace("-1.0", "-4.0"));
+        let broken = dir.write("c.toml", BROKEN);
+        let picture = dir.write("d.png", "not a scene");
+        let t0 = Instant::now();
+        let mut watch = SceneWatch::new(first.clone(), Scene::load(&first).unwrap(), t0);
+        assert_eq!(watch.files(), [first.clone(), other.clone(), broken.clone()], "the folder's .toml files, sorted");
+        assert_eq!(watch.folder(), dir.0, "the scene's own folder");
+
+        assert!(watch.open(&picture).is_none(), "a PNG is no scene");
+        assert_eq!(watch.error(), Some(&*format!("{}: not a scene file: scenes are .toml files", picture.display())));
+        assert_eq!(watch.path(), first, "the scene stays");
+        assert!(watch.open(&broken).is_none(), "a broken scene is not taken");
+        let expected = format!("{}:3: spheres[0].radius = -2: must be > 0", broken.display());
+        assert_eq!(watch.error(), Some(&*expected), "the load error");
+        assert_eq!(watch.path(), first, "the scene still stays");
+
+        // Another file: it starts at its own head pose.
+        let mut settings = Settings::from_scene(watch.scene());
+        settings.move_head(1.0, 0.0);
+        let change = watch.open(&other).expect("b.toml opens");
+        assert!(!change.same_file, "another file");
+        assert_eq!((watch.path(), watch.error(), watch.name()), (&*other, None, "b.toml"));
+        settings.reset_camera(watch.scene());
+        assert_eq!(settings.position, Vec3::new(0.0, 0.0, -4.0), "the new file's head pose");
+        // Dropping the file shown is a reload of it.
+        assert!(watch.open(&dir.0.join(".").join("b.toml")).expect("reopens").same_file, "the same file");
+    }
+
+    #[test]
+    fn the_folder_list_follows_the_folder_and_a_missing_one_is_reported() {
+        let dir = TempDir::new("list");
+        let first = dir.write("a.toml", GOOD);
+        let t0 = Instant::now();
+        let mut watch = SceneWatch::new(first.clone(), Scene::load(&first).unwrap(), t0);
+        assert_eq!(watch.files().len(), 1);
+        std::thread::sleep(Duration::from_millis(20));
+        let second = dir.write("z.toml", GOOD);
+        // A folder's time can be coarse: make sure it moved.
+        std::fs::File::open(&dir.0).unwrap().set_modified(SystemTime::now() + Duration::from_secs(2)).unwrap_or(());
+        watch.poll(t0 + POLL_INTERVAL);
+        assert_eq!(watch.files(), [first.clone(), second], "the new file is listed");
+
+        // The folder goes away: the scene stays, the list is empty and says why.
+        drop(dir);
+        assert!(watch.poll(t0 + 2 * POLL_INTERVAL).is_none(), "nothing to reload");
+        assert!(watch.files().is_empty(), "no files");
+        assert!(
+            watch.folder_error().unwrap_or_default().contains("cannot list the folder"),
+            "{:?}",
+            watch.folder_error()
+        );
+        assert!(
+            watch.error().unwrap_or_default().contains("cannot read scene file"),
+            "the file is gone too: {:?}",
+            watch.error()
+        );
+        assert_eq!(radius(&watch), 1.0, "the last good scene stays");
+    }
+}
