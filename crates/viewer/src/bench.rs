@@ -11,16 +11,19 @@ use std::fmt::Write as _;
 use anyhow::Result;
 use serde_json::{json, Map, Value};
 use stereo::{FrameStats, Mode, Options, Quality, StereoFrame};
-use tracer::{RayCounts, Tracer};
+use tracer::{Camera, RayCounts, Scene, Tracer};
 
 use crate::cli::BenchArgs;
 use crate::reference::Reference;
 use crate::report;
 use crate::setup::FrameSetup;
 
+/// One measured variant: its name in reports, the mode, and whether edges are retraced.
+pub(crate) type Variant = (&'static str, Mode, bool);
+
 /// The modes measured, as (name, options): the four modes plus copy and reshade with edge
 /// retracing.
-const VARIANTS: [(&str, Mode, bool); 6] = [
+pub(crate) const VARIANTS: [Variant; 6] = [
     ("full", Mode::Full, false),
     ("copy", Mode::Copy, false),
     ("copy+edges", Mode::Copy, true),
@@ -29,10 +32,50 @@ const VARIANTS: [(&str, Mode, bool); 6] = [
     ("exact", Mode::Exact, false),
 ];
 
-struct Measured {
+/// One variant's frames and their quality against the full trace.
+pub(crate) struct Measured {
     name: &'static str,
     frames: Vec<FrameStats>,
     quality: Vec<Quality>,
+}
+
+/// The buffers a measurement reuses from run to run.
+#[derive(Default)]
+pub(crate) struct Bench {
+    frame: StereoFrame,
+    reference: Reference,
+}
+
+impl Bench {
+    /// Renders `variants` on `frames` frames of `scene` seen by `camera` at `w` × `h` per
+    /// eye, frame k at scene time `time_of(k)`: one untimed warm-up frame per variant in the
+    /// tracer's current state first, then each frame in every variant in turn (interleaved),
+    /// each measured against a full trace of the same frame.
+    pub(crate) fn measure(
+        &mut self,
+        tracer: &mut Tracer,
+        (scene, camera): (&Scene, &Camera),
+        (w, h): (u32, u32),
+        variants: &[Variant],
+        frames: u32,
+        time_of: impl Fn(u32) -> f32,
+    ) -> Vec<Measured> {
+        let mut results: Vec<Measured> =
+            variants.iter().map(|&(name, ..)| Measured { name, frames: Vec::new(), quality: Vec::new() }).collect();
+        for &(_, mode, retrace_edges) in variants {
+            self.frame.render(tracer, camera, w, h, Options { mode, retrace_edges });
+        }
+        for k in 0..frames {
+            tracer.update(scene, time_of(k));
+            self.reference.trace(tracer, camera, w, h);
+            for (m, &(_, mode, retrace_edges)) in results.iter_mut().zip(variants) {
+                let stats = self.frame.render(tracer, camera, w, h, Options { mode, retrace_edges });
+                m.frames.push(stats);
+                m.quality.push(self.reference.compare(&self.frame.right().rgb));
+            }
+        }
+        results
+    }
 }
 
 /// Runs the command.
@@ -40,24 +83,11 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let setup = FrameSetup::load(&args.frame, 1)?;
     let (w, h) = (args.frame.width, args.frame.height);
     let mut tracer = Tracer::new(&setup.scene, args.frame.time);
-    let mut frame = StereoFrame::new();
-    let mut reference = Reference::default();
-    let mut results: Vec<Measured> =
-        VARIANTS.iter().map(|&(name, ..)| Measured { name, frames: Vec::new(), quality: Vec::new() }).collect();
-
-    for (_, mode, retrace_edges) in VARIANTS {
-        frame.render(&tracer, &setup.camera, w, h, Options { mode, retrace_edges });
-    }
-    for k in 0..args.frames {
-        let t = args.frame.time + k as f32 / 30.0;
-        tracer.update(&setup.scene, t);
-        reference.trace(&tracer, &setup.camera, w, h);
-        for (m, &(_, mode, retrace_edges)) in results.iter_mut().zip(&VARIANTS) {
-            let stats = frame.render(&tracer, &setup.camera, w, h, Options { mode, retrace_edges });
-            m.frames.push(stats);
-            m.quality.push(reference.compare(&frame.right().rgb));
-        }
-    }
+    let t0 = args.frame.time;
+    let results =
+        Bench::default().measure(&mut tracer, (&setup.scene, &setup.camera), (w, h), &VARIANTS, args.frames, |k| {
+            t0 + k as f32 / 30.0
+        });
 
     let mut lefts: Vec<f64> = results.iter().flat_map(|m| m.frames.iter().map(|s| s.left.ms)).collect();
     let mono_ms = median(&mut lefts);
@@ -95,15 +125,16 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
-struct Summary {
-    name: &'static str,
-    stats: FrameStats,
-    quality: Quality,
-    stereo_ms: f64,
+/// One variant's medians over its frames (quality: the worst frame's).
+pub(crate) struct Summary {
+    pub(crate) name: &'static str,
+    pub(crate) stats: FrameStats,
+    pub(crate) quality: Quality,
+    pub(crate) stereo_ms: f64,
     /// Median over frames of (left + right) / left: each stereo frame against the mono
     /// frame inside it (see [`Summary::of`]).
-    stereo_over_mono: f64,
-    mrays_per_core: f64,
+    pub(crate) stereo_over_mono: f64,
+    pub(crate) mrays_per_core: f64,
 }
 
 impl Summary {
@@ -115,7 +146,7 @@ impl Summary {
     /// this mode's median stereo time to the median left eye of all modes (reported too,
     /// as `stereo_ms_over_mono_ms`) mixes two sets of samples, and on a shared machine
     /// swings by more than the right eye costs.
-    fn of(m: &Measured, threads: usize) -> Self {
+    pub(crate) fn of(m: &Measured, threads: usize) -> Self {
         let stats = median_stats(&m.frames);
         let mut stereo: Vec<f64> = m.frames.iter().map(|s| s.left.ms + s.right.ms).collect();
         let stereo_ms = median(&mut stereo);

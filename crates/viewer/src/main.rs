@@ -1,4 +1,5 @@
-//! `stereotrace`: the stereo viewer window, and the headless `render` and `bench` commands.
+//! `stereotrace`: the stereo viewer window, and the headless `render`, `bench` and `sweep`
+//! commands.
 //!
 //! Exit codes: 0 success, 2 bad input (scene file, arguments), 1 any other failure.
 //!
@@ -6,7 +7,8 @@
 //! `lib.rs`, for PNG output).
 //! - `cli` (the arguments), `setup` (a scene with the overrides applied, the memory check),
 //!   `report` (the JSON keys), `reference` (the full trace quality is measured against);
-//! - `render_cmd` and `bench`, the headless commands;
+//! - `render_cmd` and `bench`, the headless commands; `plot` (the sweep's figure) and `sweep`,
+//!   which measures with `bench`'s loop;
 //! - `timing` (scene clock, rate meters), `syslibs` (start-up checks), `frame_times` (the
 //!   frame-time history), `input` (keys and drags);
 //! - `worker` (the render thread and its requests), `present` (a frame into the window's
@@ -21,6 +23,7 @@ mod cli;
 mod fps_log;
 mod frame_times;
 mod input;
+mod plot;
 mod present;
 mod reference;
 mod render_cmd;
@@ -28,6 +31,7 @@ mod report;
 mod screenshot;
 mod settings;
 mod setup;
+mod sweep;
 mod syslibs;
 mod timing;
 mod ui;
@@ -46,6 +50,7 @@ fn main() -> ExitCode {
         None => app::run(&cli.window),
         Some(Command::Render(args)) => render_cmd::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
+        Some(Command::Sweep(args)) => sweep::run(&args),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,
