@@ -6,7 +6,8 @@
 //!   a rays ratio of 0.15.
 //! - **Quality**: the right eye's PSNR against a full trace. Identical images have an
 //!   infinite PSNR; they are drawn on a ceiling above every finite value (a dotted line, named
-//!   in the legend and on the axis), with a ring instead of a dot.
+//!   in the legend and on the axis), with a ring instead of a dot, each mode's ring of its own
+//!   size so that coinciding modes stay told apart.
 //!
 //! Text is set in DejaVu Sans, embedded in the binary (`fonts/`, with its licence), so a plot
 //! looks the same on every machine and needs no system font.
@@ -253,22 +254,22 @@ fn draw_quality<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, fig: &Figure)
     })?;
     chart.draw_series(DashedLineSeries::new([(x0, ceiling), (x1, ceiling)], 2, 4, BLACK.stroke_width(1)))?;
     let mut entries = Vec::new();
-    // Lines that coincide (every mode identical to full draws on the ceiling) stay visible:
-    // each is drawn narrower than the one before, over it.
-    let n = fig.lines.len() as u32;
+    // Modes identical to full all sit on the ceiling: each marks it with a ring of its own
+    // size (the first mode's the largest), so coinciding lines stay told apart.
+    let n = fig.lines.len();
     for (k, line) in fig.lines.iter().enumerate() {
         let c = color(line.name);
-        let width = 2 + 2 * (n - 1 - k as u32).min(3);
+        let ring = 3 + 2 * (n - 1 - k).min(4) as i32;
         let pts: Vec<(f64, f64)> = line.psnr.iter().map(|&(x, p)| (x, p.min(ceiling))).collect();
-        chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(width)))?;
+        chart.draw_series(LineSeries::new(pts.iter().copied(), c.stroke_width(2)))?;
         chart.draw_series(line.psnr.iter().map(|&(x, p)| {
             if p.is_finite() {
                 EmptyElement::at((x, p)) + Circle::new((0, 0), 3, c.filled())
             } else {
-                EmptyElement::at((x, ceiling)) + Circle::new((0, 0), 5, c.stroke_width(2))
+                EmptyElement::at((x, ceiling)) + Circle::new((0, 0), ring, c.stroke_width(2))
             }
         }))?;
-        entries.push(Entry::line(line.name, c.stroke_width(width.max(3))));
+        entries.push(Entry::line(line.name, c.stroke_width(3)));
     }
     entries.push(Entry { ring: true, ..Entry::line("∞: identical to full", BLACK.stroke_width(1)) });
     entries.push(Entry::line(format!("   (drawn at {ceiling:.0} dB)"), WHITE.stroke_width(1)));
