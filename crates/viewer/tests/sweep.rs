@@ -93,7 +93,9 @@ fn an_ipd_sweep_writes_a_row_per_step_and_mode_and_ipd_0_costs_least() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     assert!(err.contains("11 of 11 steps × 4 modes: 44 rows"), "{err}");
-    let rows = parse(&std::fs::read_to_string(&csv).unwrap(), "ipd");
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text.lines().nth(2).is_some_and(|l| l.starts_with("0,copy,") && l.contains(",inf,")), "`inf`: {text}");
+    let rows = parse(&text, "ipd");
     assert_eq!(rows.len(), 11 * 4, "11 steps × 4 modes");
     let values: Vec<&str> = rows.iter().step_by(4).map(|r| r.value.as_str()).collect();
     assert_eq!(values, ["0", "0.2", "0.4", "0.6", "0.8", "1", "1.2", "1.4", "1.6", "1.8", "2"], "the steps");
