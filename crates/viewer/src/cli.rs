@@ -5,6 +5,8 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use stereo::{Layout, Mode};
 
+use crate::crop::Crop;
+
 /// Default scene, relative to the workspace root (also found next to the executable's
 /// workspace when run from elsewhere; see `scene_path`).
 pub const DEFAULT_SCENE: &str = "assets/scenes/seed.toml";
@@ -108,6 +110,14 @@ pub struct RenderArgs {
     /// Debug-mask PNG to write (how each right pixel was made).
     #[arg(long, value_name = "M.png")]
     pub mask: Option<PathBuf>,
+    /// PNG of where the right eye differs from a full trace: red over 2/255 on some channel,
+    /// amber by 1 or 2 levels, the reference in pale grey where identical.
+    #[arg(long, value_name = "D.png")]
+    pub diff: Option<PathBuf>,
+    /// Write only this rectangle (pixels: left column, top row, width, height) of --left,
+    /// --right, --mask and --diff.
+    #[arg(long, value_name = "X,Y,W,H", conflicts_with_all = ["out", "frames"])]
+    pub crop: Option<Crop>,
     /// Combined stereo image to write, in --layout.
     #[arg(long, value_name = "PAIR.png")]
     pub out: Option<PathBuf>,

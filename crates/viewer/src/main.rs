@@ -5,7 +5,7 @@
 //!
 //! The modules, in order: each uses only modules listed before it (and the package's library,
 //! `lib.rs`, for PNG output).
-//! - `cli` (the arguments), `setup` (a scene with the overrides applied, the memory check),
+//! - `crop` (a rectangle of an eye image), `cli` (the arguments), `setup` (a scene with the overrides applied, the memory check),
 //!   `report` (the JSON keys), `reference` (the full trace quality is measured against);
 //! - `render_cmd` and `bench`, the headless commands; `plot` (the sweep's figure) and `sweep`,
 //!   which measures with `bench`'s loop;
@@ -20,6 +20,7 @@
 mod app;
 mod bench;
 mod cli;
+mod crop;
 mod fps_log;
 mod frame_times;
 mod input;

@@ -22,14 +22,23 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if let (Some(frames), Some(dir)) = (args.frames, &args.out_dir) {
         return animate(args, frames, dir);
     }
-    if [&args.left, &args.right, &args.mask, &args.out].iter().all(|p| p.is_none()) && !args.json {
+    if [&args.left, &args.right, &args.mask, &args.diff, &args.out].iter().all(|p| p.is_none()) && !args.json {
         return Err(BadInput(
-            "nothing to do: give --left, --right, --mask, --out, --json or --frames with --out-dir".into(),
+            "nothing to do: give --left, --right, --mask, --diff, --out, --json or --frames with --out-dir".into(),
         )
         .into());
     }
-    for path in [&args.left, &args.right, &args.mask, &args.out].into_iter().flatten() {
+    for path in [&args.left, &args.right, &args.mask, &args.diff, &args.out].into_iter().flatten() {
         check_output_dir(path)?;
+    }
+    if let Some(c) = args.crop {
+        if !c.fits(args.frame.width, args.frame.height) {
+            return Err(BadInput(format!(
+                "--crop {c}: the rectangle must lie inside the {}×{} eye image",
+                args.frame.width, args.frame.height
+            ))
+            .into());
+        }
     }
     let setup = FrameSetup::load(&args.frame, 1)?;
     let (w, h) = (args.frame.width, args.frame.height);
@@ -38,16 +47,32 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut frame = StereoFrame::new();
     let stats = frame.render(&tracer, &setup.camera, w, h, opts);
 
+    // An eye image, or its --crop.
+    let write_eye = |p: &Path, image: &[u32]| match args.crop {
+        Some(c) => write_png(p, c.w, c.h, &c.apply(image, w)),
+        None => write_png(p, w, h, image),
+    };
     if let Some(p) = &args.left {
-        write_png(p, w, h, &frame.left().rgb)?;
+        write_eye(p, &frame.left().rgb)?;
     }
     if let Some(p) = &args.right {
-        write_png(p, w, h, &frame.right().rgb)?;
+        write_eye(p, &frame.right().rgb)?;
     }
     if let Some(p) = &args.mask {
         let mut mask = Vec::new();
         mask_image(frame.mask(), &mut mask);
-        write_png(p, w, h, &mask)?;
+        write_eye(p, &mask)?;
+    }
+    let mut reference = None;
+    if args.diff.is_some() || args.json {
+        let mut r = Reference::default();
+        r.trace(&tracer, &setup.camera, w, h);
+        reference = Some(r);
+    }
+    if let (Some(p), Some(r)) = (&args.diff, &reference) {
+        let mut diff = Vec::new();
+        r.difference(&frame.right().rgb, &mut diff);
+        write_eye(p, &diff)?;
     }
     if let Some(p) = &args.out {
         let mut pair = Vec::new();
@@ -55,9 +80,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let (ow, oh) = args.layout.size(w, h);
         write_png(p, ow, oh, &pair)?;
     }
-    if args.json {
-        let mut reference = Reference::default();
-        reference.trace(&tracer, &setup.camera, w, h);
+    if let (true, Some(reference)) = (args.json, &reference) {
         let q = reference.compare(&frame.right().rgb);
         let mut out = json!({
             "scene": setup.path.display().to_string(),

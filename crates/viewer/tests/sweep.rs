@@ -122,7 +122,7 @@ fn an_ipd_sweep_writes_a_row_per_step_and_mode_and_ipd_0_costs_least() {
                 r.value
             );
         }
-        let last = of(mode).last().unwrap();
+        let last = of(mode).next_back().unwrap();
         assert!(rays(last) > rays(first), "{mode}: more IPD, more gaps, more rays");
         assert!(last.cols["reprojected_pct"] < 100.0, "{mode}: gaps at IPD 2");
     }
