@@ -35,7 +35,7 @@ st render --mode exact --width 640 --height 360 --mask "$img/fig2-exact-mask.png
 
 echo "== Fig. 3: the lighting seams, a crop of the right eye and where it differs from a full trace"
 for mode in copy reshade exact; do
-  st render --mode "$mode" --width 1920 --height 1080 --crop 0,300,760,480 \
+  st render --mode "$mode" --width 1280 --height 720 --crop 0,200,420,330 \
     --right "$img/fig3-$mode-right.png" --diff "$img/fig3-$mode-diff.png" --json >"$data/fig3-$mode.json"
 done
 

@@ -239,3 +239,18 @@ fn ctrl_c_keeps_the_rows_done() {
     let last = &rows[rows.len() - 4..];
     assert!(last.iter().all(|r| r.value == last[0].value), "the last step has all four modes");
 }
+
+#[test]
+fn help_documents_every_sweep_flag() {
+    let out = stereotrace(&["sweep", "--help"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    for flag in ["--param", "--from", "--to", "--steps", "--modes", "--frames", "--csv", "--plot", "--scene", "--width"]
+    {
+        assert!(text.contains(flag), "sweep --help lacks {flag}");
+    }
+    for value in ["ipd", "distance", "depth", "time", "copy+edges"] {
+        assert!(text.contains(value), "sweep --help lacks {value}");
+    }
+    let top = String::from_utf8_lossy(&stereotrace(&["--help"]).stdout).into_owned();
+    assert!(top.contains("sweep"), "--help lists sweep: {top}");
+}
