@@ -51,7 +51,7 @@ pub struct Figure<'a> {
     pub lines: &'a [Line],
 }
 
-/// Writes the figure to `path`: SVG when its extension is `svg` (any case), PNG otherwise.
+/// Writes the figure to `path`: SVG when its extension is `svg` (any case), else PNG.
 /// The file appears whole or not at all.
 pub fn write(path: &Path, fig: &Figure) -> Result<()> {
     register_font()?;
@@ -82,6 +82,12 @@ pub fn write(path: &Path, fig: &Figure) -> Result<()> {
 #[must_use]
 pub fn is_svg(path: &Path) -> bool {
     path.extension().is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+}
+
+/// Whether `path` names a PNG file.
+#[must_use]
+pub fn is_png(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("png"))
 }
 
 /// Makes the embedded font the figure's [`FAMILY`].
@@ -298,8 +304,12 @@ mod tests {
     }
 
     #[test]
-    fn svg_by_extension() {
+    fn the_format_by_extension() {
         assert!(is_svg(Path::new("a/b.svg")) && is_svg(Path::new("B.SVG")), "svg, any case");
-        assert!(!is_svg(Path::new("b.png")) && !is_svg(Path::new("svg")), "anything else is a PNG");
+        assert!(!is_svg(Path::new("b.png")) && !is_svg(Path::new("svg")), "not an SVG");
+        assert!(
+            is_png(Path::new("b.PNG")) && !is_png(Path::new("b.jpg")) && !is_png(Path::new("png")),
+            "PNG by extension"
+        );
     }
 }

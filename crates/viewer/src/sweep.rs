@@ -40,6 +40,9 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     let values = steps(args.param, args.from, args.to, args.steps)?;
     let variants = variants(args.modes.as_deref())?;
     check_conflicts(args)?;
+    if let Some(p) = args.plot.as_ref().filter(|p| !plot::is_svg(p) && !plot::is_png(p)) {
+        return Err(BadInput(format!("--plot {}: the plot is a PNG (.png) or an SVG (.svg)", p.display())).into());
+    }
     for path in [&args.csv, &args.plot].into_iter().flatten() {
         let dir = parent_dir(path);
         if !dir.is_dir() {
@@ -102,9 +105,10 @@ pub fn run(args: &SweepArgs) -> Result<()> {
             .collect::<Vec<_>>();
     let interrupted = if done < values.len() { " (interrupted)" } else { "" };
     eprintln!(
-        "sweep: {done} of {} steps × {} modes{interrupted}: {} rows{}",
+        "sweep: {done} of {} steps × {} mode{}{interrupted}: {} rows{}",
         values.len(),
         variants.len(),
+        if variants.len() == 1 { "" } else { "s" },
         rows.len(),
         if wrote.is_empty() { String::new() } else { format!(", written to {}", wrote.join(" and ")) }
     );

@@ -19,7 +19,7 @@ fn tmp(name: &str) -> PathBuf {
 }
 
 fn s(p: &Path) -> &str {
-    p.to_str().unwrap()
+    p.to_str().unwrap_or_else(|| panic!("{} is not UTF-8", p.display()))
 }
 
 /// Decodes an 8-bit RGB PNG: (width, height, `0x00RRGGBB` pixels).

@@ -181,7 +181,7 @@ fn bad_sweep_arguments_exit_2_with_a_clear_message() {
     let csv = tmp("never.csv");
     let c = csv.to_str().unwrap();
     let base = ["sweep", "--width", "8", "--height", "8", "--frames", "1", "--csv", c];
-    let cases: [(&[&str], &str); 11] = [
+    let cases: [(&[&str], &str); 12] = [
         (&["--param", "ipd", "--from", "0", "--to", "1", "--steps", "0"], "0 is not in 1..=1000"),
         (&["--param", "ipd", "--from", "2", "--to", "0"], "--from 2 --to 0: --from must not be above --to"),
         (&["--param", "ipd", "--from", "-0.5", "--to", "1"], "--param ipd --from -0.5: the ipd must be ≥ 0"),
@@ -195,6 +195,10 @@ fn bad_sweep_arguments_exit_2_with_a_clear_message() {
         (
             &["--param", "ipd", "--from", "0", "--to", "1", "--plot", "no/such/dir/p.png"],
             "directory no/such/dir does not exist",
+        ),
+        (
+            &["--param", "ipd", "--from", "0", "--to", "1", "--plot", "p.jpg"],
+            "--plot p.jpg: the plot is a PNG (.png) or an SVG (.svg)",
         ),
     ];
     for (args, message) in cases {
