@@ -4,7 +4,8 @@
 //! Frames are taken at scene times t, t + 1/30 s, …; for each frame every mode renders in
 //! turn (interleaved, so a noisy neighbour on the machine hurts all modes alike) after one
 //! untimed warm-up frame per mode. Times and counts are medians over the frames; quality is
-//! the worst frame's.
+//! the worst frame's. `sweep` measures each of its steps with the same loop
+//! ([`Bench::measure`]) and the same medians ([`Summary::of`]).
 
 use std::fmt::Write as _;
 

@@ -1,5 +1,6 @@
-//! `stereotrace render`: one stereo frame to PNG files and an optional JSON report, or an
-//! animation of the orbit as numbered combined frames.
+//! `stereotrace render`: one stereo frame to PNG files (the eyes, the mask, where the right
+//! eye differs from a full trace, each whole or cropped; the combined pair) and an optional
+//! JSON report, or an animation of the orbit as numbered combined frames.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
