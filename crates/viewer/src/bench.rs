@@ -4,7 +4,8 @@
 //! Frames are taken at scene times t, t + 1/30 s, …; for each frame every mode renders in
 //! turn (interleaved, so a noisy neighbour on the machine hurts all modes alike) after one
 //! untimed warm-up frame per mode. Times and counts are medians over the frames; quality is
-//! the worst frame's.
+//! the worst frame's. `sweep` measures each of its steps with the same loop
+//! ([`Bench::measure`]) and the same medians ([`Summary::of`]).
 //!
 //! The animation rows (`--animate N`) play N frames 1/60 s apart from the same start with
 //! the head still, per mode: each frame is traced fresh (reuse off) and, in a second
@@ -18,16 +19,19 @@ use std::fmt::Write as _;
 use anyhow::Result;
 use serde_json::{json, Map, Value};
 use stereo::{FrameStats, Mode, Options, Quality, StereoFrame};
-use tracer::{RayCounts, Tracer};
+use tracer::{Camera, RayCounts, Scene, Tracer};
 
 use crate::cli::BenchArgs;
 use crate::reference::Reference;
 use crate::report;
 use crate::setup::FrameSetup;
 
+/// One measured variant: its name in reports, the mode, and whether edges are retraced.
+pub(crate) type Variant = (&'static str, Mode, bool);
+
 /// The modes measured, as (name, options): the four modes plus copy and reshade with edge
 /// retracing.
-const VARIANTS: [(&str, Mode, bool); 6] = [
+pub(crate) const VARIANTS: [Variant; 6] = [
     ("full", Mode::Full, false),
     ("copy", Mode::Copy, false),
     ("copy+edges", Mode::Copy, true),
@@ -36,7 +40,8 @@ const VARIANTS: [(&str, Mode, bool); 6] = [
     ("exact", Mode::Exact, false),
 ];
 
-struct Measured {
+/// One variant's frames and their quality against the full trace.
+pub(crate) struct Measured {
     name: &'static str,
     frames: Vec<FrameStats>,
     quality: Vec<Quality>,
@@ -47,7 +52,7 @@ const ANIMATION_STEP_S: f32 = 1.0 / 60.0;
 
 /// One mode's animation row: medians over its frames.
 #[derive(Clone, Copy, Debug)]
-struct Animation {
+pub(crate) struct Animation {
     frames: u32,
     fresh_ms: f64,
     reused_ms: f64,
@@ -78,29 +83,55 @@ fn animate(setup: &FrameSetup, start: f32, (w, h): (u32, u32), opts: Options, fr
     }
 }
 
+/// The buffers a measurement reuses from run to run.
+#[derive(Default)]
+pub(crate) struct Bench {
+    frame: StereoFrame,
+    reference: Reference,
+}
+
+impl Bench {
+    /// Renders `variants` on `frames` frames of `scene` seen by `camera` at `w` × `h` per
+    /// eye, frame k at scene time `time_of(k)`: one untimed warm-up frame per variant in the
+    /// tracer's current state first, then each frame in every variant in turn (interleaved),
+    /// each measured against a full trace of the same frame.
+    pub(crate) fn measure(
+        &mut self,
+        tracer: &mut Tracer,
+        (scene, camera): (&Scene, &Camera),
+        (w, h): (u32, u32),
+        variants: &[Variant],
+        frames: u32,
+        time_of: impl Fn(u32) -> f32,
+    ) -> Vec<Measured> {
+        let mut results: Vec<Measured> =
+            variants.iter().map(|&(name, ..)| Measured { name, frames: Vec::new(), quality: Vec::new() }).collect();
+        for &(_, mode, retrace_edges) in variants {
+            self.frame.render(tracer, camera, w, h, Options { mode, retrace_edges });
+        }
+        for k in 0..frames {
+            tracer.update(scene, time_of(k));
+            self.reference.trace(tracer, camera, w, h);
+            for (m, &(_, mode, retrace_edges)) in results.iter_mut().zip(variants) {
+                let stats = self.frame.render(tracer, camera, w, h, Options { mode, retrace_edges });
+                m.frames.push(stats);
+                m.quality.push(self.reference.compare(&self.frame.right().rgb));
+            }
+        }
+        results
+    }
+}
+
 /// Runs the command.
 pub fn run(args: &BenchArgs) -> Result<()> {
     let setup = FrameSetup::load(&args.frame, 1)?;
     let (w, h) = (args.frame.width, args.frame.height);
     let mut tracer = Tracer::new(&setup.scene, args.frame.time);
-    let mut frame = StereoFrame::new();
-    let mut reference = Reference::default();
-    let mut results: Vec<Measured> =
-        VARIANTS.iter().map(|&(name, ..)| Measured { name, frames: Vec::new(), quality: Vec::new() }).collect();
-
-    for (_, mode, retrace_edges) in VARIANTS {
-        frame.render(&tracer, &setup.camera, w, h, Options { mode, retrace_edges });
-    }
-    for k in 0..args.frames {
-        let t = args.frame.time + k as f32 / 30.0;
-        tracer.update(&setup.scene, t);
-        reference.trace(&tracer, &setup.camera, w, h);
-        for (m, &(_, mode, retrace_edges)) in results.iter_mut().zip(&VARIANTS) {
-            let stats = frame.render(&tracer, &setup.camera, w, h, Options { mode, retrace_edges });
-            m.frames.push(stats);
-            m.quality.push(reference.compare(&frame.right().rgb));
-        }
-    }
+    let t0 = args.frame.time;
+    let results =
+        Bench::default().measure(&mut tracer, (&setup.scene, &setup.camera), (w, h), &VARIANTS, args.frames, |k| {
+            t0 + k as f32 / 30.0
+        });
 
     let animations: Vec<Option<Animation>> = VARIANTS
         .iter()
@@ -158,17 +189,18 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     Ok(())
 }
 
-struct Summary {
-    name: &'static str,
-    stats: FrameStats,
-    quality: Quality,
-    stereo_ms: f64,
+/// One variant's medians over its frames (quality: the worst frame's).
+pub(crate) struct Summary {
+    pub(crate) name: &'static str,
+    pub(crate) stats: FrameStats,
+    pub(crate) quality: Quality,
+    pub(crate) stereo_ms: f64,
     /// Median over frames of (left + right) / left: each stereo frame against the mono
     /// frame inside it (see [`Summary::of`]).
-    stereo_over_mono: f64,
-    mrays_per_core: f64,
+    pub(crate) stereo_over_mono: f64,
+    pub(crate) mrays_per_core: f64,
     /// The animation row, if measured.
-    animation: Option<Animation>,
+    pub(crate) animation: Option<Animation>,
 }
 
 impl Summary {
@@ -180,7 +212,7 @@ impl Summary {
     /// this mode's median stereo time to the median left eye of all modes (reported too,
     /// as `stereo_ms_over_mono_ms`) mixes two sets of samples, and on a shared machine
     /// swings by more than the right eye costs.
-    fn of(m: &Measured, threads: usize) -> Self {
+    pub(crate) fn of(m: &Measured, threads: usize) -> Self {
         let stats = median_stats(&m.frames);
         let mut stereo: Vec<f64> = m.frames.iter().map(|s| s.left.ms + s.right.ms).collect();
         let stereo_ms = median(&mut stereo);

@@ -2,8 +2,10 @@
 
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use stereo::{Layout, Mode};
+
+use crate::crop::Crop;
 
 /// Default scene, relative to the workspace root (also found next to the executable's
 /// workspace when run from elsewhere; see `scene_path`).
@@ -32,6 +34,8 @@ pub enum Command {
     Render(RenderArgs),
     /// Render the same frames in every mode and report time, rays and quality.
     Bench(BenchArgs),
+    /// Every mode over a range of one parameter: cost and quality per step, as CSV and a plot.
+    Sweep(SweepArgs),
 }
 
 /// Options of the viewer window.
@@ -110,6 +114,14 @@ pub struct RenderArgs {
     /// Debug-mask PNG to write (how each right pixel was made).
     #[arg(long, value_name = "M.png")]
     pub mask: Option<PathBuf>,
+    /// PNG of where the right eye differs from a full trace: red over 2/255 on some channel,
+    /// amber by 1 or 2 levels, the reference in pale grey where identical.
+    #[arg(long, value_name = "D.png")]
+    pub diff: Option<PathBuf>,
+    /// Write only this rectangle (pixels: left column, top row, width, height) of --left,
+    /// --right, --mask and --diff.
+    #[arg(long, value_name = "X,Y,W,H", conflicts_with_all = ["out", "frames"])]
+    pub crop: Option<Crop>,
     /// Combined stereo image to write, in --layout.
     #[arg(long, value_name = "PAIR.png")]
     pub out: Option<PathBuf>,
@@ -155,6 +167,53 @@ pub struct BenchArgs {
     /// Print one JSON object instead of the table.
     #[arg(long)]
     pub json: bool,
+}
+
+/// `stereotrace sweep`.
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    pub frame: FrameArgs,
+    /// The parameter swept: the IPD e, the zero-parallax distance d, the reflection depth, or
+    /// the scene time (s).
+    #[arg(long, value_name = "PARAM", value_enum)]
+    pub param: SweepParam,
+    /// First value of the parameter.
+    #[arg(long, value_name = "A", allow_negative_numbers = true)]
+    pub from: f64,
+    /// Last value of the parameter (≥ --from).
+    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    pub to: f64,
+    /// Number of values, evenly spaced from A to B inclusive.
+    #[arg(long, value_name = "N", default_value_t = 11, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub steps: u32,
+    /// Modes to run, comma-separated: full, copy, copy+edges, reshade, reshade+edges, exact
+    /// [default: full,copy,reshade,exact].
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub modes: Option<Vec<String>>,
+    /// Frames per step; times are medians over them (every frame of a step is the same scene
+    /// state, so rays and quality are the same on each).
+    #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub frames: u32,
+    /// CSV file to write, a row per step and mode; without it the CSV goes to stdout.
+    #[arg(long, value_name = "F.csv")]
+    pub csv: Option<PathBuf>,
+    /// Plot to write: PNG, or SVG when the name ends in .svg.
+    #[arg(long, value_name = "F.png|F.svg")]
+    pub plot: Option<PathBuf>,
+}
+
+/// The parameter `sweep` varies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SweepParam {
+    /// The interpupillary distance e (scene units, ≥ 0).
+    Ipd,
+    /// The distance d from the eyes to the zero-parallax window (scene units, > 0).
+    Distance,
+    /// The reflection depth (whole bounces, 0 to 16).
+    Depth,
+    /// The scene time in seconds (positions the revolving spheres).
+    Time,
 }
 
 fn parse_mode(s: &str) -> Result<Mode, String> {

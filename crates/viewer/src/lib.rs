@@ -2,8 +2,9 @@
 //!
 //! The binary (`src/main.rs`: the window, `render` and `bench`) is this package's main
 //! target; this library holds the one piece the root `tests` crate needs as well, so that
-//! there is one PNG writer: [`write_png`], which never leaves a half-written file.
+//! there is one PNG writer: [`write_png`], which never leaves a half-written file (and
+//! [`write_bytes`], the same for the sweep's CSV and SVG).
 
 mod png_out;
 
-pub use png_out::{parent_dir, write_png};
+pub use png_out::{parent_dir, write_bytes, write_png};

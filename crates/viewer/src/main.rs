@@ -1,12 +1,14 @@
-//! `stereotrace`: the stereo viewer window, and the headless `render` and `bench` commands.
+//! `stereotrace`: the stereo viewer window, and the headless `render`, `bench` and `sweep`
+//! commands.
 //!
 //! Exit codes: 0 success, 2 bad input (scene file, arguments), 1 any other failure.
 //!
 //! The modules, in order: each uses only modules listed before it (and the package's library,
 //! `lib.rs`, for PNG output).
-//! - `cli` (the arguments), `setup` (a scene with the overrides applied, the memory check),
+//! - `crop` (a rectangle of an eye image), `cli` (the arguments), `setup` (a scene with the overrides applied, the memory check),
 //!   `report` (the JSON keys), `reference` (the full trace quality is measured against);
-//! - `render_cmd` and `bench`, the headless commands;
+//! - `render_cmd` and `bench`, the headless commands; `plot` (the sweep's figure) and `sweep`,
+//!   which measures with `bench`'s loop;
 //! - `timing` (scene clock, rate meters), `syslibs` (start-up checks), `frame_times` (the
 //!   frame-time history), `input` (keys and drags);
 //! - `worker` (the render thread and its requests), `present` (a frame into the window's
@@ -19,9 +21,11 @@
 mod app;
 mod bench;
 mod cli;
+mod crop;
 mod fps_log;
 mod frame_times;
 mod input;
+mod plot;
 mod present;
 mod reference;
 mod render_cmd;
@@ -30,6 +34,7 @@ mod scene_watch;
 mod screenshot;
 mod settings;
 mod setup;
+mod sweep;
 mod syslibs;
 mod timing;
 mod ui;
@@ -48,6 +53,7 @@ fn main() -> ExitCode {
         None => app::run(&cli.window),
         Some(Command::Render(args)) => render_cmd::run(&args),
         Some(Command::Bench(args)) => bench::run(&args),
+        Some(Command::Sweep(args)) => sweep::run(&args),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,5 +1,5 @@
-//! PNG output that never leaves a half-written file: write to a temporary file beside the
-//! target, then rename it into place.
+//! PNG (and other file) output that never leaves a half-written file: write to a temporary
+//! file beside the target, then rename it into place.
 
 use std::fs::File;
 use std::io::BufWriter;
@@ -10,13 +10,24 @@ use anyhow::{Context, Result};
 /// Writes `pixels` (`0x00RRGGBB`, row-major) as an 8-bit sRGB PNG at `path`, atomically.
 pub fn write_png(path: &Path, width: u32, height: u32, pixels: &[u32]) -> Result<()> {
     assert_eq!(pixels.len(), width as usize * height as usize, "pixel count does not match the size");
+    write_atomically(path, |tmp| write_file(tmp, width, height, pixels))
+}
+
+/// Writes `bytes` (a CSV, an SVG) to `path`, atomically, like [`write_png`].
+pub fn write_bytes(path: &Path, bytes: &[u8]) -> Result<()> {
+    write_atomically(path, |tmp| std::fs::write(tmp, bytes).with_context(|| format!("cannot create {}", tmp.display())))
+}
+
+/// Lets `write` make a temporary file beside `path`, then renames it into place; removes it
+/// if anything fails.
+fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
     let dir = parent_dir(path);
     if !dir.is_dir() {
         anyhow::bail!("cannot write {}: directory {} does not exist", path.display(), dir.display());
     }
     let name = path.file_name().with_context(|| format!("cannot write {}: not a file name", path.display()))?;
     let tmp = dir.join(format!(".{}.{}.tmp", name.to_string_lossy(), std::process::id()));
-    let result = write_file(&tmp, width, height, pixels).and_then(|()| {
+    let result = write(&tmp).and_then(|()| {
         std::fs::rename(&tmp, path).with_context(|| format!("cannot move {} into place", path.display()))
     });
     if result.is_err() {

@@ -1,11 +1,13 @@
-//! `stereotrace render`: one stereo frame to PNG files and an optional JSON report, or an
-//! animation of the orbit as numbered combined frames.
+//! `stereotrace render`: one stereo frame to PNG files (the eyes, the mask, where the right
+//! eye differs from a full trace, each whole or cropped; the combined pair) and an optional
+//! JSON report, or an animation of the orbit as numbered combined frames.
 //!
 //! With `--supersample S` every stage runs at (W·S) × (H·S) samples and the eyes are
 //! filtered down to W × H ([`stereo::downsample`]: a box filter in linear light) before they
-//! are written or measured. The mask PNG stays at the sampled size, one pixel per sample,
-//! as the report's ray and pixel counts do; `quality` compares the filtered right eye with
-//! a full trace filtered alike, `quality_samples` the samples themselves.
+//! are written or measured. The mask PNG stays at the sampled size, one pixel per sample
+//! (its `--crop` scaled by S), as the report's ray and pixel counts do; `quality` and
+//! `--diff` compare the filtered right eye with a full trace filtered alike,
+//! `quality_samples` the samples themselves.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -28,14 +30,23 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if let (Some(frames), Some(dir)) = (args.frames, &args.out_dir) {
         return animate(args, frames, dir);
     }
-    if [&args.left, &args.right, &args.mask, &args.out].iter().all(|p| p.is_none()) && !args.json {
+    if [&args.left, &args.right, &args.mask, &args.diff, &args.out].iter().all(|p| p.is_none()) && !args.json {
         return Err(BadInput(
-            "nothing to do: give --left, --right, --mask, --out, --json or --frames with --out-dir".into(),
+            "nothing to do: give --left, --right, --mask, --diff, --out, --json or --frames with --out-dir".into(),
         )
         .into());
     }
-    for path in [&args.left, &args.right, &args.mask, &args.out].into_iter().flatten() {
+    for path in [&args.left, &args.right, &args.mask, &args.diff, &args.out].into_iter().flatten() {
         check_output_dir(path)?;
+    }
+    if let Some(c) = args.crop {
+        if !c.fits(args.frame.width, args.frame.height) {
+            return Err(BadInput(format!(
+                "--crop {c}: the rectangle must lie inside the {}×{} eye image",
+                args.frame.width, args.frame.height
+            ))
+            .into());
+        }
     }
     let setup = FrameSetup::load_supersampled(&args.frame, 1, args.supersample)?;
     let size = Sizes::of(args);
@@ -47,16 +58,39 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let mut filtered = Filtered::default();
     let (left, right) = filtered.eyes(&frame, size);
 
+    // An eye image, or its --crop.
+    let write_eye = |p: &Path, image: &[u32]| match args.crop {
+        Some(c) => write_png(p, c.w, c.h, &c.apply(image, w)),
+        None => write_png(p, w, h, image),
+    };
     if let Some(p) = &args.left {
-        write_png(p, w, h, left)?;
+        write_eye(p, left)?;
     }
     if let Some(p) = &args.right {
-        write_png(p, w, h, right)?;
+        write_eye(p, right)?;
     }
     if let Some(p) = &args.mask {
         let mut mask = Vec::new();
         mask_image(frame.mask(), &mut mask);
-        write_png(p, size.samples.0, size.samples.1, &mask)?;
+        match args.crop {
+            Some(c) => {
+                let s = args.supersample;
+                let c = crate::crop::Crop { x: c.x * s, y: c.y * s, w: c.w * s, h: c.h * s };
+                write_png(p, c.w, c.h, &c.apply(&mask, size.samples.0))?;
+            }
+            None => write_png(p, size.samples.0, size.samples.1, &mask)?,
+        }
+    }
+    let mut reference = None;
+    if args.diff.is_some() || args.json {
+        let mut r = Reference::default();
+        r.trace(&tracer, &setup.camera, size.samples.0, size.samples.1);
+        reference = Some(r);
+    }
+    if let (Some(p), Some(r)) = (&args.diff, &mut reference) {
+        let mut diff = Vec::new();
+        r.difference_filtered(right, (size.samples, size.out), &mut diff);
+        write_eye(p, &diff)?;
     }
     if let Some(p) = &args.out {
         let mut pair = Vec::new();
@@ -64,9 +98,7 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         let (ow, oh) = args.layout.size(w, h);
         write_png(p, ow, oh, &pair)?;
     }
-    if args.json {
-        let mut reference = Reference::default();
-        reference.trace(&tracer, &setup.camera, size.samples.0, size.samples.1);
+    if let (true, Some(reference)) = (args.json, &mut reference) {
         let per_sample = reference.compare(&frame.right().rgb);
         let q = reference.compare_filtered(right, size.samples, size.out);
         let mut out = json!({
