@@ -24,7 +24,9 @@
 
 use rayon::prelude::*;
 
-use crate::mask::mask_color;
+use tracer::PixelBits;
+
+use crate::mask::{mask_color, KEPT_COLOR};
 use crate::stats::PixelClass;
 
 /// Filters `src`, `src_size` = (width, height) sRGB pixels `0x00RRGGBB` row-major, down to
@@ -55,12 +57,28 @@ pub fn downsample(src: &[u32], src_size: (u32, u32), dst: &mut Vec<u32>, dst_siz
 ///
 /// As [`downsample`].
 pub fn downsample_mask(mask: &[PixelClass], src_size: (u32, u32), dst: &mut Vec<u32>, dst_size: (u32, u32)) {
+    downsample_mask_kept(mask, None, src_size, dst, dst_size);
+}
+
+/// [`downsample_mask`], with the samples a reused frame kept from the one before (those not
+/// in `made`, when given) in [`KEPT_COLOR`].
+pub fn downsample_mask_kept(
+    mask: &[PixelClass],
+    made: Option<&PixelBits>,
+    src_size: (u32, u32),
+    dst: &mut Vec<u32>,
+    dst_size: (u32, u32),
+) {
     check_sizes(mask.len(), src_size, dst_size);
+    let colour = |i: usize| match made {
+        Some(made) if !made.get_index(i) => KEPT_COLOR,
+        _ => mask_color(mask[i]),
+    };
     if src_size == dst_size {
         dst.clear();
-        dst.extend(mask.iter().map(|&c| mask_color(c)));
+        dst.extend((0..mask.len()).map(colour));
     } else {
-        filter(|i| mask_color(mask[i]), src_size, dst, dst_size);
+        filter(colour, src_size, dst, dst_size);
     }
 }
 

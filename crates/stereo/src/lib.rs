@@ -68,11 +68,11 @@ mod retrace;
 mod reuse;
 mod stats;
 
-pub use downsample::{downsample, downsample_mask};
+pub use downsample::{downsample, downsample_mask, downsample_mask_kept};
 pub use frame::StereoFrame;
 pub use image::Image;
 pub use layout::{anaglyph_pixel, compose, Layout};
-pub use mask::{mask_color, mask_image, MASK_LEGEND};
+pub use mask::{mask_color, mask_image, KEPT_COLOR, KEPT_LEGEND, MASK_LEGEND};
 pub use metrics::Quality;
 pub use mode::{Mode, Options};
 pub use reproject::{reproject_row, NO_SOURCE};

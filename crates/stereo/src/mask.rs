@@ -15,6 +15,13 @@ pub fn mask_color(class: PixelClass) -> u32 {
     }
 }
 
+/// Mask colour of a pixel that a reused frame kept from the frame before (`reuse.rs`): a
+/// dark slate, so that what was made anew stands out in its class's colour.
+pub const KEPT_COLOR: u32 = 0x0028_2C38;
+
+/// The legend entry of [`KEPT_COLOR`].
+pub const KEPT_LEGEND: &str = "kept from the last frame (reuse)";
+
 /// The mask as an image: the [`mask_color`] of every pixel's class, `0x00RRGGBB`, into
 /// `out` (reusing its allocation).
 pub fn mask_image(mask: &[PixelClass], out: &mut Vec<u32>) {

@@ -137,6 +137,10 @@ pub struct RenderArgs {
     /// Frames per second of the animation: scene time advances 1/F s per frame.
     #[arg(long, value_name = "F", default_value_t = 30.0)]
     pub fps: f32,
+    /// Trace every pixel of every animation frame, rather than only those that can have
+    /// changed since the frame before (the output is the same either way).
+    #[arg(long, requires = "frames")]
+    pub no_reuse: bool,
     /// Folder for the animation's frames (created if missing).
     #[arg(long, value_name = "DIR", requires = "frames")]
     pub out_dir: Option<PathBuf>,

@@ -183,6 +183,7 @@ mod tests {
             psnr: false,
             anaglyph: false,
             swap: false,
+            reuse: false,
             light: None,
         };
         Finished {

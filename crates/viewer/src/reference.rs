@@ -49,7 +49,12 @@ impl Reference {
 
     /// [`Reference::difference`] for a supersampled frame's right image, filtered from
     /// `samples` down to `out_size`, against the last trace (of `samples`) filtered alike.
-    pub fn difference_filtered(&mut self, right: &[u32], (samples, out_size): ((u32, u32), (u32, u32)), out: &mut Vec<u32>) {
+    pub fn difference_filtered(
+        &mut self,
+        right: &[u32],
+        (samples, out_size): ((u32, u32), (u32, u32)),
+        out: &mut Vec<u32>,
+    ) {
         if samples == out_size {
             return self.difference(right, out);
         }

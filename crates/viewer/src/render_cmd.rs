@@ -189,9 +189,13 @@ fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
     let opts = Options { mode: args.mode, retrace_edges: args.retrace_edges };
     let mut tracer = Tracer::new(&setup.scene, args.frame.time);
     let mut frame = StereoFrame::new();
+    // Only the scene time moves: each frame retraces what can have changed (`--no-reuse`:
+    // everything), the same bytes either way.
+    frame.set_reuse(!args.no_reuse);
     let mut filtered = Filtered::default();
     let mut pair = Vec::new();
     let (mut left_rays, mut right_rays) = (RayCounts::default(), RayCounts::default());
+    let (mut made, mut pixels) = (0u64, 0u64);
     let bar = indicatif::ProgressBar::new(u64::from(frames)).with_style(
         indicatif::ProgressStyle::with_template(
             "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} frames, {per_sec}, eta {eta}",
@@ -208,6 +212,7 @@ fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
         let stats = frame.render(&tracer, &setup.camera, size.samples.0, size.samples.1, opts);
         left_rays += stats.left.rays;
         right_rays += stats.right.rays;
+        (made, pixels) = (made + stats.reuse.made, pixels + stats.reuse.pixels);
         let (left, right) = filtered.eyes(&frame, size);
         compose(args.layout, args.swap_eyes, left, right, w, h, &mut pair);
         write_png(&dir.join(format!("frame_{k:05}.png")), ow, oh, &pair)?;
@@ -218,12 +223,14 @@ fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
     let secs = start.elapsed().as_secs_f64();
     let interrupted = if written < frames { " (interrupted)" } else { "" };
     eprintln!(
-        "wrote {written} of {frames} frames{interrupted}, {ow}×{oh} {} ({} mode), to {} in {secs:.1} s: {:.1} ms/frame; right eye {:.0}% of the left eye's rays",
+        "wrote {written} of {frames} frames{interrupted}, {ow}×{oh} {} ({} mode), to {} in {secs:.1} s: {:.1} ms/frame; right eye {:.0}% of the left eye's rays; {:.1}% of the pixels traced ({})",
         args.layout,
         args.mode,
         dir.display(),
         1e3 * secs / f64::from(written.max(1)),
         100.0 * right_rays.total() as f64 / left_rays.total().max(1) as f64,
+        100.0 * made as f64 / pixels.max(1) as f64,
+        if args.no_reuse { "reuse off" } else { "the rest kept from the frame before" },
     );
     if written < frames {
         anyhow::bail!("interrupted after {written} frames");

@@ -164,6 +164,7 @@ mod tests {
             psnr: false,
             anaglyph: false,
             swap: false,
+            reuse: false,
             light: None,
         };
         let info = FrameInfo {

@@ -70,6 +70,9 @@ pub struct Settings {
     pub show_mask: bool,
     /// Measure the right eye against a full trace every frame.
     pub live_psnr: bool,
+    /// Reuse a frame's unchanged pixels while only the scene time moves (the panel's
+    /// "reuse" tick).
+    pub reuse: bool,
     /// Scene time stands still (key Space).
     pub paused: bool,
     /// Exchange the eyes (key X).
@@ -101,6 +104,7 @@ impl Settings {
             render_scale: 1.0,
             show_mask: false,
             live_psnr: false,
+            reuse: true,
             paused: false,
             swap_eyes: false,
             position: Vec3::ZERO,
@@ -234,6 +238,7 @@ impl Settings {
             height,
             samples,
             psnr: self.live_psnr,
+            reuse: self.reuse,
             anaglyph,
             swap: anaglyph && self.swap_eyes,
             light: self.light,

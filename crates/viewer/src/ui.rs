@@ -12,7 +12,7 @@ use std::path::PathBuf;
 
 use egui::{Align2, Color32, RichText, Slider};
 use glam::Vec3;
-use stereo::{mask_color, Layout, Mode, MASK_LEGEND};
+use stereo::{mask_color, Layout, Mode, KEPT_COLOR, KEPT_LEGEND, MASK_LEGEND};
 
 use crate::frame_times::{FrameTimes, SERIES_LEN, SERIES_NAMES};
 use crate::input::KEYS;
@@ -219,6 +219,9 @@ fn controls(ui: &mut egui::Ui, s: &mut Settings, readout: &Readout<'_>, actions:
     ui.horizontal(|ui| {
         ui.checkbox(&mut s.swap_eyes, "swap eyes (X)").on_hover_text("exchange the left and right images");
         ui.checkbox(&mut s.live_psnr, "live PSNR").on_hover_text("compare the right eye with a full trace each frame");
+        ui.checkbox(&mut s.reuse, "reuse").on_hover_text(
+            "while only the orbit moves, retrace only the pixels that can change (the image is the same)",
+        );
     });
     ui.horizontal(|ui| {
         actions.reset = ui.button("reset camera (R)").clicked();
@@ -336,6 +339,15 @@ fn statistics(ui: &mut egui::Ui, s: &Settings, r: &Readout<'_>) {
         row("ms per eye", format!("L {:.1} · R {:.1}", st.left.ms, st.right.ms));
         row("rays per eye", format!("L {} · R {}", mega(st.left.rays.total()), mega(st.right.rays.total())));
         row("reprojected", format!("{:.1} %", 100.0 * st.pixels.reprojected_share()));
+        let reuse = &st.reuse;
+        row(
+            "retraced",
+            if reuse.reused {
+                format!("{:.1} % (rest kept)", 100.0 * reuse.retraced_share())
+            } else {
+                "100 % (fresh frame)".to_owned()
+            },
+        );
         row("right / left", format!("rays {:.2} · time {:.2}", st.right_ray_ratio(), st.right_time_ratio()));
         if s.live_psnr {
             let q = match f.quality {
@@ -388,9 +400,10 @@ fn frame_time_plot(ui: &mut egui::Ui, history: &FrameTimes) {
 
 fn legend(ui: &mut egui::Ui) {
     ui.label(RichText::new("mask, blended 50 % over the right eye").small());
-    for (class, name) in MASK_LEGEND {
+    let entries = MASK_LEGEND.map(|(class, name)| (mask_color(class), name));
+    for (colour, name) in entries.into_iter().chain([(KEPT_COLOR, KEPT_LEGEND)]) {
         ui.horizontal(|ui| {
-            let [r, g, b] = tracer::unpack_rgb(mask_color(class));
+            let [r, g, b] = tracer::unpack_rgb(colour);
             let (rect, _) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
             ui.painter().rect_filled(rect, 2.0, Color32::from_rgb(r, g, b));
             ui.label(name);

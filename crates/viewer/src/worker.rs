@@ -53,6 +53,9 @@ pub struct Request {
     pub psnr: bool,
     /// Also make the red–cyan anaglyph of the pair.
     pub anaglyph: bool,
+    /// Reuse the unchanged pixels of the last frame when only the scene time moved
+    /// (`stereo`'s `reuse.rs`).
+    pub reuse: bool,
     /// Exchange the eyes in the anaglyph (red over the right eye's image).
     pub swap: bool,
     /// Where the scene's first light is this frame (`None`: where the scene puts it).
@@ -118,7 +121,9 @@ impl Finished {
         let eye = (request.width, request.height);
         stereo::downsample(&frame.left().rgb, samples, &mut self.left, eye);
         stereo::downsample(&frame.right().rgb, samples, &mut self.right, eye);
-        stereo::downsample_mask(frame.mask(), samples, &mut self.mask_overlay, eye);
+        // The right pixels a reused frame kept show in the mask's "kept" colour.
+        let made = frame.made().map(|(_, right)| right);
+        stereo::downsample_mask_kept(frame.mask(), made, samples, &mut self.mask_overlay, eye);
         self.mask.clear();
         self.mask.extend_from_slice(frame.mask());
         if request.anaglyph {
@@ -284,6 +289,7 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
         } else {
             eye
         };
+        frame.set_reuse(request.reuse);
         let stats = frame.render(&tracer, &request.camera, samples.0, samples.1, request.opts);
         back.fill_from(&frame, samples, &request);
         let quality = request.psnr.then(|| {
@@ -324,6 +330,7 @@ mod tests {
             psnr,
             anaglyph: psnr,
             swap: false,
+            reuse: false,
             light: None,
         }
     }

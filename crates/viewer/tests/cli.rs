@@ -454,3 +454,37 @@ fn a_supersample_factor_outside_1_to_4_exits_2() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("65536 × 65536 samples per eye; an eye must have fewer than 4294967295 samples"), "{err}");
 }
+
+/// `render --frames` reuses each frame's unchanged pixels for the next: the files are those
+/// of `--no-reuse`, byte for byte, on every bundled scene and mode, and the log says how much
+/// was traced.
+#[test]
+fn an_animation_with_and_without_reuse_writes_the_same_files() {
+    for scene in ["seed.toml", "many.toml", "window.toml", "thousand.toml"] {
+        for mode in ["exact", "copy", "reshade", "full"] {
+            let path = root().join("assets/scenes").join(scene);
+            let run = |reuse: bool| {
+                let dir = tmp(&format!("reuse-{scene}-{mode}-{reuse}"));
+                let _ = std::fs::remove_dir_all(&dir);
+                let mut args = vec!["render", "--scene", path.to_str().unwrap(), "--mode", mode, "--retrace-edges"];
+                args.extend(["--width", "64", "--height", "36", "--frames", "8", "--fps", "20"]);
+                args.extend(["--out-dir", dir.to_str().unwrap()]);
+                if !reuse {
+                    args.push("--no-reuse");
+                }
+                let out = stereotrace(&args);
+                assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+                let log = String::from_utf8_lossy(&out.stderr).into_owned();
+                let files: Vec<Vec<u8>> =
+                    (0..8).map(|k| std::fs::read(dir.join(format!("frame_{k:05}.png"))).unwrap()).collect();
+                let _ = std::fs::remove_dir_all(&dir);
+                (files, log)
+            };
+            let ((reused, log), (fresh, fresh_log)) = (run(true), run(false));
+            assert!(reused == fresh, "{scene} {mode}: the frames differ with reuse");
+            assert!(fresh_log.contains("100.0% of the pixels traced (reuse off)"), "{fresh_log}");
+            assert!(log.contains("of the pixels traced (the rest kept"), "{log}");
+            assert!(!log.contains("100.0% of the pixels traced"), "{scene} {mode}: something was kept: {log}");
+        }
+    }
+}

@@ -133,6 +133,13 @@ fn panel_widgets_change_the_render_settings() {
     harness.run();
     assert!(harness.state().settings.show_mask, "the checkbox shows the mask");
 
+    // Reuse starts on, and its tick turns it off in the request.
+    assert!(harness.state().settings.reuse, "reuse starts on");
+    harness.get_by_label("reuse").click();
+    harness.run();
+    assert!(!harness.state().settings.reuse, "the tick turns reuse off");
+    assert!(!harness.state().settings.request(&scene(), 0.0, 64, 36).reuse, "and the request asks for none");
+
     // Edge retracing applies to copy: its checkbox is enabled there.
     harness.get_by_label("retrace edges").click();
     harness.run();
