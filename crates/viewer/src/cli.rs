@@ -96,6 +96,7 @@ pub struct FrameArgs {
 
 /// `stereotrace render`.
 #[derive(Debug, Args)]
+#[expect(clippy::struct_excessive_bools, reason = "each bool is one command-line flag")]
 pub struct RenderArgs {
     #[command(flatten)]
     pub frame: FrameArgs,

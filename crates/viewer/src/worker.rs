@@ -33,6 +33,7 @@ use crate::setup;
 
 /// Everything that determines one stereo frame.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[expect(clippy::struct_excessive_bools, reason = "independent switches of one request, as the panel's ticks are")]
 pub struct Request {
     /// Head pose and stereo parameters (IPD and distance from the sliders).
     pub camera: Camera,
