@@ -249,7 +249,7 @@ impl StereoFrame {
             }
         }
         stats.right.ms = stats.stages.reproject + stats.stages.retrace + stats.stages.reshade;
-        stats.pixels = PixelCounts::of(&self.mask);
+        stats.pixels = PixelCounts::of_par(&self.mask);
         let left_made = if reused { self.left_retraced.count() } else { n as u64 };
         stats.reuse = Reuse { reused, made: left_made + made, pixels: 2 * n as u64 };
         self.last = Some((asked, mark));

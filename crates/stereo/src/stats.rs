@@ -52,6 +52,20 @@ impl PixelCounts {
         c
     }
 
+    /// Counts the classes of a mask in parallel, in chunks: the same counts as
+    /// [`PixelCounts::of`].
+    #[must_use]
+    pub fn of_par(mask: &[PixelClass]) -> Self {
+        use rayon::prelude::*;
+        mask.par_chunks(1 << 16).map(Self::of).reduce(Self::default, |a, b| Self {
+            reprojected: a.reprojected + b.reprojected,
+            retraced_gap: a.retraced_gap + b.retraced_gap,
+            retraced_edge: a.retraced_edge + b.retraced_edge,
+            retraced_shadow: a.retraced_shadow + b.retraced_shadow,
+            traced: a.traced + b.traced,
+        })
+    }
+
     /// All pixels.
     #[must_use]
     pub fn total(&self) -> u64 {

@@ -131,15 +131,29 @@ impl SweptRing {
         let (pa, pb) = (q + lo * d, q + hi * d);
         // Seen from the axis, a straight segment sweeps less than half a turn, unless it
         // passes (nearly) through the axis.
-        let (fa, fb) = (units(diamond(pa.x, -pa.z)), units(diamond(pb.x, -pb.z)));
-        let sweep = fb.wrapping_sub(fa) as i32;
         let near_axis = pa.x * pa.x + pa.z * pa.z < self.margin * self.margin
             || pb.x * pb.x + pb.z * pb.z < self.margin * self.margin;
-        if sweep.unsigned_abs() > (1 << 31) - SLACK_UNITS * 8 || near_axis {
-            return Some(Arc::FULL);
+        Some(Self::arc_between(diamond(pa.x, -pa.z), diamond(pb.x, -pb.z), near_axis))
+    }
+
+    /// The arc a straight segment sweeps, seen from the axis, between the diamond angles
+    /// `fa` and `fb` of its ends: less than half a turn, the shorter way round, widened by
+    /// the slack; the whole circle if `full` or if it is (nearly) half a turn, as when the
+    /// segment passes through the axis.
+    #[must_use]
+    pub(crate) fn arc_between(fa: f32, fb: f32, full: bool) -> Arc {
+        let (fa, fb) = (units(fa), units(fb));
+        let sweep = fb.wrapping_sub(fa) as i32;
+        if full || sweep.unsigned_abs() > (1 << 31) - SLACK_UNITS * 8 {
+            return Arc::FULL;
         }
         let start = if sweep >= 0 { fa } else { fb };
-        Some(Arc::widened(start, sweep.unsigned_abs()))
+        Arc::widened(start, sweep.unsigned_abs())
+    }
+
+    /// The square of the radius of [`SweptRing::crossing`]'s first, cheap test.
+    pub(crate) fn ball2(&self) -> f32 {
+        self.ball2
     }
 
     /// Radius of a ball about [`SweptRing::center`] that holds the washer.
@@ -238,20 +252,16 @@ const SLACK_UNITS: u32 = 107_374;
 /// in [0, 2π), a quarter turn per unit, exact at the axes.
 #[inline]
 fn diamond(y: f32, x: f32) -> f32 {
-    if y >= 0.0 {
-        if x >= 0.0 {
-            if x + y > 0.0 {
-                y / (x + y)
-            } else {
-                0.0
-            }
-        } else {
-            1.0 - x / (y - x)
-        }
-    } else if x < 0.0 {
-        2.0 - y / (-x - y)
-    } else {
-        3.0 + x / (x - y)
+    // r = |y| / (|x| + |y|), the first quadrant's value, mirrored into the others (the
+    // lanes of `wavefront/marks.rs` compute the same).
+    let (ax, ay) = (x.abs(), y.abs());
+    let sum = ax + ay;
+    let r = if sum > 0.0 { ay / sum } else { 0.0 };
+    match (y >= 0.0, x >= 0.0) {
+        (true, true) => r,
+        (true, false) => 2.0 - r,
+        (false, false) => 2.0 + r,
+        (false, true) => 4.0 - r,
     }
 }
 

@@ -26,6 +26,7 @@ use crate::swept::Touch;
 use crate::tracer::Tracer;
 
 mod lanes;
+mod marks;
 
 /// Structure-of-arrays columns of three.
 type Column3 = [Vec<f32>; 3];
@@ -84,6 +85,8 @@ struct Level {
     touch: Vec<Touch>,
     /// Scratch of the marking: whether the entry's mirror ray hit a sphere.
     mirror_hit: Vec<bool>,
+    /// Scratch of the marking: whether the entry's own ray is to be tested.
+    own: Vec<bool>,
 }
 
 impl Level {
@@ -123,6 +126,7 @@ impl Level {
         self.reflects.resize(n, false);
         self.touch.resize(n, Touch::NONE);
         self.mirror_hit.resize(n, false);
+        self.own.resize(n, false);
     }
 
     /// Moves entry `from` to `to` (the columns a sample has before it is shaded).
@@ -348,8 +352,14 @@ impl Wavefront {
                 level.touch[parent] = level.touch[parent].union(below.touch[c]);
             }
             for e in 0..n {
-                let own = k > 0 || incoming(level.parent[e]);
-                level.touch[e] = level.touch[e].union(touch_moving(tracer, level, e, (k == 0, own)));
+                level.own[e] = k > 0 || incoming(level.parent[e]);
+            }
+            let done = dispatch!(crate::simd::level(), simd => simd.vectorize(
+                #[inline(always)]
+                || marks::mark(simd, tracer, level, k == 0),
+            ));
+            for e in done..n {
+                level.touch[e] = level.touch[e].union(touch_moving(tracer, level, e, (k == 0, level.own[e])));
             }
         }
     }
