@@ -100,6 +100,10 @@ pub(crate) fn fill(
         .enumerate()
         .map(|(j, (((rgb, mask), src), marks))| {
             let only = only.map(|bits| bits.row(j as u32));
+            if only.is_some_and(|row| row.iter().all(|&word| word == 0)) {
+                // Nothing to make in this row.
+                return Filled::default();
+            }
             let row = Row { j: j as u32, rgb, mask, src, only, marks };
             match how {
                 Fill::Reshade => reshade_row(right, (lv, left), row),

@@ -61,6 +61,10 @@ pub(crate) fn retrace(
         .map(|(j, (((rgb, mask), src), mut marks))| {
             let mut counts = RayCounts::default();
             let only = only.map(|bits| bits.row(j as u32));
+            if only.is_some_and(|row| row.iter().all(|&word| word == 0)) {
+                // Nothing to make in this row.
+                return counts;
+            }
             marks.clear_only(only);
             if let Some(left) = copy_from {
                 for i in chosen(only, w).map(|i| i as usize) {

@@ -39,17 +39,12 @@ impl PixelCounts {
     /// Counts the classes of a mask.
     #[must_use]
     pub fn of(mask: &[PixelClass]) -> Self {
-        let mut c = Self::default();
+        // A histogram over the discriminants (0..=4): no branch per pixel.
+        let mut n = [0u64; 5];
         for &p in mask {
-            match p {
-                PixelClass::Reprojected => c.reprojected += 1,
-                PixelClass::RetracedGap => c.retraced_gap += 1,
-                PixelClass::RetracedEdge => c.retraced_edge += 1,
-                PixelClass::RetracedShadow => c.retraced_shadow += 1,
-                PixelClass::Traced => c.traced += 1,
-            }
+            n[p as usize] += 1;
         }
-        c
+        Self { reprojected: n[0], retraced_gap: n[1], retraced_edge: n[2], retraced_shadow: n[3], traced: n[4] }
     }
 
     /// Counts the classes of a mask in parallel, in chunks: the same counts as

@@ -121,16 +121,20 @@ fn add<S: Simd>(
 }
 
 /// The marking over the whole vectors of `level`'s entries (whose subtrees are already in
-/// `level.touch`); returns how many entries it took. `level.own[e]` says whether entry e's
+/// `level.touch`), every one of them; returns how many that is. `level.own[e]` says whether entry e's
 /// own ray is to be tested; `first` that this is level 0 (whose known light bits cast no
 /// shadow rays).
 #[inline(always)]
 pub(super) fn mark<S: Simd>(simd: S, tracer: &Tracer, level: &mut Level, first: bool) -> usize {
-    let lanes = F::<S>::LEN;
-    let whole = level.len() / lanes * lanes;
+    let (lanes, n) = (F::<S>::LEN, level.len());
+    // Whole vectors, the last one padded: its lanes past the end read whatever the columns
+    // hold there and are masked out.
+    let whole = n.div_ceil(lanes) * lanes;
+    level.reserve(whole);
     let zero = F::<S>::splat(simd, 0.0);
     for k in (0..whole).step_by(lanes) {
-        let bits = |f: &dyn Fn(usize) -> bool| (0..lanes).fold(0u64, |b, l| b | (u64::from(f(k + l)) << l));
+        let bits =
+            |f: &dyn Fn(usize) -> bool| (0..lanes).fold(0u64, |b, l| b | (u64::from(k + l < n && f(k + l)) << l));
         // The ray that found each entry.
         let mine = mask_of(simd, bits(&|e| level.own[e]));
         let incoming = (load3(simd, &level.o, k), load3(simd, &level.d, k), load(simd, &level.t, k));
