@@ -6,8 +6,9 @@
 //! depend on the window — the scene, the settings, the render worker, the clocks and meters —
 //! is the [`Viewer`], which lives through both.
 //!
-//! The UI ticks 120 times a second (paced with `ControlFlow::WaitUntil`), so the cadence
-//! never caps a renderer that keeps up with a 90 Hz headset. On a tick it redraws
+//! The UI ticks 240 times a second (paced with `ControlFlow::WaitUntil`), so the cadence
+//! never caps a renderer that keeps up with a 90 Hz headset or a 240 Hz monitor (frames that
+//! reuse the last one, `stereo`'s `reuse.rs`, take about a millisecond). On a tick it redraws
 //! only when there is something new to show: a finished stereo frame from the [`Worker`],
 //! input, a moving head, an egui animation, or a quarter second gone by; otherwise it just
 //! posts the next render request, so the two cores go to tracing rather than to repainting
@@ -49,9 +50,9 @@ use crate::ui::{self, Actions, Readout, SceneReadout};
 use crate::window::{self, Dump, Size, Window};
 use crate::worker::{FrameInfo, Worker};
 
-/// Time between UI ticks (120 Hz: above VR headsets' 90, so a fast enough renderer is never
-/// held back by the tick that posts its requests).
-const FRAME_INTERVAL: Duration = Duration::from_micros(8_333);
+/// Time between UI ticks (240 Hz: above VR headsets' 90 and high-refresh monitors' 144, so a
+/// fast enough renderer is never held back by the tick that posts its requests).
+const FRAME_INTERVAL: Duration = Duration::from_micros(4_167);
 
 /// Longest time between redraws of an otherwise unchanged window (clocks and rates in the
 /// panel keep moving).
@@ -189,6 +190,7 @@ impl Viewer {
         };
         settings.paused = clock.is_paused();
         settings.live_psnr = args.live_psnr;
+        settings.reuse = !args.no_reuse;
         if let Some(percent) = args.render_scale {
             settings.render_scale = percent as f32 / 100.0;
         }
@@ -483,7 +485,7 @@ impl Viewer {
         Ok(())
     }
 
-    /// A tick of the 120 Hz cadence: look at the scene file when that is due, redraw when
+    /// A tick of the 240 Hz cadence: look at the scene file when that is due, redraw when
     /// there is something new to show, else keep the renderer fed.
     fn tick(&mut self, window: Option<&Window>, event_loop: &ActiveEventLoop) {
         if let Err(e) = self.worker.check_alive() {
@@ -496,13 +498,20 @@ impl Viewer {
                 self.poll_scene(now, window);
             }
             let p = &self.pacing;
-            let due =
-                p.dirty || self.input.is_moving() || self.worker.has_fresh() || now - p.last_redraw >= IDLE_REDRAW;
+            // A moving head alone is not a reason to repaint: until the worker has a frame
+            // of the new pose there is nothing new to show, and repainting at every tick
+            // would take the cores from the tracer (the head walks on every tick below).
+            let due = p.dirty || self.worker.has_fresh() || now - p.last_redraw >= IDLE_REDRAW;
             if let Some(window) = window {
                 if due {
                     window.request_redraw();
                 } else {
-                    // Nothing new to show: keep the renderer fed (the scene clock moves on).
+                    // Nothing new to show: walk the head and keep the renderer fed (the
+                    // scene clock moves on).
+                    if self.input.is_moving() {
+                        let (direction, seconds) = self.input.walk(now);
+                        self.settings.walk(direction, seconds);
+                    }
                     let size = window.inner_size();
                     self.post_request((size.width, size.height), now);
                 }

@@ -66,6 +66,9 @@ pub struct WindowArgs {
     /// 100 supersampled, 200 = 2 × 2 samples per pixel).
     #[arg(long, value_name = "PERCENT", value_parser = clap::value_parser!(u32).range(25..=200))]
     pub render_scale: Option<u32>,
+    /// Start with reuse off: every frame traced afresh, even while only the orbit moves.
+    #[arg(long)]
+    pub no_reuse: bool,
 }
 
 /// Camera and render overrides shared by `render` and `bench`.

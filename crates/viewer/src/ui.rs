@@ -343,7 +343,7 @@ fn statistics(ui: &mut egui::Ui, s: &Settings, r: &Readout<'_>) {
         row(
             "retraced",
             if reuse.reused {
-                format!("{:.1} % (rest kept)", 100.0 * reuse.retraced_share())
+                format!("{:.2} % (rest kept)", 100.0 * reuse.retraced_share())
             } else {
                 "100 % (fresh frame)".to_owned()
             },

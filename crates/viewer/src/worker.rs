@@ -129,7 +129,7 @@ impl Finished {
         self.mask.extend_from_slice(frame.mask());
         if request.anaglyph {
             // Dubois's matrices decode every channel to linear light: too slow for the UI
-            // thread at 120 Hz, so it is done here, once per frame, on the rayon pool.
+            // thread at 240 Hz, so it is done here, once per frame, on the rayon pool.
             let (w, h) = eye;
             stereo::compose(Layout::Anaglyph, request.swap, &self.left, &self.right, w, h, &mut self.anaglyph);
         } else {
