@@ -257,6 +257,18 @@ for k, (cmd, r) in enumerate(runs):
             f"| {s['reshade_ms']:.2f} | {m['stereo_ms']:.2f} |"
         )
     print()
+    anim = [(name, m["animation"]) for name, m in modes(r) if "animation" in m]
+    if anim:
+        frames = anim[0][1]["frames"]
+        print(f"Animation, {frames} frames 1/60 s apart with the head still: stereo ms per frame traced")
+        print("fresh against reusing the last frame (medians; README, \"Temporal reuse\"):")
+        print()
+        print("| mode | fresh ms | reused ms | reused / fresh | pixels retraced |")
+        print("|------|----------|-----------|----------------|-----------------|")
+        for name, a in anim:
+            ratio = a["reused_ms"] / a["fresh_ms"] if a["fresh_ms"] > 0 else 0
+            print(f"| {name} | {a['fresh_ms']:.2f} | {a['reused_ms']:.2f} | {pct(ratio, 0)} | {pct(a['retraced_share'], 2)} |")
+        print()
 PY
 chmod 644 "$tmp_page"
 mv -f "$tmp_page" "$out"

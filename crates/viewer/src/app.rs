@@ -508,8 +508,9 @@ impl Viewer {
                 } else {
                     // Nothing new to show: walk the head and keep the renderer fed (the
                     // scene clock moves on).
+                    // (Walked on every tick, so the walk's clock never falls behind.)
+                    let (direction, seconds) = self.input.walk(now);
                     if self.input.is_moving() {
-                        let (direction, seconds) = self.input.walk(now);
                         self.settings.walk(direction, seconds);
                     }
                     let size = window.inner_size();
