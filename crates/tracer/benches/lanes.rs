@@ -2,7 +2,11 @@
 //! services a second view uses (each call shades one row's list of pixels as one batch):
 //! full traces (first hits, shadow rays, highlights, the mirror chain), re-shading of known
 //! surfaces (highlights and the mirror chain only) and `exact` mode's single-sphere shading
-//! (known light bits, then the mirror chain). The lane width is the process's
+//! (known light bits, then the mirror chain). Two more isolate a kernel: the shadow batch
+//! (first hits and shadow rays, no mirrors: the scene at reflection depth 0) and the mirror
+//! batch (re-shading with known light bits at depth 1: highlights and one level of mirror
+//! rays with their shadow rays). And the marking of temporal reuse: the full trace with
+//! every ray tested against the moving spheres' swept volumes. The lane width is the process's
 //! (`tracer::lane_width`, in each bench's name); run once more with `STEREOTRACE_LANES=4`
 //! for the 4-lane fallback.
 #![expect(missing_docs, reason = "criterion_group! and criterion_main! generate undocumented items")]
@@ -60,6 +64,16 @@ fn batches(c: &mut Criterion) {
                 black_box((sum, counts))
             });
         });
+        let marking = second.marking(true);
+        c.bench_function(&format!("lanes{lanes}_trace_rows_marking_{W}x{H}_{name}"), |b| {
+            b.iter(|| {
+                let (mut counts, mut sum) = (RayCounts::default(), 0u32);
+                for j in 0..H {
+                    marking.trace_pixels(j, 0..W, &mut counts, |_, c, t| sum = sum.wrapping_add(c ^ t.ring));
+                }
+                black_box((sum, counts))
+            });
+        });
         c.bench_function(&format!("lanes{lanes}_exact_rows_{W}x{H}_{name}"), |b| {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
@@ -69,6 +83,36 @@ fn batches(c: &mut Criterion) {
                         (i, s.object, s.lights)
                     });
                     second.shade_on(j, items, &mut counts, |_, c, _, _| sum = sum.wrapping_add(c));
+                }
+                black_box((sum, counts))
+            });
+        });
+        // The shadow batch: the scene without reflections.
+        let mut flat = tracer.clone();
+        flat.set_max_depth(0);
+        let mut flat_renderer = Renderer::new();
+        let flat_view = flat_renderer.second_view(&flat, &view);
+        c.bench_function(&format!("lanes{lanes}_shadow_batch_rows_{W}x{H}_{name}"), |b| {
+            b.iter(|| {
+                let (mut counts, mut sum) = (RayCounts::default(), 0u32);
+                for j in 0..H {
+                    flat_view.trace_pixels(j, 0..W, &mut counts, |_, c, _| sum = sum.wrapping_add(c));
+                }
+                black_box((sum, counts))
+            });
+        });
+        // The mirror batch: known surfaces, one level of mirror rays.
+        let mut one = tracer.clone();
+        one.set_max_depth(1);
+        let mut one_renderer = Renderer::new();
+        let one_view = one_renderer.second_view(&one, &view);
+        c.bench_function(&format!("lanes{lanes}_mirror_batch_rows_{W}x{H}_{name}"), |b| {
+            b.iter(|| {
+                let (mut counts, mut sum) = (RayCounts::default(), 0u32);
+                for j in 0..H {
+                    one_view.reshade(j, (&view, film), hit(j).map(|i| (i, j * W + i)), &mut counts, |_, c, _| {
+                        sum = sum.wrapping_add(c);
+                    });
                 }
                 black_box((sum, counts))
             });
