@@ -63,6 +63,8 @@ pub struct StereoFrame {
     right_marks: Marks,
     /// The moving spheres' wedges in the last frame, and in this one.
     wedges: (Vec<Arc>, Vec<Arc>),
+    /// Per ring, the arc that holds both.
+    wedge_hulls: Vec<Arc>,
     /// The left pixels retraced this frame.
     left_retraced: PixelBits,
     /// The right pixels made this frame (all of them unless it reused the last).
@@ -168,7 +170,14 @@ impl StereoFrame {
         // The wedges are taken out for the frame, and put back (swapped) at its end.
         let mut wedge_lists = std::mem::take(&mut self.wedges);
         tracer.wedges(&mut wedge_lists.1);
-        let wedges = [&wedge_lists.0[..], &wedge_lists.1[..]];
+        // Each ring's two wedges as one arc (the shortest that holds both: one test per
+        // pixel instead of two, and hardly larger, as a sphere moves little in a frame).
+        let mut hulls = std::mem::take(&mut self.wedge_hulls);
+        hulls.clear();
+        if wedge_lists.0.len() == wedge_lists.1.len() {
+            hulls.extend(wedge_lists.0.iter().zip(&wedge_lists.1).map(|(a, b)| a.hull(*b)));
+        }
+        let wedges: [&[Arc]; 2] = [&hulls, &[]];
 
         // Stage 1: the left eye, with its visible-surface record.
         let t = Instant::now();
@@ -254,6 +263,7 @@ impl StereoFrame {
         stats.reuse = Reuse { reused, made: left_made + made, pixels: 2 * n as u64 };
         self.last = Some((asked, mark));
         self.wedges = (wedge_lists.1, wedge_lists.0);
+        self.wedge_hulls = hulls;
         self.stats = stats;
         stats
     }
