@@ -69,8 +69,9 @@ struct Row<'a> {
     src: &'a [u32],
     /// The pixels to make (`None`: all).
     only: Option<&'a [u64]>,
-    /// Its marks: where a pixel's own ray trees meet the moving spheres' swept volumes.
-    marks: MarksRow<'a>,
+    /// Its marks, when the frame marks: where a pixel's own ray trees meet the moving
+    /// spheres' swept volumes.
+    marks: Option<MarksRow<'a>>,
 }
 
 /// Stage 5 over the image: every right pixel of `redo` that `mask` marks
@@ -91,7 +92,7 @@ pub(crate) fn fill(
         mask.len() == out.rgb.len() && src.len() == out.rgb.len() && out.rgb.len() == w * out.height as usize,
         "the mask, the source map and the image must have one size"
     );
-    let Redo { only, marks } = redo;
+    let Redo { only, marks, mark } = redo;
     out.rgb
         .par_chunks_mut(w)
         .zip(mask.par_chunks_mut(w))
@@ -104,7 +105,7 @@ pub(crate) fn fill(
                 // Nothing to make in this row.
                 return Filled::default();
             }
-            let row = Row { j: j as u32, rgb, mask, src, only, marks };
+            let row = Row { j: j as u32, rgb, mask, src, only, marks: mark.then_some(marks) };
             match how {
                 Fill::Reshade => reshade_row(right, (lv, left), row),
                 Fill::Exact => exact_row(right, left, row),
@@ -148,7 +149,9 @@ fn reshade_row(right: SecondView<'_>, (lv, left): (&EyeView, &Film), row: Row<'_
         .map(|i| (i, src[i as usize]));
     right.reshade(j, (lv, left), items, &mut rays, |i, c, touch| {
         rgb[i as usize] = c;
-        marks.set(i, touch);
+        if let Some(marks) = marks.as_mut() {
+            marks.set(i, touch);
+        }
     });
     Filled { rays, sphere_tests: 0 }
 }
@@ -168,7 +171,9 @@ fn exact_row(right: SecondView<'_>, left: &Film, row: Row<'_>) -> Filled {
         });
     right.shade_on(j, items, &mut rays, |i, c, retraced, touch| {
         rgb[i as usize] = c;
-        marks.set(i, touch);
+        if let Some(marks) = marks.as_mut() {
+            marks.set(i, touch);
+        }
         if retraced {
             mask[i as usize].set(PixelClass::RetracedEdge);
         }

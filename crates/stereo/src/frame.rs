@@ -243,14 +243,14 @@ impl StereoFrame {
             let t = Instant::now();
             let right = self.right_renderer.second_view(tracer, &rv).marking(mark);
             let copy_from = (opts.mode == Mode::Copy).then_some(&self.left.rgb[..]);
-            let redo = Redo { only, marks: &mut self.right_marks };
+            let redo = Redo { only, marks: &mut self.right_marks, mark };
             stats.right.rays = retrace(right, &self.mask, &self.src, copy_from, &mut self.right, redo);
             stats.stages.retrace = ms_since(t);
 
             // Stage 5.
             if let Some(how) = Fill::of(opts.mode) {
                 let t = Instant::now();
-                let redo = Redo { only, marks: &mut self.right_marks };
+                let redo = Redo { only, marks: &mut self.right_marks, mark };
                 let filled = fill(right, (&lv, &self.left), how, (&mut self.mask, &self.src), &mut self.right, redo);
                 stats.stages.reshade = ms_since(t);
                 stats.right.rays += filled.rays;

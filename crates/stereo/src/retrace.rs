@@ -19,8 +19,10 @@ pub(crate) struct Redo<'a> {
     pub only: Option<&'a PixelBits>,
     /// Where each pixel's own ray trees (the rays this eye casts for it) meet the moving
     /// spheres' swept volumes: cleared for each pixel made by stage 4, then set as the
-    /// traces of stages 4 and 5 say.
+    /// traces of stages 4 and 5 say. Left alone unless `mark`.
     pub marks: &'a mut Marks,
+    /// Whether this frame marks (see `StereoFrame::set_reuse`).
+    pub mark: bool,
 }
 
 /// The columns of a `w`-pixel row to make, ascending, given the row's selection (`None`:
@@ -51,7 +53,7 @@ pub(crate) fn retrace(
         mask.len() == out.rgb.len() && src.len() == out.rgb.len() && out.rgb.len() == w * out.height as usize,
         "the mask, the source map and the image must have one size"
     );
-    let Redo { only, marks } = redo;
+    let Redo { only, marks, mark } = redo;
     out.rgb
         .par_chunks_mut(w)
         .zip(mask.par_chunks(w))
@@ -65,7 +67,9 @@ pub(crate) fn retrace(
                 // Nothing to make in this row.
                 return counts;
             }
-            marks.clear_only(only);
+            if mark {
+                marks.clear_only(only);
+            }
             if let Some(left) = copy_from {
                 for i in chosen(only, w).map(|i| i as usize) {
                     if mask[i] == PixelClass::Reprojected {
@@ -76,7 +80,9 @@ pub(crate) fn retrace(
             let traced = chosen(only, w).filter(|&i| mask[i as usize] != PixelClass::Reprojected);
             right.trace_pixels(j as u32, traced, &mut counts, |i, c, touch| {
                 rgb[i as usize] = c;
-                marks.set(i, touch);
+                if mark {
+                    marks.set(i, touch);
+                }
             });
             counts
         })
@@ -108,7 +114,7 @@ mod tests {
         // Every pixel retraced: the full trace, ray for ray.
         let mut out = image();
         let mut marks = Marks::new(w, h);
-        let all = Redo { only: None, marks: &mut marks };
+        let all = Redo { only: None, marks: &mut marks, mark: true };
         let counts = retrace(right, &vec![PixelClass::RetracedGap; n], &vec![0; n], None, &mut out, all);
         assert!(out.rgb == full, "retracing every pixel differs from the full trace");
         assert_eq!(counts, full_counts);
@@ -122,7 +128,8 @@ mod tests {
         let retraced = mask.iter().filter(|&&c| c != PixelClass::Reprojected).count() as u64;
         for copy_from in [None, Some(&left[..])] {
             let mut out = image();
-            let counts = retrace(right, &mask, &src, copy_from, &mut out, Redo { only: None, marks: &mut marks });
+            let counts =
+                retrace(right, &mask, &src, copy_from, &mut out, Redo { only: None, marks: &mut marks, mark: true });
             assert_eq!(counts.primary, retraced, "one primary ray per retraced pixel");
             for k in 0..n {
                 let expected = match (mask[k], copy_from) {

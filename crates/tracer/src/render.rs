@@ -187,8 +187,10 @@ fn trace_row_in<S: Simd>(
     for span in (0..w.div_ceil(tile)).map(|t| t * tile..((t + 1) * tile).min(w)) {
         if eye.bins.is_empty_at(span.start as u32, j) {
             sink.background(span.clone(), tracer.background_rgb);
-            for i in span {
-                background(&mut marks, i, &|| view.primary_ray(i as u32, j).dir);
+            if marks.is_some() {
+                for i in span {
+                    background(&mut marks, i, &|| view.primary_ray(i as u32, j).dir);
+                }
             }
             continue;
         }
