@@ -27,12 +27,32 @@ pub(crate) struct Redo<'a> {
 
 /// The columns of a `w`-pixel row to make, ascending, given the row's selection (`None`:
 /// all).
-pub(crate) fn chosen(only: Option<&[u64]>, w: usize) -> impl Iterator<Item = u32> + '_ {
-    let (all, some) = match only {
-        None => (Some(0..w as u32), None),
-        Some(row) => (None, Some(bits::ones(row))),
-    };
-    all.into_iter().flatten().chain(some.into_iter().flatten())
+pub(crate) fn chosen(only: Option<&[u64]>, w: usize) -> Chosen<'_> {
+    match only {
+        None => Chosen::All(0..w as u32),
+        Some(row) => Chosen::Some(bits::ones(row)),
+    }
+}
+
+/// The iterator of [`chosen`].
+#[derive(Clone, Debug)]
+pub(crate) enum Chosen<'a> {
+    /// Every column.
+    All(std::ops::Range<u32>),
+    /// The set bits of a row.
+    Some(bits::Ones<'a>),
+}
+
+impl Iterator for Chosen<'_> {
+    type Item = u32;
+
+    #[inline]
+    fn next(&mut self) -> Option<u32> {
+        match self {
+            Self::All(range) => range.next(),
+            Self::Some(ones) => ones.next(),
+        }
+    }
 }
 
 /// Stage 4 over the image: every right pixel of `redo` that `mask` does not mark

@@ -121,17 +121,37 @@ pub fn set(row: &mut [u64], i: u32, on: bool) {
 }
 
 /// The set bits of a row, ascending.
-pub fn ones(row: &[u64]) -> impl Iterator<Item = u32> + '_ {
-    row.iter().enumerate().flat_map(|(k, &word)| {
-        let mut w = word;
-        std::iter::from_fn(move || {
-            (w != 0).then(|| {
-                let b = w.trailing_zeros();
-                w &= w - 1;
-                k as u32 * 64 + b
-            })
-        })
-    })
+#[must_use]
+pub fn ones(row: &[u64]) -> Ones<'_> {
+    Ones { row, next: 0, base: 0, bits: 0 }
+}
+
+/// The set bits of a row, ascending ([`ones`]).
+#[derive(Clone, Debug)]
+pub struct Ones<'a> {
+    row: &'a [u64],
+    /// The next word to load.
+    next: usize,
+    /// The first pixel of the current word.
+    base: u32,
+    /// What is left of the current word.
+    bits: u64,
+}
+
+impl Iterator for Ones<'_> {
+    type Item = u32;
+
+    #[inline]
+    fn next(&mut self) -> Option<u32> {
+        while self.bits == 0 {
+            let &word = self.row.get(self.next)?;
+            (self.base, self.bits) = (self.next as u32 * 64, word);
+            self.next += 1;
+        }
+        let b = self.bits.trailing_zeros();
+        self.bits &= self.bits - 1;
+        Some(self.base + b)
+    }
 }
 
 #[cfg(test)]
