@@ -26,6 +26,12 @@
 //! [`Mode::Full`] traces the whole right eye as it traces the left, with a renderer of its
 //! own, and times it as stage 4.
 //!
+//! With reuse on ([`StereoFrame::set_reuse`]), a frame whose only change is the scene time
+//! is made from the last one: each eye retraces only the pixels whose ray trees can meet a
+//! moving sphere then or now, stages 2 and 3 redo only the rows a retraced left row feeds,
+//! and stages 4 and 5 only the right pixels that can differ (`reuse.rs`: the rule and why
+//! it is exact). The frame is byte for byte a fresh one.
+//!
 //! ## Modules
 //!
 //! Each uses only modules listed above it (in brackets), so there is no cycle:
@@ -34,9 +40,11 @@
 //! - `reproject/scanline` (classify): Algorithm 1 for one scanline;
 //! - `reproject` (reproject/scanline, classify, mode, stats): stages 2 and 3 over the image;
 //! - `retrace` (image, stats): stage 4;
-//! - `fill` (image, mode, stats): stage 5;
-//! - `frame` (reproject, retrace, fill, image, mode, stats): the stages in order;
-//! - `mask` (stats), `layout`: how a frame is shown, beside the pipeline;
+//! - `fill` (image, mode, retrace, stats): stage 5;
+//! - `reuse` (reproject, stats): which right pixels a reused frame makes again;
+//! - `frame` (reproject, retrace, fill, reuse, image, mode, stats): the stages in order;
+//! - `mask` (stats), `layout`: how a frame is shown, beside the pipeline (the mask's colour
+//!   for pixels a reused frame kept, too);
 //! - `downsample` (mask, stats): a supersampled frame's eyes and mask filtered down to the
 //!   output size (box filter in linear light), beside the pipeline too: the stages run at
 //!   the sampled size and know nothing of it.

@@ -29,26 +29,31 @@
 //!
 //! Each uses only modules above it, so the graph has no cycle (test modules may also use
 //! modules below, to build scenes and oracles):
-//! - `ray`, `color`, `stats`, `error`, `surface`, `material`, `simd`: leaves (rays and
-//!   spawning, sRGB, ray counters, the scene error, the hit and visible-surface records,
-//!   materials and their highlight exponents, the SIMD level and lane helpers);
+//! - `ray`, `color`, `stats`, `error`, `surface`, `material`, `simd`, `bits`: leaves (rays
+//!   and spawning, sRGB, ray counters, the scene error, the hit and visible-surface records,
+//!   materials and their highlight exponents, the SIMD level and lane helpers, a bit per
+//!   pixel);
 //! - `sphere` (ray): the ray–sphere test and its SIMD packets;
 //! - `camera` (ray, simd): the stereo camera, each eye's view, the disparity law;
 //! - `scene` (camera, material, sphere), then `scene_file` (scene, material, camera, error);
+//! - `swept` (scene): where moving spheres can ever be (the washer about each orbit), the
+//!   arcs of it a ray crosses, and the argument that makes temporal reuse exact; `marks`
+//!   (bits, swept): per pixel, where its ray tree meets those volumes;
 //! - `bvh` (its child `bvh::build` makes the tree), `cones`, `shadow` (ray, sphere, surface,
 //!   scene): the acceleration structures;
 //! - `tracer` (the structures, scene, camera, material, color, ray, surface): the scene at one
 //!   instant and its queries, `intersect` and `occluded`;
 //! - `shade` (tracer, camera, ray, color, stats, surface): Whitted shading, recursively,
 //!   pixel by pixel: the plain path every fast one is tested against;
-//! - `wavefront` (its child `wavefront::lanes` has the SIMD stages; tracer, material, ray,
-//!   simd, stats, surface, color): the same shading as a stream of queues;
+//! - `wavefront` (its child `wavefront::lanes` has the SIMD stages, `wavefront::marks` the
+//!   SIMD marking of temporal reuse; tracer, material, ray, simd, stats, surface, swept,
+//!   color): the same shading as a stream of queues;
 //! - `primary` (tracer, camera, simd, sphere, ray, surface): screen bins for primary rays;
-//! - `film` (surface): the image and its visible-surface record;
+//! - `film` (surface, marks): the image and its visible-surface record;
 //! - `second_view` (primary, wavefront, tracer, sphere, ray, stats, surface): services for a
 //!   second view;
 //! - `render` (film, primary, second_view, wavefront, simd, camera, ray, stats, surface,
-//!   tracer): the parallel renderer.
+//!   tracer, bits, marks): the parallel renderer, which also retraces only chosen pixels.
 //!
 //! Conventions (see the README): left-handed, +x right, +y up, +z into the scene; world
 //! units are arbitrary but shared by positions and radii; light is linear inside and
