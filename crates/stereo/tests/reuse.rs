@@ -176,3 +176,32 @@ proptest! {
         check_reuse(&scene, &times, (48, 32), Options { mode, retrace_edges });
     }
 }
+
+/// Reused frames, like fresh ones, are the same bytes for one thread and for two.
+#[test]
+fn reused_frames_are_the_same_for_one_and_two_threads() {
+    let scene = bundled("seed.toml");
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a thread pool");
+        pool.install(|| {
+            let mut frame = StereoFrame::new();
+            frame.set_reuse(true);
+            let mut tracer = Tracer::new(&scene, 0.0);
+            let opts = Options { mode: Mode::Exact, retrace_edges: true };
+            let mut shown = Vec::new();
+            for k in 0..4 {
+                tracer.update(&scene, k as f32 / 30.0);
+                let stats = frame.render(&tracer, &scene.camera, 96, 54, opts);
+                shown.push((shown_of(&frame), stats.reuse));
+            }
+            shown
+        })
+    };
+    let (one, two) = (run(1), run(2));
+    assert!(one.iter().skip(1).all(|(_, reuse)| reuse.reused), "frames after the first reuse");
+    assert!(one == two, "one and two threads differ");
+}
+
+fn shown_of(frame: &StereoFrame) -> Shown {
+    shown(frame, Mode::Exact)
+}
