@@ -176,6 +176,10 @@ impl StereoFrame {
         hulls.clear();
         if wedge_lists.0.len() == wedge_lists.1.len() {
             hulls.extend(wedge_lists.0.iter().zip(&wedge_lists.1).map(|(a, b)| a.hull(*b)));
+        } else {
+            // (Never on a reused frame, whose rings are the last frame's; but if so, every
+            // marked pixel is retraced.)
+            hulls.extend(wedge_lists.1.iter().map(|_| Arc::FULL));
         }
         let wedges: [&[Arc]; 2] = [&hulls, &[]];
 

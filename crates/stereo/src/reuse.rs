@@ -100,7 +100,22 @@ pub(crate) fn plan_right(changes: Changes<'_>, mask: &mut [PixelClass], redo: &m
         .enumerate()
         .map(|(j, (row, mask))| {
             let base = j * w;
-            if !rows[j] {
+            let left_row = left_retraced.row(j as u32);
+            let any_left = left_row.iter().any(|&word| word != 0);
+            // A row stages 2-3 left alone, or redid to the same classes and sources, with no
+            // retraced left pixel to read: only rule 3 can hold (its bits are set already).
+            // (Sources lie in their own row: reprojection runs along scanlines.)
+            let same = |a: &[PixelClass], b: &[PixelClass], c: &[u32], d: &[u32]| a == b && c == d;
+            let row_range = base..base + w;
+            if !rows[j]
+                || (!any_left
+                    && same(
+                        &class[row_range.clone()],
+                        &class_was[row_range.clone()],
+                        &src[row_range.clone()],
+                        &src_was[row_range],
+                    ))
+            {
                 let mut made = 0;
                 for i in bits::ones(row) {
                     mask[i as usize] = class[base + i as usize];
@@ -108,8 +123,6 @@ pub(crate) fn plan_right(changes: Changes<'_>, mask: &mut [PixelClass], redo: &m
                 }
                 return made;
             }
-            let left_row = left_retraced.row(j as u32);
-            let any_left = left_row.iter().any(|&word| word != 0);
             let mut made = 0;
             for (i, mask) in mask.iter_mut().enumerate() {
                 let k = base + i;

@@ -175,21 +175,21 @@ fn trace_row_in<S: Simd>(
     if let Some(marks) = marks.as_mut() {
         marks.clear();
     }
-    // A pixel that sees only background is marked where its ray meets a swept volume.
-    let background = |marks: &mut Option<MarksRow<'_>>, i: usize, dir: &dyn Fn() -> Vec3| {
-        if let Some(marks) = marks.as_mut() {
-            if eye.bins.may_meet_moving(i as u32, j) {
-                marks.set(i as u32, tracer.touch_moving(view.origin, dir(), f32::INFINITY));
-            }
+    // A pixel that sees only background is marked where its ray meets a swept volume,
+    // together with the others in `emit`.
+    let marking = marks.is_some();
+    let background = |wavefront: &mut Wavefront, i: usize| {
+        if marking && eye.bins.may_meet_moving(i as u32, j) {
+            wavefront.push_background(i as u32);
         }
     };
     let (mut t, mut ids, mut d) = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
     for span in (0..w.div_ceil(tile)).map(|t| t * tile..((t + 1) * tile).min(w)) {
         if eye.bins.is_empty_at(span.start as u32, j) {
             sink.background(span.clone(), tracer.background_rgb);
-            if marks.is_some() {
+            if marking {
                 for i in span {
-                    background(&mut marks, i, &|| view.primary_ray(i as u32, j).dir);
+                    background(wavefront, i);
                 }
             }
             continue;
@@ -215,7 +215,7 @@ fn trace_row_in<S: Simd>(
                     );
                 } else {
                     sink.background(i0 + l..i0 + l + 1, tracer.background_rgb);
-                    background(&mut marks, i0 + l, &|| dir);
+                    background(wavefront, i0 + l);
                 }
             }
         }
@@ -274,6 +274,7 @@ fn emit(
                 marks.set(wavefront.tag(e), touch);
             }
         }
+        wavefront.mark_background(eye.tracer, view, (j, u32::MAX), &mut |i, touch| marks.set(i, touch));
     }
     for e in 0..wavefront.len() {
         sink.hit(wavefront.tag(e) as usize, wavefront.rgb(e), || {

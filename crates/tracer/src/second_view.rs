@@ -89,14 +89,15 @@ impl<'a> SecondView<'a> {
         Self { mark, ..self }
     }
 
-    /// Where the primary ray of pixel (i, j), which meets nothing, meets the moving spheres'
-    /// swept volumes (when marking).
-    fn background_touch(&self, i: u32, j: u32) -> Touch {
-        if self.mark && self.eye.bins.may_meet_moving(i, j) {
-            let dir = self.eye.view.primary_ray(i, j).dir;
-            self.eye.tracer.touch_moving(self.eye.view.origin, dir, f32::INFINITY)
-        } else {
-            Touch::NONE
+    /// Hands `out(tag, background colour, touch)` again for each pixel of row `j` that
+    /// [`SecondView::push_traced`] found seeing only background and whose primary ray meets
+    /// a swept volume (when marking): the pixels' marks, found in lanes.
+    fn mark_background(&self, wavefront: &mut Wavefront, j: u32, out: &mut impl FnMut(u32, u32, Touch)) {
+        if self.mark {
+            let rgb = self.eye.tracer.background_rgb;
+            wavefront.mark_background(self.eye.tracer, self.eye.view, (j, !RETRACED), &mut |tag, touch| {
+                out(tag, rgb, touch);
+            });
         }
     }
 
@@ -143,7 +144,11 @@ impl<'a> SecondView<'a> {
             if let Some((ray, hit)) = first {
                 wavefront.push_hit(&ray, hit, None, i | flag);
             } else {
-                out(i | flag, self.eye.tracer.background_rgb, self.background_touch(i, j));
+                // Marked later, together (`mark_background`).
+                out(i | flag, self.eye.tracer.background_rgb, Touch::NONE);
+                if self.mark && self.eye.bins.may_meet_moving(i, j) {
+                    wavefront.push_background(i | flag);
+                }
             }
         }
     }
@@ -167,6 +172,7 @@ impl<'a> SecondView<'a> {
             for e in 0..wavefront.len() {
                 out(wavefront.tag(e), wavefront.rgb(e), self.touch(wavefront, e));
             }
+            self.mark_background(wavefront, j, &mut out);
         });
     }
 
@@ -238,6 +244,7 @@ impl<'a> SecondView<'a> {
             for e in 0..wavefront.len() {
                 out_tagged(wavefront.tag(e), wavefront.rgb(e), self.touch(wavefront, e));
             }
+            self.mark_background(wavefront, j, &mut out_tagged);
         });
     }
 }

@@ -171,11 +171,15 @@ pub(crate) struct Wavefront {
     depth: usize,
     /// Columns whose named sphere their ray missed (see [`Wavefront::aim_named`]).
     missed: Vec<u32>,
+    /// Tags of pixels whose primary rays met nothing, to be marked together
+    /// ([`Wavefront::mark_background`]).
+    background: Vec<u32>,
 }
 
 impl Wavefront {
     /// Empties the batch.
     pub(crate) fn clear(&mut self) {
+        self.background.clear();
         if self.levels.is_empty() {
             self.levels.push(Level::default());
         }
@@ -249,6 +253,27 @@ impl Wavefront {
             }
         }
         level.used = kept;
+    }
+
+    /// Notes that the pixel `tag` (its column, and flags above `column_mask`) saw only
+    /// background, for [`Wavefront::mark_background`].
+    pub(crate) fn push_background(&mut self, tag: u32) {
+        self.background.push(tag);
+    }
+
+    /// Marks the pixels [`Wavefront::push_background`] noted, of row `j` of `view`, in lanes:
+    /// `out(tag, touch)` for each whose primary ray meets a swept volume; then forgets them.
+    pub(crate) fn mark_background(
+        &mut self,
+        tracer: &Tracer,
+        view: &EyeView,
+        (j, column_mask): (u32, u32),
+        out: &mut impl FnMut(u32, Touch),
+    ) {
+        if !self.background.is_empty() {
+            marks::mark_background(tracer, view, (j, &self.background, column_mask), out);
+            self.background.clear();
+        }
     }
 
     /// The columns [`Wavefront::aim_named`] found missing their sphere (a list the caller

@@ -111,8 +111,11 @@ pub const MEMORY_ENV: &str = "STEREOTRACE_MEMORY_AVAILABLE";
 
 /// Bytes one eye-pixel costs across a stereo frame and its full-trace reference: colour,
 /// depth, hit parameter and the visible-surface record for three films, plus the source
-/// map and mask. With supersampling this is per sample: every stage runs at the sampled size.
-const BYTES_PER_PIXEL: u64 = 3 * (4 + 4 + 4 + 44) + 4 + 1 + 4;
+/// map and mask (177); and what temporal reuse keeps (31): both eyes' marks (12 bytes of
+/// arc each, and their bits), the stage-3 classes, the last frame's sources and classes,
+/// and the bits of the pixels made. With supersampling this is per sample: every stage runs
+/// at the sampled size.
+const BYTES_PER_PIXEL: u64 = 3 * (4 + 4 + 4 + 44) + 4 + 1 + 4 + (2 * 12 + 1 + 4 + 1 + 1);
 
 /// Bytes a supersampled frame adds per output pixel: the filtered left eye, right eye and
 /// reference (colour only).
@@ -249,7 +252,7 @@ mod tests {
         assert!(e.downcast_ref::<BadInput>().is_some(), "bad input, exit 2: {e}");
         let e = fits_in_memory(frame(16_384, 16_384, 1), 1, Some(16 << 30)).unwrap_err().to_string();
         assert_eq!(
-            e, "--width 16384 --height 16384: the frame needs 44.2 GiB but only 16.0 GiB of memory is available",
+            e, "--width 16384 --height 16384: the frame needs 52.0 GiB but only 16.0 GiB of memory is available",
             "the message names the flags and both sizes"
         );
         assert!(fits_in_memory(frame(64, 64, 1), 2, Some(need)).is_err(), "two frames need twice as much");
@@ -257,10 +260,10 @@ mod tests {
 
     #[test]
     fn supersampling_counts_every_sample_and_the_filtered_eyes() {
-        // 64 × 64 at S = 2: 128 × 128 samples at 177 bytes, and 64 × 64 filtered pixels of the
+        // 64 × 64 at S = 2: 128 × 128 samples at 208 bytes, and 64 × 64 filtered pixels of the
         // left, right and reference images at 4 bytes each.
-        assert_eq!(BYTES_PER_PIXEL, 177);
-        let need = 128 * 128 * 177 + 64 * 64 * 12;
+        assert_eq!(BYTES_PER_PIXEL, 208);
+        let need = 128 * 128 * 208 + 64 * 64 * 12;
         assert_eq!(frame(64, 64, 2).bytes(), need);
         assert!(fits_in_memory(frame(64, 64, 2), 1, Some(need)).is_ok(), "exactly enough");
         let e = fits_in_memory(frame(64, 64, 2), 1, Some(need - 1)).unwrap_err().to_string();
@@ -270,8 +273,8 @@ mod tests {
 
     #[test]
     fn the_viewer_supersamples_only_what_fits() {
-        // 8 × 4 shown, 16 × 8 traced: 128 samples at 180 bytes, 32 pixels at 52.
-        assert_eq!(viewer_frame_bytes((16, 8), (8, 4)), 128 * 180 + 32 * 52);
+        // 8 × 4 shown, 16 × 8 traced: 128 samples at 211 bytes, 32 pixels at 52.
+        assert_eq!(viewer_frame_bytes((16, 8), (8, 4)), 128 * 211 + 32 * 52);
         let need = viewer_frame_bytes((16, 8), (8, 4));
         assert!(viewer_frame_fits((16, 8), (8, 4), Some(need)), "exactly enough");
         assert!(!viewer_frame_fits((16, 8), (8, 4), Some(need - 1)), "one byte short");

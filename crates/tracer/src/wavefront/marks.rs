@@ -120,6 +120,54 @@ fn add<S: Simd>(
     }
 }
 
+/// Where the primary rays of the pixels `tags` names (columns, with flag bits above
+/// `column_mask`) of row `j` of `view`, rays that meet no sphere, meet the moving spheres'
+/// swept volumes: `out(tag, touch)` for each that meets one. In lanes, as [`mark`].
+pub(crate) fn mark_background(
+    tracer: &Tracer,
+    view: &crate::camera::EyeView,
+    (j, tags, column_mask): (u32, &[u32], u32),
+    out: &mut impl FnMut(u32, Touch),
+) {
+    fearless_simd::dispatch!(crate::simd::level(), simd => simd.vectorize(
+        #[inline(always)]
+        || background_in(simd, tracer, view, (j, tags, column_mask), out),
+    ));
+}
+
+#[inline(always)]
+fn background_in<S: Simd>(
+    simd: S,
+    tracer: &Tracer,
+    view: &crate::camera::EyeView,
+    (j, tags, column_mask): (u32, &[u32], u32),
+    out: &mut impl FnMut(u32, Touch),
+) {
+    let lanes = F::<S>::LEN;
+    let o = splat3(simd, view.origin);
+    let inf = F::<S>::splat(simd, f32::INFINITY);
+    for chunk in tags.chunks(lanes) {
+        let columns = F::<S>::from_fn(simd, |l| (chunk.get(l).copied().unwrap_or(chunk[0]) & column_mask) as f32);
+        let d = view.primary_dirs_at(simd, columns, j);
+        let mut touches = [Touch::NONE; 16];
+        for (r, ring) in tracer.swept().iter().enumerate() {
+            let (meets, full, fa, fb) = cross(simd, ring, o, d, inf);
+            let (bits, full) = (meets.to_bitmask(), full.to_bitmask());
+            for (l, touch) in touches.iter_mut().enumerate().take(chunk.len()) {
+                if bits & (1 << l) != 0 {
+                    let arc = SweptRing::arc_between(fa.as_slice()[l], fb.as_slice()[l], full & (1 << l) != 0);
+                    *touch = touch.union(Touch { ring: r as u32, arc });
+                }
+            }
+        }
+        for (&tag, &touch) in chunk.iter().zip(&touches) {
+            if touch.is_some() {
+                out(tag, touch);
+            }
+        }
+    }
+}
+
 /// The marking over the whole vectors of `level`'s entries (whose subtrees are already in
 /// `level.touch`), every one of them; returns how many that is. `level.own[e]` says whether entry e's
 /// own ray is to be tested; `first` that this is level 0 (whose known light bits cast no
