@@ -211,6 +211,8 @@ impl StereoFrame {
             self.right_marks.resize(width, height);
         }
         let mut made = n as u64;
+        // On a reused frame of a reprojecting mode: the last classes of the pixels made again.
+        let mut removed = None;
         if n == 0 {
             // Nothing to make.
         } else if opts.mode == Mode::Full {
@@ -232,7 +234,9 @@ impl StereoFrame {
             let plan = Reprojection::new(tracer, camera, &rv, opts);
             self.class.resize(n, PixelClass::Traced);
             let only = if reused {
-                made = self.reproject_changed(plan, wedges);
+                let was;
+                (made, was) = self.reproject_changed(plan, wedges);
+                removed = Some(was);
                 Some(&self.right_made)
             } else {
                 reproject_and_classify(&self.left, plan, &mut self.src, &mut self.class);
@@ -262,7 +266,16 @@ impl StereoFrame {
             }
         }
         stats.right.ms = stats.stages.reproject + stats.stages.retrace + stats.stages.reshade;
-        stats.pixels = PixelCounts::of_par(&self.mask);
+        stats.pixels = match (reused, removed) {
+            // Kept pixels keep their classes: only the made ones can move between classes.
+            (true, Some(removed)) => {
+                let last = self.stats.pixels.to_array();
+                let added = made_classes(&self.mask, &self.right_made);
+                PixelCounts::from_array(std::array::from_fn(|c| last[c] - removed[c] + added[c]))
+            }
+            (true, None) => self.stats.pixels,
+            (false, _) => PixelCounts::of_par(&self.mask),
+        };
         let left_made = if reused { self.left_retraced.count() } else { n as u64 };
         stats.reuse = Reuse { reused, made: left_made + made, pixels: 2 * n as u64 };
         self.last = Some((asked, mark));
@@ -273,11 +286,30 @@ impl StereoFrame {
     }
 }
 
+/// How many of the pixels `made` names have each class in `mask` (by discriminant).
+fn made_classes(mask: &[PixelClass], made: &PixelBits) -> [u64; 5] {
+    use rayon::prelude::*;
+    let w = made.width() as usize;
+    if w == 0 {
+        return [0; 5];
+    }
+    mask.par_chunks(w)
+        .enumerate()
+        .map(|(j, row)| {
+            let mut n = [0u64; 5];
+            for i in tracer::bits::ones(made.row(j as u32)) {
+                n[row[i as usize] as usize] += 1;
+            }
+            n
+        })
+        .reduce(|| [0; 5], |a, b| std::array::from_fn(|c| a[c] + b[c]))
+}
+
 impl StereoFrame {
     /// Stages 2 and 3 of a reused frame: only the rows that read a retraced left row (all
     /// of them if the plan moved), then the right pixels to make again (`reuse.rs`) into
     /// `right_made`. Returns how many.
-    fn reproject_changed(&mut self, plan: Reprojection, wedges: [&[Arc]; 2]) -> u64 {
+    fn reproject_changed(&mut self, plan: Reprojection, wedges: [&[Arc]; 2]) -> (u64, [u64; 5]) {
         let n = self.src.len();
         let (src_was, class_was) = &mut self.was;
         let (left_rows, right_rows) = &mut self.rows;

@@ -84,14 +84,15 @@ pub(crate) struct Changes<'a> {
 
 /// Sets in `redo` (sized as the marks) the right pixels the rule makes again, and gives each
 /// of them its stage-3 class in `mask`; the other pixels of `mask` keep their final class
-/// from the last frame. Returns how many are made again.
-pub(crate) fn plan_right(changes: Changes<'_>, mask: &mut [PixelClass], redo: &mut PixelBits) -> u64 {
+/// from the last frame. Returns how many are made again, and how many of each class (by
+/// discriminant) they had in the last frame.
+pub(crate) fn plan_right(changes: Changes<'_>, mask: &mut [PixelClass], redo: &mut PixelBits) -> (u64, [u64; 5]) {
     let Changes { now: (class, src), before: (class_was, src_was), left_retraced, right_marks, wedges, rows } = changes;
     let w = right_marks.width() as usize;
     // Rule 3 first: the right pixels whose own rays may meet a sphere at either instant.
     right_marks.select(wedges, redo);
     if w == 0 {
-        return 0;
+        return (0, [0; 5]);
     }
     let stride = redo.stride();
     redo.words_mut()
@@ -116,14 +117,15 @@ pub(crate) fn plan_right(changes: Changes<'_>, mask: &mut [PixelClass], redo: &m
                         &src_was[row_range],
                     ))
             {
-                let mut made = 0;
+                let (mut made, mut was) = (0, [0u64; 5]);
                 for i in bits::ones(row) {
+                    was[mask[i as usize] as usize] += 1;
                     mask[i as usize] = class[base + i as usize];
                     made += 1;
                 }
-                return made;
+                return (made, was);
             }
-            let mut made = 0;
+            let (mut made, mut was) = (0, [0u64; 5]);
             for (i, mask) in mask.iter_mut().enumerate() {
                 let k = base + i;
                 let s = src[k];
@@ -136,11 +138,12 @@ pub(crate) fn plan_right(changes: Changes<'_>, mask: &mut [PixelClass], redo: &m
                 let again = class[k] != class_was[k] || s != src_was[k] || retraced || bits::get(row, i as u32);
                 if again {
                     bits::set(row, i as u32, true);
+                    was[*mask as usize] += 1;
                     *mask = class[k];
                     made += 1;
                 }
             }
-            made
+            (made, was)
         })
-        .sum()
+        .reduce(|| (0, [0; 5]), |(m, a), (n, b)| (m + n, std::array::from_fn(|c| a[c] + b[c])))
 }

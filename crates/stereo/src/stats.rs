@@ -69,6 +69,18 @@ impl PixelCounts {
         })
     }
 
+    /// The counts as an array, by class discriminant.
+    #[must_use]
+    pub(crate) fn to_array(self) -> [u64; 5] {
+        [self.reprojected, self.retraced_gap, self.retraced_edge, self.retraced_shadow, self.traced]
+    }
+
+    /// The counts of an array, by class discriminant.
+    #[must_use]
+    pub(crate) fn from_array(n: [u64; 5]) -> Self {
+        Self { reprojected: n[0], retraced_gap: n[1], retraced_edge: n[2], retraced_shadow: n[3], traced: n[4] }
+    }
+
     /// All pixels.
     #[must_use]
     pub fn total(&self) -> u64 {
