@@ -266,16 +266,7 @@ impl StereoFrame {
             }
         }
         stats.right.ms = stats.stages.reproject + stats.stages.retrace + stats.stages.reshade;
-        stats.pixels = match (reused, removed) {
-            // Kept pixels keep their classes: only the made ones can move between classes.
-            (true, Some(removed)) => {
-                let last = self.stats.pixels.to_array();
-                let added = made_classes(&self.mask, &self.right_made);
-                PixelCounts::from_array(std::array::from_fn(|c| last[c] - removed[c] + added[c]))
-            }
-            (true, None) => self.stats.pixels,
-            (false, _) => PixelCounts::of_par(&self.mask),
-        };
+        stats.pixels = self.pixel_counts(reused, removed);
         let left_made = if reused { self.left_retraced.count() } else { n as u64 };
         stats.reuse = Reuse { reused, made: left_made + made, pixels: 2 * n as u64 };
         self.last = Some((asked, mark));
@@ -306,6 +297,22 @@ fn made_classes(mask: &[PixelClass], made: &PixelBits) -> [u64; 5] {
 }
 
 impl StereoFrame {
+    /// The right pixels by class. A fresh frame counts its mask; a reused one takes the
+    /// last frame's counts, less the last classes of the pixels it made again (`removed`,
+    /// `None` in full mode, where every pixel is traced) plus their new ones: kept pixels
+    /// keep their classes.
+    fn pixel_counts(&self, reused: bool, removed: Option<[u64; 5]>) -> PixelCounts {
+        match (reused, removed) {
+            (true, Some(removed)) => {
+                let last = self.stats.pixels.to_array();
+                let added = made_classes(&self.mask, &self.right_made);
+                PixelCounts::from_array(std::array::from_fn(|c| last[c] - removed[c] + added[c]))
+            }
+            (true, None) => self.stats.pixels,
+            (false, _) => PixelCounts::of_par(&self.mask),
+        }
+    }
+
     /// Stages 2 and 3 of a reused frame: only the rows that read a retraced left row (all
     /// of them if the plan moved), then the right pixels to make again (`reuse.rs`) into
     /// `right_made`. Returns how many.
