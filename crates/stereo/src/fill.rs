@@ -14,7 +14,7 @@ use std::cell::Cell;
 use std::ops::Add;
 
 use rayon::prelude::*;
-use tracer::{EyeView, Film, MarksRow, RayCounts, SecondView, NO_OBJECT};
+use tracer::{EyeView, Film, MarksRow, RayCounts, Rewrite, SecondView, NO_OBJECT};
 
 use crate::image::Image;
 use crate::mode::Mode;
@@ -93,11 +93,12 @@ pub(crate) fn fill(
         "the mask, the source map and the image must have one size"
     );
     let Redo { only, marks, mark } = redo;
+    let rewrite = if only.is_some() { Rewrite::Few } else { Rewrite::All };
     out.rgb
         .par_chunks_mut(w)
         .zip(mask.par_chunks_mut(w))
         .zip(src.par_chunks(w))
-        .zip(marks.rows_mut())
+        .zip(marks.rows_mut(rewrite))
         .enumerate()
         .map(|(j, (((rgb, mask), src), marks))| {
             let only = only.map(|bits| bits.row(j as u32));

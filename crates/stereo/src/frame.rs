@@ -333,7 +333,7 @@ impl StereoFrame {
             now: (&self.class, &self.src),
             before: (class_was, src_was),
             left_retraced: &self.left_retraced,
-            right_marks: &self.right_marks,
+            right_marks: &mut self.right_marks,
             wedges,
             rows: right_rows,
         };

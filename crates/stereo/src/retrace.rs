@@ -7,7 +7,7 @@
 
 use rayon::prelude::*;
 use tracer::bits;
-use tracer::{Marks, PixelBits, RayCounts, SecondView};
+use tracer::{Marks, PixelBits, RayCounts, Rewrite, SecondView};
 
 use crate::image::Image;
 use crate::stats::PixelClass;
@@ -74,11 +74,12 @@ pub(crate) fn retrace(
         "the mask, the source map and the image must have one size"
     );
     let Redo { only, marks, mark } = redo;
+    let rewrite = if only.is_some() { Rewrite::Few } else { Rewrite::All };
     out.rgb
         .par_chunks_mut(w)
         .zip(mask.par_chunks(w))
         .zip(src.par_chunks(w))
-        .zip(marks.rows_mut())
+        .zip(marks.rows_mut(rewrite))
         .enumerate()
         .map(|(j, (((rgb, mask), src), mut marks))| {
             let mut counts = RayCounts::default();

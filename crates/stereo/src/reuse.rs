@@ -65,7 +65,7 @@ use crate::reproject::NO_SOURCE;
 use crate::stats::PixelClass;
 
 /// This frame's stage-3 output against the last frame's, and what changed on the left.
-#[derive(Clone, Copy, Debug)]
+#[derive(Debug)]
 pub(crate) struct Changes<'a> {
     /// This frame's classes and sources.
     pub now: (&'a [PixelClass], &'a [u32]),
@@ -74,7 +74,7 @@ pub(crate) struct Changes<'a> {
     /// The left pixels retraced this frame.
     pub left_retraced: &'a PixelBits,
     /// Where the right pixels' own rays met the swept volumes last frame.
-    pub right_marks: &'a Marks,
+    pub right_marks: &'a mut Marks,
     /// The moving spheres' wedges last frame and now.
     pub wedges: [&'a [Arc]; 2],
     /// Per right row, whether stages 2 and 3 redid it (the others kept their classes and

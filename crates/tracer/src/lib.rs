@@ -90,7 +90,7 @@ pub use camera::{Camera, Disparity, Eye, EyeView};
 pub use color::{linear_to_srgb8, pack_rgb, srgb8_to_linear, unpack_rgb};
 pub use error::SceneError;
 pub use film::{Film, Record};
-pub use marks::{Marks, MarksRow};
+pub use marks::{Marks, MarksRow, Rewrite};
 pub use material::Material;
 pub use ray::{reflect, spawn_ray, Ray};
 pub use render::Renderer;

@@ -15,7 +15,7 @@ use rayon::prelude::*;
 use crate::bits::{self, PixelBits};
 use crate::camera::EyeView;
 use crate::film::{Film, Record};
-use crate::marks::{Marks, MarksRow};
+use crate::marks::{Marks, MarksRow, Rewrite};
 use crate::primary::{BinnedView, PrimaryBins, TILE};
 use crate::ray::Ray;
 use crate::second_view::{by_quads, SecondView};
@@ -354,8 +354,9 @@ impl Renderer {
             Marking::Off | Marking::All => Pass::All,
         };
         let marks = |m| (!matches!(marking, Marking::Off)).then_some(m);
+        let rewrite = if matches!(marking, Marking::Only(_)) { Rewrite::Few } else { Rewrite::All };
         match record {
-            Record::Colour => (film.rgb.par_chunks_mut(w), film.dynamic.rows_mut())
+            Record::Colour => (film.rgb.par_chunks_mut(w), film.dynamic.rows_mut(rewrite))
                 .into_par_iter()
                 .enumerate()
                 .map(|(j, (rgb, m))| trace_row(&eye, j as u32, w, &mut RgbRow(rgb), marks(m), pass(j)))
@@ -364,7 +365,7 @@ impl Renderer {
                 (film.rgb.par_chunks_mut(w), film.z.par_chunks_mut(w), film.t.par_chunks_mut(w)),
                 film.object.par_chunks_mut(w),
                 film.lights.par_chunks_mut(w),
-                film.dynamic.rows_mut(),
+                film.dynamic.rows_mut(rewrite),
             )
                 .into_par_iter()
                 .enumerate()
@@ -376,7 +377,7 @@ impl Renderer {
                 (film.rgb.par_chunks_mut(w), film.z.par_chunks_mut(w), film.t.par_chunks_mut(w)),
                 (film.object.par_chunks_mut(w), film.lights.par_chunks_mut(w)),
                 film.shading.par_chunks_mut(w),
-                film.dynamic.rows_mut(),
+                film.dynamic.rows_mut(rewrite),
             )
                 .into_par_iter()
                 .enumerate()
@@ -446,7 +447,8 @@ impl Renderer {
                 .sum();
         };
         let pass = |j: usize| only.map_or(Pass::All, |bits| Pass::Only(bits.row(j as u32)));
-        (rgb.par_chunks_mut(w), marks.rows_mut())
+        let rewrite = if only.is_some() { Rewrite::Few } else { Rewrite::All };
+        (rgb.par_chunks_mut(w), marks.rows_mut(rewrite))
             .into_par_iter()
             .enumerate()
             .map(|(j, (row, m))| trace_row(&eye, j as u32, w, &mut RgbRow(row), Some(m), pass(j)))

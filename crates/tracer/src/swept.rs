@@ -299,6 +299,23 @@ impl Arc {
         other.start.wrapping_sub(self.start) <= self.len || self.start.wrapping_sub(other.start) <= other.len
     }
 
+    /// Whether every angle of `other` lies in this arc.
+    #[must_use]
+    pub fn holds(self, other: Self) -> bool {
+        self == Self::FULL
+            || (other != Self::FULL
+                && u64::from(other.start.wrapping_sub(self.start)) + u64::from(other.len) <= u64::from(self.len))
+    }
+
+    /// This arc with `by` more at both ends (the whole circle if that reaches round).
+    #[must_use]
+    pub fn grown(self, by: u32) -> Self {
+        match u64::from(self.len) + 2 * u64::from(by) {
+            len if len < u64::from(u32::MAX) => Self { start: self.start.wrapping_sub(by), len: len as u32 },
+            _ => Self::FULL,
+        }
+    }
+
     /// The shortest arc holding both.
     #[must_use]
     pub fn hull(self, other: Self) -> Self {
