@@ -196,6 +196,11 @@ impl Viewer {
         }
         let egui = egui::Context::default();
         ui::setup_style(&egui);
+        if args.frames.is_some() {
+            // A scripted run (`--frames`, with `--dump`) shows the panel settled: no fade-in,
+            // however fast its few frames come.
+            egui.all_styles_mut(|style| style.animation_time = 0.0);
+        }
         Ok(Self {
             config: Config {
                 size: LogicalSize::new(f64::from(args.width), f64::from(args.height)),

@@ -1,49 +1,14 @@
 //! End-to-end tests of the `stereotrace` binary's headless commands.
 
+#[expect(dead_code, reason = "shared helpers; this file needs no `seed_scene`")]
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 use serde_json::Value;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-/// Runs `stereotrace` from the workspace root with `env` set.
-fn stereotrace_with(env: &[(&str, &str)], args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_stereotrace"))
-        .args(args)
-        .envs(env.iter().copied())
-        .current_dir(root())
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run stereotrace: {e}"))
-}
-
-fn stereotrace(args: &[&str]) -> Output {
-    stereotrace_with(&[], args)
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("stereotrace-cli-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
-    dir.join(name)
-}
-
-/// Decodes an 8-bit RGB PNG: (width, height, `0x00RRGGBB` pixels).
-fn read_png(path: &Path) -> (u32, u32, Vec<u32>) {
-    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file))
-        .read_info()
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut buf = vec![0; reader.output_buffer_size().unwrap_or_default()];
-    let info = reader.next_frame(&mut buf).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    assert_eq!(info.color_type, png::ColorType::Rgb, "{}: the CLI writes RGB", path.display());
-    let pixels = buf[..info.buffer_size()]
-        .chunks_exact(3)
-        .map(|c| (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2]))
-        .collect();
-    (info.width, info.height, pixels)
-}
+use common::{read_png, root, stereotrace, stereotrace_with, tmp};
 
 fn png_size(path: &Path) -> (u32, u32) {
     let (w, h, _) = read_png(path);

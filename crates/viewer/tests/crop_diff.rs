@@ -1,38 +1,15 @@
 //! End-to-end tests of `render --crop` and `render --diff`, the options the paper figures
 //! (`scripts/paper-figures.sh`) use.
 
+#[expect(dead_code, reason = "shared helpers; this file needs no environment of its own")]
+mod common;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn stereotrace(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_stereotrace"))
-        .args(args)
-        .current_dir(Path::new(env!("CARGO_MANIFEST_DIR")).join("../.."))
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run stereotrace: {e}"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("stereotrace-crop-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
-    dir.join(name)
-}
+use common::{read_png, stereotrace, tmp};
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap_or_else(|| panic!("{} is not UTF-8", p.display()))
-}
-
-/// Decodes an 8-bit RGB PNG: (width, height, `0x00RRGGBB` pixels).
-fn read_png(path: &Path) -> (u32, u32, Vec<u32>) {
-    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut reader = png::Decoder::new(std::io::BufReader::new(file)).read_info().unwrap_or_else(|e| panic!("{e}"));
-    let mut buf = vec![0; reader.output_buffer_size().unwrap_or_default()];
-    let info = reader.next_frame(&mut buf).unwrap_or_else(|e| panic!("{e}"));
-    let pixels = buf[..info.buffer_size()]
-        .chunks_exact(3)
-        .map(|c| (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2]))
-        .collect();
-    (info.width, info.height, pixels)
 }
 
 const RED: u32 = 0x00D0_1010;

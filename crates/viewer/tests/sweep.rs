@@ -1,28 +1,15 @@
 //! End-to-end tests of `stereotrace sweep`: the CSV's rows, what reprojection predicts at
 //! IPD 0, the plot files, bad arguments, and Ctrl-C keeping the rows done.
 
+#[expect(dead_code, reason = "shared helpers; this file reads PNGs as bytes")]
+mod common;
+
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader, Read};
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
+use std::process::{Command, Stdio};
 
-fn stereotrace(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_stereotrace"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .unwrap_or_else(|e| panic!("cannot run stereotrace: {e}"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("stereotrace-sweep-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
-    dir.join(name)
-}
+use common::{read_rgb_png, root, stereotrace, tmp};
 
 const HEADER: &str =
     "mode,right_over_left_rays,right_ms,left_ms,stereo_over_mono,reprojected_pct,psnr_db,over_2_255_pct";
@@ -51,17 +38,6 @@ fn parse(csv: &str, param: &str) -> Vec<Row> {
             Row { value: f[0].to_owned(), mode: f[1].to_owned(), cols }
         })
         .collect()
-}
-
-/// Decodes an 8-bit RGB PNG: (width, height, RGB bytes).
-fn read_png(path: &Path) -> (u32, u32, Vec<u8>) {
-    let file = std::fs::File::open(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut reader = png::Decoder::new(BufReader::new(file)).read_info().unwrap_or_else(|e| panic!("{e}"));
-    let mut buf = vec![0; reader.output_buffer_size().unwrap_or_default()];
-    let info = reader.next_frame(&mut buf).unwrap_or_else(|e| panic!("{e}"));
-    assert_eq!(info.color_type, png::ColorType::Rgb, "RGB");
-    buf.truncate(info.buffer_size());
-    (info.width, info.height, buf)
 }
 
 #[test]
@@ -134,7 +110,7 @@ fn an_ipd_sweep_writes_a_row_per_step_and_mode_and_ipd_0_costs_least() {
     }
     assert!(of("copy").skip(1).all(|r| r.cols["psnr_db"].is_finite()), "copy differs from full once IPD > 0");
 
-    let (w, h, rgb) = read_png(&plot);
+    let (w, h, rgb) = read_rgb_png(&plot);
     assert_eq!((w, h), (1000, 900), "the plot's size");
     let has = |c: [u8; 3]| rgb.chunks_exact(3).any(|p| p == c);
     assert!(has([214, 39, 40]) && has([44, 160, 44]), "copy's and exact's lines are drawn");

@@ -4,12 +4,15 @@
 //! Needs `xvfb-run` (Debian: xvfb xauth). Without it the test passes with a loud SKIPPED
 //! message, except when `CI` is set: CI installs it, so there a missing `xvfb-run` fails.
 
+#[expect(dead_code, reason = "shared helpers; this file runs the viewer under xvfb-run itself")]
+mod common;
+
 use std::fs::File;
-use std::io::BufReader;
 use std::os::unix::process::CommandExt;
-use std::path::{Path, PathBuf};
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
+
+use common::{read_rgb_png, seed_scene};
 
 const WIDTH: u32 = 800;
 const HEIGHT: u32 = 300;
@@ -17,27 +20,6 @@ const TIMEOUT: Duration = Duration::from_secs(120);
 
 fn on_path(exe: &str) -> bool {
     std::env::var_os("PATH").is_some_and(|p| std::env::split_paths(&p).any(|d| d.join(exe).is_file()))
-}
-
-fn seed_scene() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/seed.toml")
-}
-
-/// Decodes an 8-bit RGB PNG: (width, height, bytes).
-fn read_rgb_png(path: &Path) -> (u32, u32, Vec<u8>) {
-    let file = File::open(path).unwrap_or_else(|e| panic!("cannot open {}: {e}", path.display()));
-    let mut reader =
-        png::Decoder::new(BufReader::new(file)).read_info().unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let mut buf = vec![0; reader.output_buffer_size().unwrap_or_default()];
-    let info = reader.next_frame(&mut buf).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    assert_eq!(
-        (info.color_type, info.bit_depth),
-        (png::ColorType::Rgb, png::BitDepth::Eight),
-        "{}: the viewer writes 8-bit RGB",
-        path.display()
-    );
-    buf.truncate(info.buffer_size());
-    (info.width, info.height, buf)
 }
 
 /// Pixel statistics of the columns `x0..x1` of an RGB image `width` wide.

@@ -1,0 +1,64 @@
+//! What the end-to-end tests share: the binary run from the workspace root, a scratch
+//! directory per test process, and the PNGs the binary writes, decoded.
+
+use std::fs::File;
+use std::io::BufReader;
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+/// The workspace root, where the binary runs (so `assets/…` paths resolve).
+pub fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// The bundled seed scene.
+pub fn seed_scene() -> PathBuf {
+    root().join("assets/scenes/seed.toml")
+}
+
+/// Runs `stereotrace` from the workspace root with `env` set, and waits for it.
+pub fn stereotrace_with(env: &[(&str, &str)], args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_stereotrace"))
+        .args(args)
+        .envs(env.iter().copied())
+        .current_dir(root())
+        .output()
+        .unwrap_or_else(|e| panic!("cannot run stereotrace: {e}"))
+}
+
+/// Runs `stereotrace` from the workspace root, and waits for it.
+pub fn stereotrace(args: &[&str]) -> Output {
+    stereotrace_with(&[], args)
+}
+
+/// A path for `name` in this test process's scratch directory.
+pub fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("stereotrace-tests-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    dir.join(name)
+}
+
+/// Decodes an 8-bit RGB PNG, as the binary writes them: (width, height, RGB bytes).
+pub fn read_rgb_png(path: &Path) -> (u32, u32, Vec<u8>) {
+    let file = File::open(path).unwrap_or_else(|e| panic!("cannot open {}: {e}", path.display()));
+    let mut reader =
+        png::Decoder::new(BufReader::new(file)).read_info().unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut buf = vec![0; reader.output_buffer_size().unwrap_or_default()];
+    let info = reader.next_frame(&mut buf).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    assert_eq!(
+        (info.color_type, info.bit_depth),
+        (png::ColorType::Rgb, png::BitDepth::Eight),
+        "{}: stereotrace writes 8-bit RGB",
+        path.display()
+    );
+    buf.truncate(info.buffer_size());
+    (info.width, info.height, buf)
+}
+
+/// Decodes an 8-bit RGB PNG: (width, height, `0x00RRGGBB` pixels).
+pub fn read_png(path: &Path) -> (u32, u32, Vec<u32>) {
+    let (w, h, rgb) = read_rgb_png(path);
+    let pixels =
+        rgb.chunks_exact(3).map(|c| (u32::from(c[0]) << 16) | (u32::from(c[1]) << 8) | u32::from(c[2])).collect();
+    (w, h, pixels)
+}
