@@ -31,12 +31,16 @@
 //! Marking whole washers only (a bit per pixel) would retrace every pixel whose rays ever
 //! cross the ring: a fifth of the seed scene's pixels, the costly ones. The arcs narrow that
 //! to the sphere's old and new places, and their images, reflections and shadows.
-
+//!
 //! ## The right eye of `copy`, `reshade` and `exact`
 //!
 //! It is made from the current left eye, so it can change where no ray of its own moved.
-//! Stages 2 and 3 (reprojection and classification, cheap) run over the whole image every
-//! frame. A right pixel p is then a function F of: its class c(p) and source s(p) from
+//! Stages 2 and 3 (reprojection and classification) give right row j from left rows j − 1
+//! to j + 1 alone: reprojection runs along scanlines, and a class reads its pixel's
+//! neighbours. So a reused frame redoes them only for the bands of rows that read a
+//! retraced left row (`reproject_and_classify_rows`); every other row's classes and
+//! sources are last frame's, as its inputs are. A right pixel p is then a function F of:
+//! its class c(p) and source s(p) from
 //! stage 3; the left pixel s(p)'s colour and record; and the rays the right eye casts for p
 //! itself (a retrace, exact mode's ray against one sphere, reshade's highlights and mirror
 //! rays), which stages 4 and 5 mark as above. F is the same code on the same values in
