@@ -10,6 +10,14 @@
 //! the background or another object (a near sphere's silhouette moves by a different
 //! amount than the background behind it).
 //!
+//! At a row's ends the missing neighbour is the one the reprojection would give the pixel
+//! just beyond the image: the end pixel's source's own neighbour on that side in the left
+//! row (as a surface running on past the edge would land there), or a gap where the left
+//! eye saw nothing past the source (`reproject.rs` reads it). Were it the end pixel itself,
+//! a shadow boundary or a silhouette between the end pixel's own point and its source, on
+//! the border's side, would go unseen: the property test found a terminator down the left
+//! edge of the image that exact mode shaded unlit from the column next to it.
+//!
 //! The pass reads two compact 32-bit planes per right pixel, the object id and the light
 //! bits of its source, carried along by the reprojection scan (`reproject/scanline.rs`),
 //! never the left eye's full records. A gap is marked in the object plane alone, by
@@ -41,13 +49,16 @@ pub(crate) struct KeyRows<'a> {
     pub object: [&'a [u32]; 3],
     /// Light bits of the rows above, at and below the row.
     pub lights: [&'a [u32]; 3],
+    /// Keys `(object, lights)` of the row's neighbours beyond its first and its last pixel
+    /// (see the module doc).
+    pub beyond: [(u32, u32); 2],
 }
 
 /// Classifies one right row into `out`: [`PixelClass::RetracedGap`] where it has no source;
 /// else [`PixelClass::RetracedEdge`] if `edges` and a 4-neighbour is a gap or has another
 /// object; else [`PixelClass::RetracedShadow`] if `shadows` and a 4-neighbour that is not a
-/// gap has other light bits; else [`PixelClass::Reprojected`]. Neighbours beyond the image
-/// count as the pixel itself.
+/// gap has other light bits; else [`PixelClass::Reprojected`]. Neighbours above or below
+/// the image count as the pixel itself; those beyond the row's ends are `rows.beyond`.
 pub(crate) fn classify_row(rows: KeyRows<'_>, edges: bool, shadows: bool, out: &mut [PixelClass]) {
     // One monomorphised loop per option pair, so that each does only its own tests.
     match (edges, shadows) {
@@ -87,23 +98,25 @@ fn class_of<const EDGES: bool, const SHADOWS: bool>(
 /// [`classify_row`] for one option pair.
 fn classify<const EDGES: bool, const SHADOWS: bool>(rows: KeyRows<'_>, out: &mut [PixelClass]) {
     let w = out.len();
-    let ([ao, ro, bo], [al, rl, bl]) = (rows.object, rows.lights);
+    let ([ao, ro, bo], [al, rl, bl], [before, after]) = (rows.object, rows.lights, rows.beyond);
     debug_assert!(
         [ao, ro, bo, al, rl, bl].iter().all(|p| p.len() == w),
         "key rows differ in width from the row classified"
     );
-    let at = |i: usize, left: usize, right: usize| {
-        let neighbours = [(ro[left], rl[left]), (ro[right], rl[right]), (ao[i], al[i]), (bo[i], bl[i])];
-        class_of::<EDGES, SHADOWS>(ro[i], rl[i], neighbours)
+    let key = |i: usize| (ro[i], rl[i]);
+    let at = |i: usize, left: (u32, u32), right: (u32, u32)| {
+        class_of::<EDGES, SHADOWS>(ro[i], rl[i], [left, right, (ao[i], al[i]), (bo[i], bl[i])])
     };
     if w < 3 {
         for (i, class) in out.iter_mut().enumerate() {
-            *class = at(i, i.saturating_sub(1), (i + 1).min(w - 1));
+            let left = if i == 0 { before } else { key(i - 1) };
+            let right = if i + 1 == w { after } else { key(i + 1) };
+            *class = at(i, left, right);
         }
         return;
     }
-    out[0] = at(0, 0, 1);
-    out[w - 1] = at(w - 1, w - 2, w - 1);
+    out[0] = at(0, before, key(1));
+    out[w - 1] = at(w - 1, key(w - 2), after);
     // The interior, over equal-length slices so that the loop has no bounds checks and
     // vectorises: pixel k + 1 with its left neighbour at k and its right one at k + 2.
     let n = w - 2;
@@ -121,17 +134,29 @@ mod tests {
 
     const GAP: (u32, u32) = (GAP_OBJECT, GAP_LIGHTS);
 
-    fn classes(keys: &[(u32, u32)], w: usize, edges: bool, shadows: bool) -> Vec<PixelClass> {
+    /// The classes of the image of `keys`, `w` wide; beyond each row's ends, `beyond` (or the
+    /// end pixel's own key).
+    fn classes_beyond(
+        keys: &[(u32, u32)],
+        w: usize,
+        (edges, shadows): (bool, bool),
+        beyond: Option<[(u32, u32); 2]>,
+    ) -> Vec<PixelClass> {
         let object: Vec<u32> = keys.iter().map(|k| k.0).collect();
         let lights: Vec<u32> = keys.iter().map(|k| k.1).collect();
         let h = keys.len() / w;
         let mut out = vec![PixelClass::Traced; keys.len()];
         for (j, row) in out.chunks_mut(w).enumerate() {
             let rows = [j.saturating_sub(1), j, (j + 1).min(h - 1)].map(|r| r * w..(r + 1) * w);
-            let rows = KeyRows { object: rows.clone().map(|r| &object[r]), lights: rows.map(|r| &lights[r]) };
+            let beyond = beyond.unwrap_or([keys[j * w], keys[j * w + w - 1]]);
+            let rows = KeyRows { object: rows.clone().map(|r| &object[r]), lights: rows.map(|r| &lights[r]), beyond };
             classify_row(rows, edges, shadows, row);
         }
         out
+    }
+
+    fn classes(keys: &[(u32, u32)], w: usize, edges: bool, shadows: bool) -> Vec<PixelClass> {
+        classes_beyond(keys, w, (edges, shadows), None)
     }
 
     #[test]
@@ -158,5 +183,20 @@ mod tests {
         assert_eq!(classes(&[lit, lit, GAP, miss], 4, false, true), vec![P, P, G, P]);
         assert_eq!(classes(&[lit, lit, GAP, miss], 4, true, true), vec![P, E, G, E]);
         assert_eq!(classes(&[(7, 0), lit, lit], 3, false, true), vec![S, S, P]);
+    }
+
+    #[test]
+    fn the_keys_beyond_a_row_are_its_end_pixels_neighbours() {
+        use PixelClass::{Reprojected as P, RetracedEdge as E, RetracedShadow as S};
+        let (a, b, a_dark) = ((0, 1), (1, 1), (0, 0));
+        // Lit beyond the first pixel, another object beyond the last, a gap beyond both.
+        let beyond = |ends| classes_beyond(&[a_dark, a_dark, a_dark, a], 4, (true, true), Some(ends));
+        assert_eq!(beyond([a, a]), vec![S, P, S, S]);
+        assert_eq!(beyond([a_dark, b]), vec![P, P, S, E]);
+        assert_eq!(beyond([GAP, GAP]), vec![E, P, S, E]);
+        // Without edges a gap beyond is no shadow boundary; rows of one and two pixels.
+        assert_eq!(classes_beyond(&[a_dark, a_dark], 2, (false, true), Some([GAP, a])), vec![P, S]);
+        assert_eq!(classes_beyond(&[a_dark], 1, (false, true), Some([a, a_dark])), vec![S]);
+        assert_eq!(classes_beyond(&[a], 1, (true, false), Some([a, b])), vec![E]);
     }
 }

@@ -206,8 +206,26 @@ fn band(left: &Film, p: Reprojection, (b, h): (usize, usize), src_band: &mut [u3
             // This row's index in the scratch, and its neighbours' (itself at the edges).
             let k = j0 - lo + r;
             let at = [k.saturating_sub(1), k, (k + 1).min(last)].map(|k| k * w..(k + 1) * w);
-            let rows = KeyRows { object: at.clone().map(|r| &object[r]), lights: at.map(|r| &lights[r]) };
+            let src = &src_band[r * w..(r + 1) * w];
+            let beyond = [key_beyond(left, src[0], -1), key_beyond(left, src[w - 1], 1)];
+            let rows = KeyRows { object: at.clone().map(|r| &object[r]), lights: at.map(|r| &lights[r]), beyond };
             classify_row(rows, p.edges, p.shadows, out);
         }
     });
+}
+
+/// The key `(object, lights)` of the right pixel beyond a row's end next to an end pixel
+/// whose source is `s`: that source's neighbour on the border's side in the left row
+/// (`step` −1 before the first pixel, +1 after the last), or a gap if it has none or there
+/// is no source (`classify.rs` has why).
+fn key_beyond(left: &Film, s: u32, step: isize) -> (u32, u32) {
+    let w = left.width() as usize;
+    if s == NO_SOURCE {
+        return (GAP_OBJECT, GAP_LIGHTS);
+    }
+    let (s, column) = (s as usize, s as usize % w);
+    match column.checked_add_signed(step) {
+        Some(c) if c < w => (left.object[s - column + c], left.lights[s - column + c]),
+        _ => (GAP_OBJECT, GAP_LIGHTS),
+    }
 }

@@ -302,3 +302,35 @@ fn a_near_sphere_only_the_right_eye_sees_is_retraced() {
         }
     }
 }
+
+#[test]
+fn a_terminator_down_the_left_edge_is_retraced() {
+    // Found by the property test: a sphere cut by the left edge of the image, lit from the
+    // left. The terminator runs down the right eye's first column, between each pixel's own
+    // point (lit) and its source in the left eye's second column (unlit); only the left
+    // eye's first column, beyond the right image's edge, is lit, so the end pixel's
+    // neighbour beyond the edge must be that column's key for the boundary to be seen.
+    let material = Material { color: Vec3::new(0.0, 1.0, 0.5), ..Material::default() };
+    let scene = Scene {
+        camera: Camera { ipd: 0.245_735_5, distance: 16.059_79, fov_deg: 27.517_273, ..Camera::default() },
+        render: RenderSettings { max_depth: 0, ..RenderSettings::default() },
+        lights: vec![Light { position: Vec3::new(-9.760_212, 0.0, -5.802_552), color: Vec3::ONE }],
+        spheres: vec![SceneSphere {
+            radius: 1.736_977_1,
+            motion: Motion::Static(Vec3::new(-5.006_510_7, 0.0, 14.495_262)),
+            material,
+        }],
+    };
+    let (w, h) = (128, 72);
+    let tracer = Tracer::new(&scene, 0.0);
+    let reference = full_right(&tracer, &scene.camera, w, h);
+    let mut frame = StereoFrame::new();
+    frame.render(&tracer, &scene.camera, w, h, Options { mode: Mode::Exact, retrace_edges: false });
+    let (right, mask) = (&frame.right().rgb, frame.mask());
+    let mut boundary = 0;
+    for k in 0..(w * h) as usize {
+        assert_eq!(right[k], reference[k], "({}, {}), {:?}", k % w as usize, k / w as usize, mask[k]);
+        boundary += usize::from(k % w as usize == 0 && mask[k] == PixelClass::RetracedShadow);
+    }
+    assert!(boundary >= 10, "the first column's shadow boundary: {boundary} pixels");
+}

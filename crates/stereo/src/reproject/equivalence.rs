@@ -60,17 +60,26 @@ mod reference {
             row[w - p.strip..].fill(NO_SOURCE);
             src.extend(row);
         }
-        let keys: Vec<u64> = src
-            .iter()
-            .map(|&s| {
-                if s == NO_SOURCE {
-                    GAP_KEY
-                } else {
-                    (u64::from(left.object[s as usize]) << 32) | u64::from(left.lights[s as usize])
-                }
-            })
-            .collect();
+        let key_of = |s: u32| {
+            if s == NO_SOURCE {
+                GAP_KEY
+            } else {
+                (u64::from(left.object[s as usize]) << 32) | u64::from(left.lights[s as usize])
+            }
+        };
+        let keys: Vec<u64> = src.iter().map(|&s| key_of(s)).collect();
         let key = |i: usize, j: usize| keys[j * w + i];
+        // Beyond a row's ends: the key of the end pixel's source's neighbour on that side in
+        // its left row, a gap where there is none.
+        let beyond = |i: usize, j: usize, step: isize| {
+            let s = src[j * w + i];
+            let column = (s as usize % w) as isize + step;
+            if s == NO_SOURCE || column < 0 || column >= w as isize {
+                GAP_KEY
+            } else {
+                key_of(s - (s % w as u32) + column as u32)
+            }
+        };
         let mut mask = Vec::with_capacity(w * h);
         for j in 0..h {
             for i in 0..w {
@@ -80,8 +89,8 @@ mod reference {
                     continue;
                 }
                 let neighbours = [
-                    key(i.saturating_sub(1), j),
-                    key((i + 1).min(w - 1), j),
+                    if i == 0 { beyond(i, j, -1) } else { key(i - 1, j) },
+                    if i + 1 == w { beyond(i, j, 1) } else { key(i + 1, j) },
                     key(i, j.saturating_sub(1)),
                     key(i, (j + 1).min(h - 1)),
                 ];
