@@ -31,16 +31,16 @@ pub struct Renderer {
     bins: PrimaryBins,
 }
 
-/// What a hit pixel's record holds: depth, hit parameter, object, light bits, shading.
-type Kept = (f32, f32, u32, u32, Shading);
+/// What a hit pixel's record keys are: depth, hit parameter, object, light bits.
+type Keys = (f32, f32, u32, u32);
 
 /// Where a row's samples go.
 trait RowSink {
     /// Pixels `span` saw only background, of colour `rgb`.
     fn background(&mut self, span: Range<usize>, rgb: u32);
-    /// Pixel `i` saw a sphere: its colour, and (called only by a sink that keeps the
-    /// visible-surface record) its depth and record.
-    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> Kept);
+    /// Pixel `i` saw a sphere: its colour, and (called only by a sink that keeps them) its
+    /// record's keys and its shading entry.
+    fn hit(&mut self, i: usize, rgb: u32, keys: impl FnOnce() -> Keys, shading: impl FnOnce() -> Shading);
 }
 
 /// One row of a [`Film`] without its shading entries: colour, depth, hit parameter, object
@@ -54,15 +54,14 @@ struct KeysRow<'a> {
 }
 
 impl KeysRow<'_> {
-    /// Writes pixel `i`'s keys; returns its shading entry, for a sink that keeps it.
+    /// Writes pixel `i`'s colour and keys.
     #[inline]
-    fn keep(&mut self, i: usize, rgb: u32, (z, t, object, lights, shading): Kept) -> Shading {
+    fn keep(&mut self, i: usize, rgb: u32, (z, t, object, lights): Keys) {
         self.rgb[i] = rgb;
         self.z[i] = z;
         self.t[i] = t;
         self.object[i] = object;
         self.lights[i] = lights;
-        shading
     }
 }
 
@@ -76,8 +75,8 @@ impl RowSink for KeysRow<'_> {
     }
 
     #[inline]
-    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> Kept) {
-        self.keep(i, rgb, record());
+    fn hit(&mut self, i: usize, rgb: u32, keys: impl FnOnce() -> Keys, _: impl FnOnce() -> Shading) {
+        self.keep(i, rgb, keys());
     }
 }
 
@@ -96,8 +95,9 @@ impl RowSink for FilmRow<'_> {
     }
 
     #[inline]
-    fn hit(&mut self, i: usize, rgb: u32, record: impl FnOnce() -> Kept) {
-        self.shading[i] = self.keys.keep(i, rgb, record());
+    fn hit(&mut self, i: usize, rgb: u32, keys: impl FnOnce() -> Keys, shading: impl FnOnce() -> Shading) {
+        self.keys.keep(i, rgb, keys());
+        self.shading[i] = shading();
     }
 }
 
@@ -111,7 +111,7 @@ impl RowSink for RgbRow<'_> {
     }
 
     #[inline]
-    fn hit(&mut self, i: usize, rgb: u32, _: impl FnOnce() -> Kept) {
+    fn hit(&mut self, i: usize, rgb: u32, _: impl FnOnce() -> Keys, _: impl FnOnce() -> Shading) {
         self.0[i] = rgb;
     }
 }
@@ -277,11 +277,15 @@ fn emit(
         wavefront.mark_background(eye.tracer, view, (j, u32::MAX), &mut |i, touch| marks.set(i, touch));
     }
     for e in 0..wavefront.len() {
-        sink.hit(wavefront.tag(e) as usize, wavefront.rgb(e), || {
+        let keys = || {
+            let (point, t, object, lights) = wavefront.keys(e);
+            (view.head_z(point), t, object, lights)
+        };
+        let shading = || {
             let s = wavefront.surface(e);
-            let shading = Shading { point: s.point, normal: s.normal, diffuse: s.diffuse };
-            (view.head_z(s.point), wavefront.t(e), s.object, s.lights, shading)
-        });
+            Shading { point: s.point, normal: s.normal, diffuse: s.diffuse }
+        };
+        sink.hit(wavefront.tag(e) as usize, wavefront.rgb(e), keys, shading);
     }
 }
 
