@@ -129,25 +129,95 @@ pub(crate) fn plan_right(changes: Changes<'_>, mask: &mut [PixelClass], redo: &m
                 }
                 return (made, was);
             }
+            // 64 pixels at a time: rules 1 and 2 as a word of bits (rule 3's are set
+            // already), then the pixels it names.
+            let sources = SourcesRetraced::of(left_row, (base, w));
             let (mut made, mut was) = (0, [0u64; 5]);
-            for (i, mask) in mask.iter_mut().enumerate() {
-                let k = base + i;
-                let s = src[k];
-                // Reprojection runs along scanlines, so a source lies in the same row.
-                let retraced = s != NO_SOURCE
-                    && match (s as usize).checked_sub(base) {
-                        Some(col) if col < w => any_left && bits::get(left_row, col as u32),
-                        _ => left_retraced.get_index(s as usize),
-                    };
-                let again = class[k] != class_was[k] || s != src_was[k] || retraced || bits::get(row, i as u32);
-                if again {
-                    bits::set(row, i as u32, true);
-                    was[*mask as usize] += 1;
-                    *mask = class[k];
+            for (k, word) in row.iter_mut().enumerate() {
+                let r = base + 64 * k..(base + 64 * k + 64).min(base + w);
+                let again = *word
+                    | changed(&class[r.clone()], &class_was[r.clone()], &src[r.clone()], &src_was[r.clone()])
+                    | sources.word(&src[r], left_retraced);
+                *word = again;
+                for b in bits::ones(std::slice::from_ref(&again)) {
+                    let i = 64 * k + b as usize;
+                    was[mask[i] as usize] += 1;
+                    mask[i] = class[base + i];
                     made += 1;
                 }
             }
             (made, was)
         })
         .reduce(|| (0, [0; 5]), |(m, a), (n, b)| (m + n, std::array::from_fn(|c| a[c] + b[c])))
+}
+
+/// Packs 64 flags (0 or 1) into a word, flag b as bit b.
+#[inline]
+fn pack(flags: &[u8; 64]) -> u64 {
+    // Eight flags at a time: the multiply gathers each byte's low bit into the top byte.
+    flags.chunks_exact(8).enumerate().fold(0, |word, (k, eight)| {
+        let x = u64::from_le_bytes(eight.try_into().unwrap_or([0; 8]));
+        word | (x.wrapping_mul(0x0102_0408_1020_4080) >> 56) << (8 * k)
+    })
+}
+
+/// Rule 1 over a word's pixels (64, or the rest of a row): bit b set where pixel b's class
+/// or source differs from the last frame's.
+#[inline]
+fn changed(class: &[PixelClass], class_was: &[PixelClass], src: &[u32], src_was: &[u32]) -> u64 {
+    let mut flags = [0u8; 64];
+    let pixels = class.iter().zip(class_was).zip(src.iter().zip(src_was));
+    for (flag, ((c, c_was), (s, s_was))) in flags.iter_mut().zip(pixels) {
+        *flag = u8::from(c != c_was) | u8::from(s != s_was);
+    }
+    pack(&flags)
+}
+
+/// Rule 2 over a row: which of its right pixels read a retraced left pixel.
+struct SourcesRetraced<'a> {
+    /// The row of the left pixels retraced.
+    left_row: &'a [u64],
+    /// The row's first pixel, and the image width.
+    base: usize,
+    width: usize,
+    /// The first column of the row's retraced pixels, and how far the last lies past it
+    /// (0 and 0 if none: then column 0 is looked up, and is not retraced).
+    cols: (u32, u32),
+}
+
+impl<'a> SourcesRetraced<'a> {
+    fn of(left_row: &'a [u64], (base, width): (usize, usize)) -> Self {
+        let mut ones = bits::ones(left_row);
+        let first = ones.next();
+        let last = ones.last().or(first);
+        let cols = first.zip(last).map_or((0, 0), |(a, b)| (a, b - a));
+        Self { left_row, base, width, cols }
+    }
+
+    /// Bit b set where pixel b of `src` (a word's sources) reads a retraced left pixel.
+    /// Reprojection runs along scanlines, so a source lies in the row; one outside it (or
+    /// past the retraced columns' span) is looked up only when it could be retraced.
+    #[inline]
+    fn word(&self, src: &[u32], left_retraced: &PixelBits) -> u64 {
+        // First the columns in the span, in a pass the compiler can run in vectors; most
+        // pixels are not.
+        let (lo, span) = self.cols;
+        let mut flags = [0u8; 64];
+        for (flag, &s) in flags.iter_mut().zip(src) {
+            let col = s.wrapping_sub(self.base as u32);
+            let outside_row = col >= self.width as u32 && s != NO_SOURCE;
+            *flag = u8::from(col.wrapping_sub(lo) <= span) | u8::from(outside_row);
+        }
+        let near = pack(&flags);
+        bits::ones(std::slice::from_ref(&near)).fold(0, |word, b| {
+            let s = src[b as usize];
+            let col = s.wrapping_sub(self.base as u32);
+            let retraced = if col < self.width as u32 {
+                bits::get(self.left_row, col)
+            } else {
+                left_retraced.get_index(s as usize)
+            };
+            word | u64::from(retraced) << b
+        })
+    }
 }
