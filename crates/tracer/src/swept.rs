@@ -268,7 +268,9 @@ fn diamond(y: f32, x: f32) -> f32 {
 /// A diamond angle in units of 2⁻³² turn, so that angles wrap as `u32`s do.
 #[inline]
 fn units(diamond: f32) -> u32 {
-    (f64::from(diamond) * f64::from(1u32 << 30)) as u64 as u32
+    // Exact in f32: scaling by a power of two, and a diamond angle below 4 scales to an
+    // integer below 2³². (4 itself, from rounding, wraps to 0 as the angle does.)
+    (diamond * (1u32 << 30) as f32) as i64 as u32
 }
 
 /// An arc of a ring's angle: from `start`, `len` anticlockwise (as θ grows), in units of
@@ -388,6 +390,17 @@ mod tests {
 
     fn orbit(center: Vec3, radius: f32) -> Motion {
         Motion::Orbit { center, radius, period_s: 8.0, phase_deg: 30.0 }
+    }
+
+    #[test]
+    fn units_in_f32_are_the_exact_f64_units() {
+        let exact = |d: f32| (f64::from(d) * f64::from(1u32 << 30)) as u64 as u32;
+        let four = 4.0f32.to_bits();
+        for bits in (0..=four).step_by(997).chain([four, four - 1, 1, 0]) {
+            let d = f32::from_bits(bits);
+            assert_eq!(units(d), exact(d), "diamond angle {d:e}");
+        }
+        assert_eq!((units(f32::NAN), units(4.0)), (0, 0));
     }
 
     #[test]
