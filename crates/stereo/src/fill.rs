@@ -14,11 +14,11 @@ use std::cell::Cell;
 use std::ops::Add;
 
 use rayon::prelude::*;
-use tracer::{EyeView, Film, MarksRow, RayCounts, Rewrite, SecondView, NO_OBJECT};
+use tracer::{EyeView, Film, MarksRow, RayCounts, SecondView, NO_OBJECT};
 
 use crate::image::Image;
 use crate::mode::Mode;
-use crate::retrace::{chosen, Redo};
+use crate::retrace::{chosen, row_of, Redo};
 use crate::stats::PixelClass;
 
 /// How stage 5 fills a reprojected pixel.
@@ -92,20 +92,18 @@ pub(crate) fn fill(
         mask.len() == out.rgb.len() && src.len() == out.rgb.len() && out.rgb.len() == w * out.height as usize,
         "the mask, the source map and the image must have one size"
     );
-    let Redo { only, marks, mark } = redo;
-    let rewrite = if only.is_some() { Rewrite::Few } else { Rewrite::All };
+    let (marks, only, mark) = redo.rows();
     out.rgb
         .par_chunks_mut(w)
         .zip(mask.par_chunks_mut(w))
         .zip(src.par_chunks(w))
-        .zip(marks.rows_mut(rewrite))
+        .zip(marks)
         .enumerate()
         .map(|(j, (((rgb, mask), src), marks))| {
-            let only = only.map(|bits| bits.row(j as u32));
-            if only.is_some_and(|row| row.iter().all(|&word| word == 0)) {
+            let Some(only) = row_of(only, j) else {
                 // Nothing to make in this row.
                 return Filled::default();
-            }
+            };
             let row = Row { j: j as u32, rgb, mask, src, only, marks: mark.then_some(marks) };
             match how {
                 Fill::Reshade => reshade_row(right, (lv, left), row),

@@ -7,7 +7,7 @@
 
 use rayon::prelude::*;
 use tracer::bits;
-use tracer::{Marks, PixelBits, RayCounts, Rewrite, SecondView};
+use tracer::{Marks, MarksRow, PixelBits, RayCounts, Rewrite, SecondView};
 
 use crate::image::Image;
 use crate::stats::PixelClass;
@@ -23,6 +23,23 @@ pub(crate) struct Redo<'a> {
     pub marks: &'a mut Marks,
     /// Whether this frame marks (see `StereoFrame::set_reuse`).
     pub mark: bool,
+}
+
+impl<'a> Redo<'a> {
+    /// The marks' rows (for a pass that makes what `only` names: a few pixels, or all),
+    /// the selection, and whether to mark: what stages 4 and 5 start from, with
+    /// [`row_of`] for each row.
+    pub(crate) fn rows(self) -> (impl IndexedParallelIterator<Item = MarksRow<'a>>, Option<&'a PixelBits>, bool) {
+        let Self { only, marks, mark } = self;
+        let rewrite = if only.is_some() { Rewrite::Few } else { Rewrite::All };
+        (marks.rows_mut(rewrite), only, mark)
+    }
+}
+
+/// Row `j` of a selection (`None`: every pixel), or nothing when it names no pixel there.
+pub(crate) fn row_of(only: Option<&PixelBits>, j: usize) -> Option<Option<&[u64]>> {
+    let row = only.map(|bits| bits.row(j as u32));
+    (!row.is_some_and(|row| row.iter().all(|&word| word == 0))).then_some(row)
 }
 
 /// The columns of a `w`-pixel row to make, ascending, given the row's selection (`None`:
@@ -73,21 +90,19 @@ pub(crate) fn retrace(
         mask.len() == out.rgb.len() && src.len() == out.rgb.len() && out.rgb.len() == w * out.height as usize,
         "the mask, the source map and the image must have one size"
     );
-    let Redo { only, marks, mark } = redo;
-    let rewrite = if only.is_some() { Rewrite::Few } else { Rewrite::All };
+    let (marks, only, mark) = redo.rows();
     out.rgb
         .par_chunks_mut(w)
         .zip(mask.par_chunks(w))
         .zip(src.par_chunks(w))
-        .zip(marks.rows_mut(rewrite))
+        .zip(marks)
         .enumerate()
         .map(|(j, (((rgb, mask), src), mut marks))| {
             let mut counts = RayCounts::default();
-            let only = only.map(|bits| bits.row(j as u32));
-            if only.is_some_and(|row| row.iter().all(|&word| word == 0)) {
+            let Some(only) = row_of(only, j) else {
                 // Nothing to make in this row.
                 return counts;
-            }
+            };
             if mark {
                 marks.clear_only(only);
             }
