@@ -100,10 +100,11 @@ pub(crate) fn fill(
         .zip(marks)
         .enumerate()
         .map(|(j, (((rgb, mask), src), marks))| {
-            let Some(only) = row_of(only, j) else {
+            let (only, empty) = row_of(only, j);
+            if empty {
                 // Nothing to make in this row.
                 return Filled::default();
-            };
+            }
             let row = Row { j: j as u32, rgb, mask, src, only, marks: mark.then_some(marks) };
             match how {
                 Fill::Reshade => reshade_row(right, (lv, left), row),

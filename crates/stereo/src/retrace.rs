@@ -36,10 +36,10 @@ impl<'a> Redo<'a> {
     }
 }
 
-/// Row `j` of a selection (`None`: every pixel), or nothing when it names no pixel there.
-pub(crate) fn row_of(only: Option<&PixelBits>, j: usize) -> Option<Option<&[u64]>> {
+/// Row `j` of a selection (`None`: every pixel), and whether it names no pixel there.
+pub(crate) fn row_of(only: Option<&PixelBits>, j: usize) -> (Option<&[u64]>, bool) {
     let row = only.map(|bits| bits.row(j as u32));
-    (!row.is_some_and(|row| row.iter().all(|&word| word == 0))).then_some(row)
+    (row, row.is_some_and(|row| row.iter().all(|&word| word == 0)))
 }
 
 /// The columns of a `w`-pixel row to make, ascending, given the row's selection (`None`:
@@ -99,10 +99,11 @@ pub(crate) fn retrace(
         .enumerate()
         .map(|(j, (((rgb, mask), src), mut marks))| {
             let mut counts = RayCounts::default();
-            let Some(only) = row_of(only, j) else {
+            let (only, empty) = row_of(only, j);
+            if empty {
                 // Nothing to make in this row.
                 return counts;
-            };
+            }
             if mark {
                 marks.clear_only(only);
             }
