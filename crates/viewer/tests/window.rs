@@ -7,8 +7,10 @@
 #[expect(dead_code, reason = "shared helpers; this file runs the viewer under xvfb-run itself")]
 mod common;
 
+use std::ffi::OsStr;
 use std::fs::File;
 use std::os::unix::process::CommandExt;
+use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
@@ -20,6 +22,61 @@ const TIMEOUT: Duration = Duration::from_secs(120);
 
 fn on_path(exe: &str) -> bool {
     std::env::var_os("PATH").is_some_and(|p| std::env::split_paths(&p).any(|d| d.join(exe).is_file()))
+}
+
+/// Whether a tool the test needs is missing: then it says SKIPPED (and fails under CI,
+/// which installs them all).
+fn missing(tools: &[&str]) -> bool {
+    let absent: Vec<&str> = tools.iter().copied().filter(|t| !on_path(t)).collect();
+    if absent.is_empty() {
+        return false;
+    }
+    assert!(std::env::var_os("CI").is_none(), "{absent:?} not found, but CI must install them");
+    eprintln!("SKIPPED: {absent:?} not found — install xvfb xauth xdotool");
+    true
+}
+
+/// Runs `args` (a program and its arguments) under `xvfb-run` in `dir`, with `env` set,
+/// waits for it (killing the lot after [`TIMEOUT`]), asserts that it succeeded, and returns
+/// its stderr.
+fn under_xvfb(dir: &Path, args: &[&OsStr], env: &[(&str, &str)]) -> String {
+    let log = dir.join("stderr.txt");
+    let read = || std::fs::read_to_string(&log).unwrap_or_else(|e| panic!("{}: {e}", log.display()));
+    let mut child = Command::new("xvfb-run")
+        .args(["-a", "-s", "-screen 0 1920x1080x24"])
+        .args(args)
+        .envs(env.iter().copied())
+        .current_dir(dir)
+        .stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(File::create(&log).unwrap_or_else(|e| panic!("{}: {e}", log.display())))
+        // Its own process group, so a timeout can kill xvfb-run, Xvfb and the viewer together.
+        .process_group(0)
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot start xvfb-run: {e}"));
+    let started = Instant::now();
+    let status = loop {
+        if let Some(status) = child.try_wait().unwrap_or_else(|e| panic!("xvfb-run: {e}")) {
+            break status;
+        }
+        if started.elapsed() > TIMEOUT {
+            let _ = Command::new("kill").args(["-KILL", &format!("-{}", child.id())]).status();
+            let _ = child.wait();
+            panic!("the viewer did not exit within {TIMEOUT:?}; stderr:\n{}", read());
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    };
+    let stderr = read();
+    assert!(status.success(), "viewer failed ({status}); stderr:\n{stderr}");
+    stderr
+}
+
+/// Runs the viewer and xdotool from the shell `script` under `xvfb-run` in `dir`, as
+/// [`under_xvfb`]: the script gets the binary as `$0` and the seed scene as `$1`.
+fn scripted(dir: &Path, script: &str, env: &[(&str, &str)]) -> String {
+    let exe = OsStr::new(env!("CARGO_BIN_EXE_stereotrace"));
+    let scene = seed_scene();
+    under_xvfb(dir, &["sh".as_ref(), "-c".as_ref(), script.as_ref(), exe, scene.as_os_str()], env)
 }
 
 /// Pixel statistics of the columns `x0..x1` of an RGB image `width` wide.
@@ -61,44 +118,22 @@ fn columns(rgb: &[u8], width: u32, x0: u32, x1: u32) -> Vec<u8> {
 
 #[test]
 fn window_shows_both_eyes_under_xvfb() {
-    if !on_path("xvfb-run") {
-        assert!(std::env::var_os("CI").is_none(), "xvfb-run not found, but CI must install xvfb and xauth");
-        eprintln!("SKIPPED: xvfb-run not found — install xvfb xauth");
+    if missing(&["xvfb-run"]) {
         return;
     }
     let dir = std::env::temp_dir().join(format!("stereotrace-window-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let dump = dir.join("dump.png");
-    let log = dir.join("stderr.txt");
-    let mut child = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1920x1080x24", env!("CARGO_BIN_EXE_stereotrace")])
-        .arg("--scene")
-        .arg(seed_scene())
-        .args(["--frames", "5", "--time", "1.0", "--width", &WIDTH.to_string(), "--height", &HEIGHT.to_string()])
-        .arg("--dump")
-        .arg(&dump)
-        .current_dir(&dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(File::create(&log).unwrap())
-        // Its own process group, so a timeout can kill xvfb-run, Xvfb and the viewer together.
-        .process_group(0)
-        .spawn()
-        .expect("cannot start xvfb-run");
-    let started = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if started.elapsed() > TIMEOUT {
-            let _ = Command::new("kill").args(["-KILL", &format!("-{}", child.id())]).status();
-            let _ = child.wait();
-            panic!("the viewer did not exit within {TIMEOUT:?}; stderr:\n{}", std::fs::read_to_string(&log).unwrap());
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    };
-    let stderr = std::fs::read_to_string(&log).unwrap();
-    assert!(status.success(), "viewer failed ({status}); stderr:\n{stderr}");
+    let (width, height) = (WIDTH.to_string(), HEIGHT.to_string());
+    let scene = seed_scene();
+    let args = ["--frames", "5", "--time", "1.0", "--width", &width, "--height", &height, "--dump"];
+    let exe = OsStr::new(env!("CARGO_BIN_EXE_stereotrace"));
+    let args: Vec<&OsStr> = [exe, "--scene".as_ref(), scene.as_os_str()]
+        .into_iter()
+        .chain(args.iter().map(OsStr::new))
+        .chain([dump.as_os_str()])
+        .collect();
+    under_xvfb(&dir, &args, &[]);
 
     let (w, h, rgb) = read_rgb_png(&dump);
     assert_eq!((w, h), (WIDTH, HEIGHT), "the dump has the window's size (Xvfb scale factor 1)");
@@ -145,15 +180,12 @@ fn last_logged<'a>(log: &'a str, key: &str) -> Option<&'a str> {
 /// the eyes, F12 saves screenshots; exact mode stays identical to a full trace while moving.
 #[test]
 fn keys_move_the_head_switch_layouts_and_save_screenshots() {
-    if !on_path("xvfb-run") || !on_path("xdotool") {
-        assert!(std::env::var_os("CI").is_none(), "xvfb-run or xdotool not found, but CI must install them");
-        eprintln!("SKIPPED: xvfb-run or xdotool not found — install xvfb xauth xdotool");
+    if missing(&["xvfb-run", "xdotool"]) {
         return;
     }
     let dir = std::env::temp_dir().join(format!("stereotrace-keys-test-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let log = dir.join("stderr.txt");
     // The viewer in the background; xdotool waits for its window, then types.
     let script = r#"
         "$0" --scene "$1" --width 400 --height 200 --live-psnr --time 1.0 &
@@ -175,31 +207,7 @@ fn keys_move_the_head_switch_layouts_and_save_screenshots() {
         xdotool key Escape
         wait $viewer
     "#;
-    let mut child = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1920x1080x24", "sh", "-c", script, env!("CARGO_BIN_EXE_stereotrace")])
-        .arg(seed_scene())
-        .env("STEREOTRACE_LOG_FPS", "1")
-        .current_dir(&dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(File::create(&log).unwrap())
-        .process_group(0)
-        .spawn()
-        .expect("cannot start xvfb-run");
-    let started = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if started.elapsed() > TIMEOUT {
-            let _ = Command::new("kill").args(["-KILL", &format!("-{}", child.id())]).status();
-            let _ = child.wait();
-            panic!("the viewer did not exit within {TIMEOUT:?}; stderr:\n{}", std::fs::read_to_string(&log).unwrap());
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    };
-    let stderr = std::fs::read_to_string(&log).unwrap();
-    assert!(status.success(), "viewer failed ({status}); stderr:\n{stderr}");
+    let stderr = scripted(&dir, script, &[("STEREOTRACE_LOG_FPS", "1")]);
 
     let head = last_logged(&stderr, "head").unwrap_or_else(|| panic!("no fps log line:\n{stderr}"));
     let xyz: Vec<f32> = head.split(',').map(|v| v.parse().unwrap()).collect();
@@ -238,41 +246,22 @@ fn keys_move_the_head_switch_layouts_and_save_screenshots() {
 /// panel covers only the left eye), and differs from the eye traced at 100 %.
 #[test]
 fn a_render_scale_of_200_shows_the_supersampled_eyes() {
-    if !on_path("xvfb-run") {
-        assert!(std::env::var_os("CI").is_none(), "xvfb-run not found, but CI must install xvfb and xauth");
-        eprintln!("SKIPPED: xvfb-run not found — install xvfb xauth");
+    if missing(&["xvfb-run"]) {
         return;
     }
     let dir = std::env::temp_dir().join(format!("stereotrace-scale-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let (dump, log) = (dir.join("dump.png"), dir.join("stderr.txt"));
-    let mut child = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1920x1080x24", env!("CARGO_BIN_EXE_stereotrace")])
-        .arg("--scene")
-        .arg(seed_scene())
-        .args(["--frames", "3", "--time", "1.0", "--render-scale", "200", "--width", "800", "--height", "300"])
-        .arg("--dump")
-        .arg(&dump)
-        .current_dir(&dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(File::create(&log).unwrap())
-        .process_group(0)
-        .spawn()
-        .expect("cannot start xvfb-run");
-    let started = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if started.elapsed() > TIMEOUT {
-            let _ = Command::new("kill").args(["-KILL", &format!("-{}", child.id())]).status();
-            let _ = child.wait();
-            panic!("the viewer did not exit within {TIMEOUT:?}; stderr:\n{}", std::fs::read_to_string(&log).unwrap());
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    };
-    assert!(status.success(), "viewer failed ({status}); stderr:\n{}", std::fs::read_to_string(&log).unwrap());
+    let dump = dir.join("dump.png");
+    let scene = seed_scene();
+    let args =
+        ["--frames", "3", "--time", "1.0", "--render-scale", "200", "--width", "800", "--height", "300", "--dump"];
+    let exe = OsStr::new(env!("CARGO_BIN_EXE_stereotrace"));
+    let args: Vec<&OsStr> = [exe, "--scene".as_ref(), scene.as_os_str()]
+        .into_iter()
+        .chain(args.iter().map(OsStr::new))
+        .chain([dump.as_os_str()])
+        .collect();
+    under_xvfb(&dir, &args, &[]);
     let (w, h, rgb) = read_rgb_png(&dump);
     assert_eq!((w, h), (800, 300));
     let shown = columns(&rgb, w, 400, 800);
@@ -302,15 +291,12 @@ fn a_render_scale_of_200_shows_the_supersampled_eyes() {
 /// exactly what `stereotrace render` makes of the same frame, so no UI pixel covers an eye.
 #[test]
 fn tab_hides_the_ui_and_leaves_both_eyes_clean() {
-    if !on_path("xvfb-run") || !on_path("xdotool") {
-        assert!(std::env::var_os("CI").is_none(), "xvfb-run or xdotool not found, but CI must install them");
-        eprintln!("SKIPPED: xvfb-run or xdotool not found — install xvfb xauth xdotool");
+    if missing(&["xvfb-run", "xdotool"]) {
         return;
     }
     let dir = std::env::temp_dir().join(format!("stereotrace-tab-test-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    let log = dir.join("stderr.txt");
     let script = r#"
         "$0" --scene "$1" --width 400 --height 200 --time 1.0 --dump dump.png &
         viewer=$!
@@ -328,30 +314,7 @@ fn tab_hides_the_ui_and_leaves_both_eyes_clean() {
         xdotool key Escape
         wait $viewer
     "#;
-    let mut child = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1920x1080x24", "sh", "-c", script, env!("CARGO_BIN_EXE_stereotrace")])
-        .arg(seed_scene())
-        .current_dir(&dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(File::create(&log).unwrap())
-        .process_group(0)
-        .spawn()
-        .expect("cannot start xvfb-run");
-    let started = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap() {
-            break status;
-        }
-        if started.elapsed() > TIMEOUT {
-            let _ = Command::new("kill").args(["-KILL", &format!("-{}", child.id())]).status();
-            let _ = child.wait();
-            panic!("the viewer did not exit within {TIMEOUT:?}; stderr:\n{}", std::fs::read_to_string(&log).unwrap());
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    };
-    let stderr = std::fs::read_to_string(&log).unwrap();
-    assert!(status.success(), "viewer failed ({status}); stderr:\n{stderr}");
+    scripted(&dir, script, &[]);
 
     // The same frame headless: the viewer's defaults are the scene's camera in exact mode.
     let render = Command::new(env!("CARGO_BIN_EXE_stereotrace"))
