@@ -223,7 +223,8 @@ impl EyeView {
     pub(crate) fn primary_dirs_lanes<S: fearless_simd::Simd>(&self, simd: S, i: u32, j: u32) -> [crate::simd::F<S>; 3] {
         use crate::simd::F;
         use fearless_simd::prelude::*;
-        let columns = F::<S>::from_fn(simd, |l| (i + l as u32) as f32);
+        // (i + l) as f32, from whole lanes.
+        let columns = F::<S>::float_from(crate::simd::U::<S>::splat(simd, i) + crate::simd::lane_index(simd));
         self.primary_dirs_at(simd, columns, j)
     }
 

@@ -108,10 +108,26 @@ pub(crate) fn to_light<S: Simd>(simd: S, light: Vec3, p: [F<S>; 3]) -> ([F<S>; 3
     (each3(|a| v[a] * recip), dist)
 }
 
+/// Lane l holds 2^l (a constant to load, not lanes to write one by one: a vector written as
+/// scalars and read back whole stalls on the store-to-load forwarding).
+#[inline(always)]
+fn lane_bits<S: Simd>(simd: S) -> U<S> {
+    const BITS: [u32; 16] = [1, 2, 4, 8, 16, 32, 64, 128, 256, 512, 1024, 2048, 4096, 8192, 16384, 32768];
+    U::<S>::from_slice(simd, &BITS[..U::<S>::LEN])
+}
+
+/// Lane l holds l.
+#[inline(always)]
+pub(crate) fn lane_index<S: Simd>(simd: S) -> U<S> {
+    const INDEX: [u32; 16] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
+    U::<S>::from_slice(simd, &INDEX[..U::<S>::LEN])
+}
+
 /// A mask from bit l of `bits` for each lane l.
 #[inline(always)]
 pub(crate) fn mask_of<S: Simd>(simd: S, bits: u64) -> M<S> {
-    U::<S>::from_fn(simd, |l| u32::from(bits & (1 << l) != 0)).simd_eq(U::<S>::splat(simd, 1))
+    let bit = lane_bits(simd);
+    (U::<S>::splat(simd, bits as u32) & bit).simd_eq(bit)
 }
 
 /// Each lane's ray (origin `o`, unit direction `d`) against the sphere (`center`, `radius`):

@@ -19,7 +19,7 @@ use glam::Vec3;
 use crate::camera::EyeView;
 use crate::color::pack_rgb;
 use crate::ray::{reflect, spawn_ray, Ray};
-use crate::simd::F;
+use crate::simd::{F, U};
 use crate::stats::RayCounts;
 use crate::surface::{Hit, Surface};
 use crate::swept::Touch;
@@ -226,11 +226,12 @@ impl Wavefront {
             simd.vectorize(
                 #[inline(always)]
                 || {
-                    let columns = F::<S>::from_fn(simd, |l| level.parent[k + l] as f32);
+                    let columns = F::<S>::float_from(U::<S>::from_slice(simd, &level.parent[k..k + lanes]));
                     let d = view.primary_dirs_at(simd, columns, j);
                     let objects = &level.object[k..k + lanes];
-                    let c = crate::simd::each3(|a| F::<S>::from_fn(simd, |l| tracer.centers[objects[l] as usize][a]));
-                    let r = F::<S>::from_fn(simd, |l| tracer.radii[objects[l] as usize]);
+                    let at = (objects, lanes::one_object(objects));
+                    let c = crate::simd::each3(|a| lanes::per_object(simd, at, |o| tracer.centers[o][a]));
+                    let r = lanes::per_object(simd, at, |o| tracer.radii[o]);
                     let inf = F::<S>::splat(simd, f32::INFINITY);
                     let t = crate::simd::spheres_t(simd, origin, d, (c, r), inf);
                     crate::simd::store3::<S>(d, &mut level.d, k);

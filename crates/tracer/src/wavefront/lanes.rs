@@ -25,10 +25,29 @@ use crate::stats::RayCounts;
 use crate::surface::Hit;
 use crate::tracer::Tracer;
 
+/// The sphere all of a vector's entries hit, if they hit one (the common case: pixels side by
+/// side see one surface).
+#[inline(always)]
+pub(super) fn one_object(objects: &[u32]) -> Option<u32> {
+    let first = objects[0];
+    objects.iter().all(|&o| o == first).then_some(first)
+}
+
+/// A per-entry value of each lane's sphere, `f(sphere)`: splatted when the lanes share one
+/// (`one`, from [`one_object`]). Built lane by lane, a vector is stored as scalars and read
+/// back whole, which stalls on the store-to-load forwarding; the splat does not.
+#[inline(always)]
+pub(super) fn per_object<S: Simd>(simd: S, (objects, one): (&[u32], Option<u32>), f: impl Fn(usize) -> f32) -> F<S> {
+    match one {
+        Some(o) => F::<S>::splat(simd, f(o as usize)),
+        None => F::<S>::from_fn(simd, |l| f(objects[l] as usize)),
+    }
+}
+
 /// A per-entry value of the material of each lane's sphere.
 #[inline(always)]
 fn material<S: Simd>(simd: S, tracer: &Tracer, objects: &[u32], f: impl Fn(&crate::material::Material) -> f32) -> F<S> {
-    F::<S>::from_fn(simd, |l| f(&tracer.materials[objects[l] as usize]))
+    per_object(simd, (objects, one_object(objects)), |o| f(&tracer.materials[o]))
 }
 
 /// Scenes of up to this many spheres answer shadow and mirror rays by testing every sphere
@@ -90,41 +109,47 @@ fn closest_all<S: Simd>(
 }
 
 /// The per-lane values of a vector's spheres and materials, gathered once.
-struct Gathered {
-    center: [[f32; 16]; 3],
-    color: [[f32; 16]; 3],
-    diffuse: [f32; 16],
-    specular: [f32; 16],
+struct Gathered<S: Simd> {
+    center: [F<S>; 3],
+    color: [F<S>; 3],
+    diffuse: F<S>,
+    specular: F<S>,
     /// The whole highlight exponent (0 where it is evaluated by `powf`).
-    exponent: [u32; 16],
+    exponent: U<S>,
+    /// The bits of any lane's whole exponent.
+    exponent_bits: u32,
     /// Lanes whose exponent is evaluated by `powf`.
     real: u64,
 }
 
-impl Gathered {
+impl<S: Simd> Gathered<S> {
     #[inline(always)]
-    fn of(tracer: &Tracer, objects: &[u32]) -> Self {
-        let mut g = Self {
-            center: [[0.0; 16]; 3],
-            color: [[0.0; 16]; 3],
-            diffuse: [0.0; 16],
-            specular: [0.0; 16],
-            exponent: [0; 16],
-            real: 0,
+    fn of(simd: S, tracer: &Tracer, objects: &[u32]) -> Self {
+        let at = (objects, one_object(objects));
+        let whole = |o: usize| match tracer.exponents[o] {
+            Exponent::Whole(e) => e,
+            Exponent::Real => 0,
         };
-        for (l, &object) in objects.iter().enumerate() {
-            let (c, m) = (tracer.centers[object as usize], &tracer.materials[object as usize]);
-            for a in 0..3 {
-                g.center[a][l] = c[a];
-                g.color[a][l] = m.color[a];
-            }
-            (g.diffuse[l], g.specular[l]) = (m.diffuse, m.specular);
-            match tracer.exponents[object as usize] {
-                Exponent::Whole(e) => g.exponent[l] = e,
-                Exponent::Real => g.real |= 1 << l,
-            }
+        let is_real = |o: usize| matches!(tracer.exponents[o], Exponent::Real);
+        let (exponent, exponent_bits, real) = if let Some(o) = at.1 {
+            let real = if is_real(o as usize) { (1u64 << objects.len()) - 1 } else { 0 };
+            (U::<S>::splat(simd, whole(o as usize)), whole(o as usize), real)
+        } else {
+            let exponent = U::<S>::from_fn(simd, |l| whole(objects[l] as usize));
+            let bits = objects.iter().fold(0, |a, &o| a | whole(o as usize));
+            let real = objects.iter().enumerate().fold(0u64, |r, (l, &o)| r | u64::from(is_real(o as usize)) << l);
+            (exponent, bits, real)
+        };
+        let m = |o: usize| &tracer.materials[o];
+        Self {
+            center: each3(|a| per_object(simd, at, |o| tracer.centers[o][a])),
+            color: each3(|a| per_object(simd, at, |o| m(o).color[a])),
+            diffuse: per_object(simd, at, |o| m(o).diffuse),
+            specular: per_object(simd, at, |o| m(o).specular),
+            exponent,
+            exponent_bits,
+            real,
         }
-        g
     }
 }
 
@@ -142,13 +167,12 @@ pub(super) fn shade<S: Simd>(
     let lanes = F::<S>::LEN;
     let whole = level.len() / lanes * lanes;
     let one = F::<S>::splat(simd, 1.0);
-    let load16 = |a: &[f32; 16]| F::<S>::from_slice(simd, &a[..lanes]);
     for j in (0..whole).step_by(lanes) {
-        let g = Gathered::of(tracer, &level.object[j..j + lanes]);
+        let g = Gathered::of(simd, tracer, &level.object[j..j + lanes]);
         let d = load3(simd, &level.d, j);
         // Stage 1.
         let (o, t) = (load3(simd, &level.o, j), load(simd, &level.t, j));
-        let c = [load16(&g.center[0]), load16(&g.center[1]), load16(&g.center[2])];
+        let c = g.center;
         let p = each3(|a| o[a] + t * d[a]);
         let v = each3(|a| p[a] - c[a]);
         let recip = one / dot::<S>(v, v).sqrt();
@@ -174,14 +198,13 @@ fn light_vector<S: Simd>(
     tracer: &Tracer,
     level: &mut Level,
     j: usize,
-    (p, n, g): ([F<S>; 3], [F<S>; 3], &Gathered),
+    (p, n, g): ([F<S>; 3], [F<S>; 3], &Gathered<S>),
     first: bool,
     counts: &mut RayCounts,
 ) -> [u32; 16] {
     let lanes = F::<S>::LEN;
     let zero = F::<S>::splat(simd, 0.0);
     let all_spheres = tracer.centers.len() <= ALL_SPHERES_MAX;
-    let load16 = |a: &[f32; 16]| F::<S>::from_slice(simd, &a[..lanes]);
     let objects = &level.object[j..j + lanes];
     let mut bits = [0u32; 16];
     let objects_u = U::<S>::from_slice(simd, objects);
@@ -227,8 +250,7 @@ fn light_vector<S: Simd>(
         }
     }
     let ambient = F::<S>::splat(simd, tracer.settings.ambient);
-    let kd = load16(&g.diffuse);
-    let c = [load16(&g.color[0]), load16(&g.color[1]), load16(&g.color[2])];
+    let (kd, c) = (g.diffuse, g.color);
     store3::<S>(each3(|a| c[a] * (ambient + kd * sum[a])), &mut level.diffuse, j);
     level.lights[j..j + lanes].copy_from_slice(&bits[..lanes]);
     bits
@@ -243,20 +265,20 @@ fn highlight_vector<S: Simd>(
     objects: &[u32],
     [p, n, d]: [[F<S>; 3]; 3],
     bits: &[u32; 16],
-    g: &Gathered,
+    g: &Gathered<S>,
 ) -> [F<S>; 3] {
     let lanes = F::<S>::LEN;
     let (zero, one) = (F::<S>::splat(simd, 0.0), F::<S>::splat(simd, 1.0));
     let (u0, inf) = (U::<S>::splat(simd, 0), F::<S>::splat(simd, f32::INFINITY));
-    let ks = F::<S>::from_slice(simd, &g.specular[..lanes]);
+    let ks = g.specular;
     let shiny = ks.simd_gt(zero);
     let mut out = [zero; 3];
     if !shiny.any_true() {
         return out;
     }
     let bits = U::<S>::from_slice(simd, &bits[..lanes]);
-    let steps = 32 - g.exponent[..lanes].iter().fold(0, |a, &e| a | e).leading_zeros();
-    let e = U::<S>::from_slice(simd, &g.exponent[..lanes]);
+    let steps = 32 - g.exponent_bits.leading_zeros();
+    let e = g.exponent;
     for (k, light) in tracer.lights.iter().enumerate() {
         let bit = U::<S>::splat(simd, 1 << k);
         let lit = shiny & (bits & bit).simd_ne(u0);
