@@ -364,15 +364,15 @@ pub(super) fn mirrors<S: Simd>(
             counts.reflection += 1;
             level.reflects[e] = true;
             super::set3(&mut level.mirror, e, background);
-            let ray = Ray::new(lane3::<S>(&origin, lane), lane3::<S>(&r, lane));
+            let (o, dir) = (lane3::<S>(&origin, lane), lane3::<S>(&r, lane));
             let hit = match &found {
                 Some((t, best)) => {
                     (best[lane] != crate::surface::NO_OBJECT).then(|| Hit { t: t[lane], object: best[lane] })
                 }
-                None => tracer.intersect_from(objects[lane], lane3::<S>(&n, lane), &ray),
+                None => tracer.intersect_from(objects[lane], lane3::<S>(&n, lane), &Ray::new(o, dir)),
             };
             if let Some(hit) = hit {
-                next.push(ray.origin, ray.dir, hit.t, hit.object, e as u32, None);
+                next.push(o, dir, hit.t, hit.object, e as u32, None);
             }
         }
     }
