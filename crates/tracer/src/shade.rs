@@ -62,6 +62,16 @@ impl Tracer {
         }
     }
 
+    /// The linear radiance the plain path finds for pixel (i, j) of `view`, before it is
+    /// packed; `None` for a miss (a test oracle for the batched shading, whose packed
+    /// colours alone would hide differences below an sRGB step).
+    #[cfg(test)]
+    pub(crate) fn pixel_radiance(&self, view: &EyeView, i: u32, j: u32) -> Option<Vec3> {
+        let ray = view.primary_ray(i, j);
+        let hit = self.intersect(&ray, f32::INFINITY)?;
+        Some(self.shade_hit(&ray, hit.t, hit.object, 0, &mut RayCounts::default()).0)
+    }
+
     /// Shades the first hit of a primary ray, casting its shadow and reflection rays.
     #[inline]
     pub(crate) fn shade_primary_hit(

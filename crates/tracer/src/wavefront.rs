@@ -203,6 +203,38 @@ impl Wavefront {
         self.levels[0].push(ray.origin, ray.dir, hit.t, hit.object, tag, known);
     }
 
+    /// Adds a whole vector of samples whose primary rays from `origin` along `d` all meet a
+    /// sphere (at `t`, sphere `objects`): those of the pixels `column + l` of a row, lane by
+    /// lane, tagged with their columns; what [`Wavefront::push_hit`] would add for each, in
+    /// vector stores.
+    #[expect(
+        clippy::inline_always,
+        reason = "runs inside the dispatched primary-ray kernel; out of line it loses the kernel's target features"
+    )]
+    #[inline(always)]
+    pub(crate) fn push_lanes<S: Simd>(
+        &mut self,
+        simd: S,
+        origin: Vec3,
+        (t, objects, d): (F<S>, U<S>, [F<S>; 3]),
+        column: u32,
+    ) {
+        let level = &mut self.levels[0];
+        let (e, lanes) = (level.used, F::<S>::LEN);
+        level.reserve(e + lanes);
+        let entries = e..e + lanes;
+        crate::simd::store3::<S>(d, &mut level.d, e);
+        crate::simd::store3::<S>(d, &mut level.v, e);
+        crate::simd::store3::<S>(crate::simd::splat3(simd, origin), &mut level.o, e);
+        t.store_slice(&mut level.t[entries.clone()]);
+        objects.store_slice(&mut level.object[entries.clone()]);
+        (U::<S>::splat(simd, column) + crate::simd::lane_index(simd)).store_slice(&mut level.parent[entries.clone()]);
+        level.lights[entries.clone()].fill(0);
+        level.known[entries.clone()].fill(false);
+        level.reflects[entries].fill(false);
+        level.used = e + lanes;
+    }
+
     /// Adds a sample of pixel (`column`, row) whose primary ray from `origin` is still to be
     /// aimed at the one sphere `object` ([`Wavefront::aim_named`]); `known` are its light
     /// bits. Its tag is the column.
@@ -414,6 +446,12 @@ impl Wavefront {
     #[inline(always)]
     pub(crate) fn rgb(&self, e: usize) -> u32 {
         pack_rgb(get3(&self.levels[0].radiance, e))
+    }
+
+    /// Sample `e`'s linear radiance, once shaded.
+    #[cfg(test)]
+    pub(crate) fn radiance(&self, e: usize) -> Vec3 {
+        get3(&self.levels[0].radiance, e)
     }
 
     /// Sample `e`'s hit point, hit parameter, object and light bits (its record's keys).
