@@ -239,10 +239,24 @@ impl EyeView {
     ) -> [crate::simd::F<S>; 3] {
         use crate::simd::F;
         use fearless_simd::prelude::*;
+        self.primary_dirs_rows(simd, columns, F::<S>::splat(simd, j as f32))
+    }
+
+    /// The primary ray directions of pixels (`columns[l]`, `rows[l]`), one per lane (each a
+    /// whole number, as f32), by [`EyeView::primary_dirs4`]'s operations lane by lane.
+    #[inline(always)]
+    pub(crate) fn primary_dirs_rows<S: fearless_simd::Simd>(
+        &self,
+        simd: S,
+        columns: crate::simd::F<S>,
+        rows: crate::simd::F<S>,
+    ) -> [crate::simd::F<S>; 3] {
+        use crate::simd::F;
+        use fearless_simd::prelude::*;
         let splat = |x: f32| F::<S>::splat(simd, x);
         let x = ((columns + splat(0.5)) * splat(self.inv_width) - splat(0.5)) * splat(self.window_width);
-        let y = (0.5 - (j as f32 + 0.5) * self.inv_height) * self.window_height;
-        let (hx, hy, hz) = (x - splat(self.eye_x), splat(y), splat(self.distance));
+        let y = (splat(0.5) - (rows + splat(0.5)) * splat(self.inv_height)) * splat(self.window_height);
+        let (hx, hy, hz) = (x - splat(self.eye_x), y, splat(self.distance));
         let (a, b, c) = (self.world_from_head.x_axis, self.world_from_head.y_axis, self.world_from_head.z_axis);
         let wx = (hx * splat(a.x) + hy * splat(b.x)) + hz * splat(c.x);
         let wy = (hx * splat(a.y) + hy * splat(b.y)) + hz * splat(c.y);

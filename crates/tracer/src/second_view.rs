@@ -195,13 +195,16 @@ impl<'a> SecondView<'a> {
     ) {
         debug_assert_ne!(film.record(), crate::Record::Colour, "re-shading needs the other eye's record");
         let (view, w) = (self.eye.view, film.width());
+        let row = j * w..(j + 1) * w;
         with_wavefront(|wavefront| {
             for (i, s) in items {
                 let k = s as usize;
-                let ray = other.primary_ray(s % w, s / w);
+                // A source is on this row unless the views are not a stereo pair's.
+                let source = if row.contains(&s) { (s - row.start, j) } else { (s % w, s / w) };
                 let hit = Hit { t: film.t[k], object: film.object[k] };
-                wavefront.push_seen(&ray, hit, film.lights[k], view.primary_ray(i, j).dir, i);
+                wavefront.push_seen_at(i, source, hit, film.lights[k]);
             }
+            wavefront.aim_seen(view, j, other);
             wavefront.shade(self.eye.tracer, counts);
             self.mark_batch(wavefront, j, false);
             for e in 0..wavefront.len() {
@@ -363,6 +366,37 @@ mod tests {
             });
         }
         assert!(reshaded > 100, "the view sees spheres: {reshaded}");
+    }
+
+    #[test]
+    fn a_surface_reshaded_for_the_other_eye_is_the_plain_paths() {
+        // Right pixel i of row j re-shades left pixel i + 5 of row j (a source on its own
+        // row, the stereo pair's case) or, every seventh pixel, of row j + 1 (any other).
+        let scene = scene("seed.toml");
+        let tracer = Tracer::new(&scene, 0.3);
+        let (w, h) = (64, 36);
+        let (lv, rv) = (scene.camera.view(Eye::Left, w, h), scene.camera.view(Eye::Right, w, h));
+        let mut film = Film::new(1, 1);
+        Renderer::new().render_keeping(&tracer, &lv, &mut film, crate::Record::Keys);
+        let mut renderer = Renderer::new();
+        let second = renderer.second_view(&tracer, &rv);
+        let (mut counts, mut reshaded) = (RayCounts::default(), [0; 2]);
+        let source = |i: u32, j: u32| if i % 7 == 3 { ((i + 5) % w, (j + 1) % h) } else { ((i + 5) % w, j) };
+        for j in 0..h {
+            let items = (0..w)
+                .map(|i| (i, source(i, j)))
+                .filter(|&(_, (si, sj))| film.object[(sj * w + si) as usize] != NO_OBJECT)
+                .map(|(i, (si, sj))| (i, sj * w + si));
+            second.reshade(j, (&lv, &film), items, &mut counts, |i, rgb, _| {
+                let (si, sj) = source(i, j);
+                let k = (sj * w + si) as usize;
+                let keys = (film.t[k], film.object[k], film.lights[k]);
+                let d = rv.primary_ray(i, j).dir;
+                assert_eq!(rgb, tracer.reshaded_rgb(&lv.primary_ray(si, sj), keys, d), "({i}, {j})");
+                reshaded[usize::from(sj != j)] += 1;
+            });
+        }
+        assert!(reshaded[0] > 100 && reshaded[1] > 10, "sources on the row and off it: {reshaded:?}");
     }
 
     #[test]

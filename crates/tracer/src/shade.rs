@@ -72,6 +72,18 @@ impl Tracer {
         Some(self.shade_hit(&ray, hit.t, hit.object, 0, &mut RayCounts::default()).0)
     }
 
+    /// The plain path's re-shading (a test oracle for [`crate::SecondView::reshade`]): the
+    /// surface that `ray` (another view's) met at `t` on `object`, lit by the lights
+    /// `lights` names, seen along the unit direction `d`, packed.
+    #[cfg(test)]
+    pub(crate) fn reshaded_rgb(&self, ray: &Ray, (t, object, lights): (f32, u32, u32), d: Vec3) -> u32 {
+        let p = ray.at(t);
+        let n = (p - self.centers[object as usize]).normalize();
+        let (diffuse, lights) = self.diffuse_light(object, p, n, |k, _, _| lights & (1 << k) != 0);
+        let surface = Surface { point: p, normal: n, diffuse, object, lights };
+        pack_rgb(diffuse + self.view_dependent(&surface, d, 0, &mut RayCounts::default()))
+    }
+
     /// Shades the first hit of a primary ray, casting its shadow and reflection rays.
     #[inline]
     pub(crate) fn shade_primary_hit(

@@ -87,6 +87,9 @@ struct Level {
     mirror_hit: Vec<bool>,
     /// Scratch of the marking: whether the entry's own ray is to be tested.
     own: Vec<bool>,
+    /// Level 0 of a re-shaded batch, until aimed ([`Wavefront::aim_seen`]): the pixel of
+    /// the other view whose ray found the entry, as column and row.
+    source: [Vec<u32>; 2],
 }
 
 impl Level {
@@ -127,6 +130,9 @@ impl Level {
         self.touch.resize(n, Touch::NONE);
         self.mirror_hit.resize(n, false);
         self.own.resize(n, false);
+        for c in &mut self.source {
+            c.resize(n, 0);
+        }
     }
 
     /// Moves entry `from` to `to` (the columns a sample has before it is shaded).
@@ -320,15 +326,56 @@ impl Wavefront {
         &mut self.missed
     }
 
-    /// Adds a sample that another view's ray `ray` saw meet `hit`, with light bits `known`,
-    /// to be shaded as seen along the unit direction `view` (this view's pixel ray): the
-    /// point, normal and view-independent light come out as the other view's, bit for bit,
-    /// and the highlights and mirror ray are this view's.
-    pub(crate) fn push_seen(&mut self, ray: &Ray, hit: Hit, known: u32, view: Vec3, tag: u32) {
+    /// Adds a sample of pixel `column` of a row of this view: what the ray of pixel `source`
+    /// (column, row) of another view saw meet `hit`, with light bits `known`, to be shaded
+    /// as seen along this pixel's ray. The point, normal and view-independent light come out
+    /// as the other view's, bit for bit, and the highlights and mirror ray are this view's.
+    /// Both rays are made later, all at once, by [`Wavefront::aim_seen`].
+    pub(crate) fn push_seen_at(&mut self, column: u32, source: (u32, u32), hit: Hit, known: u32) {
         let level = &mut self.levels[0];
-        let e = level.len();
-        level.push(ray.origin, ray.dir, hit.t, hit.object, tag, Some(known));
-        set3(&mut level.v, e, view);
+        let e = level.used;
+        level.reserve(e + 1);
+        level.t[e] = hit.t;
+        level.object[e] = hit.object;
+        level.parent[e] = column;
+        level.lights[e] = known;
+        level.known[e] = true;
+        level.reflects[e] = false;
+        (level.source[0][e], level.source[1][e]) = source;
+        level.used = e + 1;
+    }
+
+    /// Makes the rays of the samples [`Wavefront::push_seen_at`] added, in lanes: each one's
+    /// ray from `other` (the view whose pixel found it), and the direction it is seen along
+    /// from row `j` of `view`. Bit-for-bit the rays of [`EyeView::primary_ray`].
+    pub(crate) fn aim_seen(&mut self, view: &EyeView, j: u32, other: &EyeView) {
+        dispatch!(crate::simd::level(), simd => simd.vectorize(
+            #[inline(always)]
+            || self.aim_seen_in(simd, view, j, other),
+        ));
+    }
+
+    #[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
+    #[inline(always)]
+    fn aim_seen_in<S: Simd>(&mut self, simd: S, view: &EyeView, j: u32, other: &EyeView) {
+        let level = &mut self.levels[0];
+        let (n, lanes) = (level.len(), F::<S>::LEN);
+        // Whole vectors: the lanes past the last sample aim at pixel (0, 0) and are ignored.
+        let padded = n.div_ceil(lanes) * lanes;
+        level.reserve(padded);
+        level.parent[n..padded].fill(0);
+        for c in &mut level.source {
+            c[n..padded].fill(0);
+        }
+        let origin = crate::simd::splat3(simd, other.origin);
+        for k in (0..n).step_by(lanes) {
+            let at = |c: &[u32]| F::<S>::float_from(U::<S>::from_slice(simd, &c[k..k + lanes]));
+            let own = view.primary_dirs_at(simd, at(&level.parent), j);
+            let seen = other.primary_dirs_rows(simd, at(&level.source[0]), at(&level.source[1]));
+            crate::simd::store3::<S>(own, &mut level.v, k);
+            crate::simd::store3::<S>(seen, &mut level.d, k);
+            crate::simd::store3::<S>(origin, &mut level.o, k);
+        }
     }
 
     /// Shades every sample of the batch, counting the shadow and mirror rays cast.
