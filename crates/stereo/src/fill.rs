@@ -114,41 +114,32 @@ pub(crate) fn fill(
         .reduce(Filled::default, Filled::add)
 }
 
-/// Whether a pixel of class `class` whose source is left pixel `s` is shaded by stage 5:
-/// it is reprojected, and its source saw a surface rather than the background.
+/// The source `s` of a pixel of class `class` if stage 5 shades it: the pixel is
+/// reprojected and its source on the `left` film saw a surface. A reprojected pixel whose
+/// source saw background takes that colour into `rgb` instead.
 #[inline]
-fn sees_surface(left: &Film, class: PixelClass, s: u32) -> bool {
-    class == PixelClass::Reprojected && left.object[s as usize] != NO_OBJECT
-}
-
-/// Gives each reprojected pixel of a row (of those `only` names) whose source saw
-/// background its source's colour. Returns how many others there are: the pixels that
-/// stage 5 shades.
-fn keep_background(left: &Film, rgb: &mut [u32], (mask, src): (&[PixelClass], &[u32]), only: Option<&[u64]>) -> u64 {
-    let mut named = 0;
-    for i in chosen(only, rgb.len()).map(|i| i as usize) {
-        let (class, s, rgb) = (mask[i], src[i], &mut rgb[i]);
-        if class == PixelClass::Reprojected {
-            if left.object[s as usize] == NO_OBJECT {
-                *rgb = left.rgb[s as usize];
-            } else {
-                named += 1;
-            }
-        }
+fn seen(left: &Film, (class, s): (PixelClass, u32), rgb: &Cell<u32>) -> Option<u32> {
+    if class != PixelClass::Reprojected {
+        return None;
     }
-    named
+    if left.object[s as usize] == NO_OBJECT {
+        rgb.set(left.rgb[s as usize]);
+        return None;
+    }
+    Some(s)
 }
 
 /// One row of [`Fill::Reshade`]: the surfaces seen, re-shaded as one list.
 fn reshade_row(right: SecondView<'_>, (lv, left): (&EyeView, &Film), row: Row<'_>) -> Filled {
     let Row { j, rgb, mask, src, only, mut marks } = row;
-    keep_background(left, rgb, (mask, src), only);
     let mut rays = RayCounts::default();
-    let items = chosen(only, rgb.len())
-        .filter(|&i| sees_surface(left, mask[i as usize], src[i as usize]))
-        .map(|i| (i, src[i as usize]));
+    let rgb = Cell::from_mut(rgb).as_slice_of_cells();
+    let items = chosen(only, rgb.len()).filter_map(|i| {
+        let k = i as usize;
+        Some((i, seen(left, (mask[k], src[k]), &rgb[k])?))
+    });
     right.reshade(j, (lv, left), items, &mut rays, |i, c, touch| {
-        rgb[i as usize] = c;
+        rgb[i as usize].set(c);
         if let Some(marks) = marks.as_mut() {
             marks.set(i, touch);
         }
@@ -157,20 +148,23 @@ fn reshade_row(right: SecondView<'_>, (lv, left): (&EyeView, &Film), row: Row<'_
 }
 
 /// One row of [`Fill::Exact`]: each pixel's own ray against the sphere its source saw, as
-/// one list; the silhouettes it misses are retraced and marked edges.
+/// one list; the silhouettes it misses are retraced and marked edges. A pixel whose source
+/// saw background takes its colour as the list is made (one pass over the row).
 fn exact_row(right: SecondView<'_>, left: &Film, row: Row<'_>) -> Filled {
     let Row { j, rgb, mask, src, only, mut marks } = row;
-    let sphere_tests = keep_background(left, rgb, (mask, src), only);
     let mut rays = RayCounts::default();
-    // The list is read while the silhouettes it has passed are marked.
-    let mask = Cell::from_mut(mask).as_slice_of_cells();
-    let items =
-        chosen(only, rgb.len()).filter(|&i| sees_surface(left, mask[i as usize].get(), src[i as usize])).map(|i| {
-            let s = src[i as usize] as usize;
-            (i, left.object[s], left.lights[s])
-        });
+    // The list is read while the pixels it has passed are written and the silhouettes
+    // among them marked.
+    let (rgb, mask) = (Cell::from_mut(rgb).as_slice_of_cells(), Cell::from_mut(mask).as_slice_of_cells());
+    let named = Cell::new(0);
+    let items = chosen(only, rgb.len()).filter_map(|i| {
+        let k = i as usize;
+        let s = seen(left, (mask[k].get(), src[k]), &rgb[k])? as usize;
+        named.set(named.get() + 1);
+        Some((i, left.object[s], left.lights[s]))
+    });
     right.shade_on(j, items, &mut rays, |i, c, retraced, touch| {
-        rgb[i as usize] = c;
+        rgb[i as usize].set(c);
         if let Some(marks) = marks.as_mut() {
             marks.set(i, touch);
         }
@@ -178,5 +172,5 @@ fn exact_row(right: SecondView<'_>, left: &Film, row: Row<'_>) -> Filled {
             mask[i as usize].set(PixelClass::RetracedEdge);
         }
     });
-    Filled { rays, sphere_tests }
+    Filled { rays, sphere_tests: named.get() }
 }

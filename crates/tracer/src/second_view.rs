@@ -232,7 +232,7 @@ impl<'a> SecondView<'a> {
         let mut out_tagged = |tag: u32, rgb: u32, touch: Touch| out(tag & !RETRACED, rgb, tag & RETRACED != 0, touch);
         with_wavefront(|wavefront| {
             for (i, object, lights) in items {
-                wavefront.push_named(view.origin, i, object, lights);
+                wavefront.push_named(i, object, lights);
             }
             wavefront.aim_named(view, j, tracer);
             // The silhouettes the named spheres missed: full primary rays, four at a time.

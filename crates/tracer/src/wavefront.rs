@@ -244,8 +244,17 @@ impl Wavefront {
     /// Adds a sample of pixel (`column`, row) whose primary ray from `origin` is still to be
     /// aimed at the one sphere `object` ([`Wavefront::aim_named`]); `known` are its light
     /// bits. Its tag is the column.
-    pub(crate) fn push_named(&mut self, origin: Vec3, column: u32, object: u32, known: u32) {
-        self.levels[0].push(origin, Vec3::ZERO, f32::NAN, object, column, Some(known));
+    pub(crate) fn push_named(&mut self, column: u32, object: u32, known: u32) {
+        // The ray (origin, direction, `t`) is made by `aim_named`.
+        let level = &mut self.levels[0];
+        let e = level.used;
+        level.reserve(e + 1);
+        level.object[e] = object;
+        level.parent[e] = column;
+        level.lights[e] = known;
+        level.known[e] = true;
+        level.reflects[e] = false;
+        level.used = e + 1;
     }
 
     /// Aims the samples [`Wavefront::push_named`] added, all of row `j` of `view`: each
@@ -265,10 +274,10 @@ impl Wavefront {
             (level.parent[e], level.object[e]) = (0, 0);
         }
         let origin = crate::simd::splat3(simd, view.origin);
-        for k in (0..n).step_by(lanes) {
-            simd.vectorize(
-                #[inline(always)]
-                || {
+        simd.vectorize(
+            #[inline(always)]
+            || {
+                for k in (0..n).step_by(lanes) {
                     let columns = F::<S>::float_from(U::<S>::from_slice(simd, &level.parent[k..k + lanes]));
                     let d = view.primary_dirs_at(simd, columns, j);
                     let objects = &level.object[k..k + lanes];
@@ -277,12 +286,13 @@ impl Wavefront {
                     let r = lanes::per_object(simd, at, |o| tracer.radii[o]);
                     let inf = F::<S>::splat(simd, f32::INFINITY);
                     let t = crate::simd::spheres_t(simd, origin, d, (c, r), inf);
+                    crate::simd::store3::<S>(origin, &mut level.o, k);
                     crate::simd::store3::<S>(d, &mut level.d, k);
                     crate::simd::store3::<S>(d, &mut level.v, k);
                     t.store_slice(&mut level.t[k..k + lanes]);
-                },
-            );
-        }
+                }
+            },
+        );
         // Keep the hits, in order; list the misses.
         self.missed.clear();
         let mut kept = 0;
