@@ -105,7 +105,10 @@ impl Compositor {
         let (fw, fh) = frame.size();
         let (fw, fh) = (fw as usize, fh as usize);
         let n = fw * fh;
-        let complete = frame.left.len() == n && frame.right.len() == n && frame.mask_overlay.len() == n;
+        let complete = frame.left.len() == n && frame.right.len() == n;
+        // The frame the mask was switched on in may not have its colours yet: it shows
+        // without them, and the next frame has them.
+        let show_mask = look.show_mask && frame.mask_overlay.len() == n;
         if ew == 0 || fw == 0 || fh == 0 || !complete {
             dst.fill(BACKGROUND);
             return false;
@@ -115,7 +118,7 @@ impl Compositor {
         let columns = &self.columns;
         // Same width: whole rows are copied, not gathered column by column.
         let direct = fw == ew;
-        let Look { layout, swap, show_mask } = look;
+        let Look { layout, swap, .. } = look;
         let (left, right, mask) = (&frame.left, &frame.right, &frame.mask_overlay);
         let anaglyph = (layout == Layout::Anaglyph && frame.anaglyph.len() == fw * fh).then_some(&frame.anaglyph);
         let halves = if layout == Layout::Anaglyph { Layout::SideBySide } else { layout };
@@ -182,6 +185,7 @@ mod tests {
             samples: (w, h),
             psnr: false,
             anaglyph: false,
+            overlay: true,
             swap: false,
             reuse: false,
             light: None,
@@ -250,6 +254,21 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn the_mask_blends_over_the_right_eye_once_its_colours_arrive() {
+        let mut f = frame(4, 2);
+        let mut dst = vec![0; 8 * 2];
+        let mut c = Compositor::default();
+        assert!(c.compose(&mut dst, 8, 2, &f, look(Layout::SideBySide, false, true)));
+        let blended: Vec<u32> = f.right[0..4].iter().map(|&p| blend_half(p, f.mask_overlay[0])).collect();
+        assert_eq!(&dst[4..8], &blended[..]);
+        // The frame the mask was switched on in has no colours yet: the eye shows plain.
+        f.mask_overlay.clear();
+        assert!(c.compose(&mut dst, 8, 2, &f, look(Layout::SideBySide, false, true)));
+        assert_eq!(&dst[4..8], &f.right[0..4]);
+        assert_eq!(&dst[0..4], &f.left[0..4]);
     }
 
     #[test]

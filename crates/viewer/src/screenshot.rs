@@ -163,6 +163,7 @@ mod tests {
             samples: (4, 2),
             psnr: false,
             anaglyph: false,
+            overlay: false,
             swap: false,
             reuse: false,
             light: None,

@@ -240,6 +240,7 @@ impl Settings {
             psnr: self.live_psnr,
             reuse: self.reuse,
             anaglyph,
+            overlay: self.show_mask,
             swap: anaglyph && self.swap_eyes,
             light: self.light,
         }

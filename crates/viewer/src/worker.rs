@@ -54,6 +54,9 @@ pub struct Request {
     pub psnr: bool,
     /// Also make the red–cyan anaglyph of the pair.
     pub anaglyph: bool,
+    /// Also make the debug mask's colours ([`Finished::mask_overlay`]): only while the
+    /// overlay is shown, since they cost a pass over the eye every frame.
+    pub overlay: bool,
     /// Reuse the unchanged pixels of the last frame when only the scene time moved
     /// (`stereo`'s `reuse.rs`).
     pub reuse: bool,
@@ -96,7 +99,8 @@ pub struct Finished {
     /// How each right sample was made, [`Finished::samples`] in size.
     pub mask: Vec<PixelClass>,
     /// The mask's colours (`stereo::mask_color`) at the eye size, each pixel's samples
-    /// filtered together as the eyes are: what the overlay shows.
+    /// filtered together as the eyes are: what the overlay shows. Empty unless the request
+    /// asked for them ([`Request::overlay`]).
     pub mask_overlay: Vec<u32>,
     /// The red–cyan anaglyph (`0x00RRGGBB`) when the request asked for it, else empty.
     pub anaglyph: Vec<u32>,
@@ -124,7 +128,11 @@ impl Finished {
         stereo::downsample(&frame.right().rgb, samples, &mut self.right, eye);
         // The right pixels a reused frame kept show in the mask's "kept" colour.
         let made = frame.made().map(|(_, right)| right);
-        stereo::downsample_mask_kept(frame.mask(), made, samples, &mut self.mask_overlay, eye);
+        if request.overlay {
+            stereo::downsample_mask_kept(frame.mask(), made, samples, &mut self.mask_overlay, eye);
+        } else {
+            self.mask_overlay.clear();
+        }
         self.mask.clear();
         self.mask.extend_from_slice(frame.mask());
         if request.anaglyph {
@@ -330,6 +338,7 @@ mod tests {
             samples: (width, 24),
             psnr,
             anaglyph: psnr,
+            overlay: true,
             swap: false,
             reuse: false,
             light: None,
@@ -418,6 +427,16 @@ mod tests {
         let mut reference = Reference::default();
         reference.trace(&tracer, &req.camera, 64, 48);
         assert_eq!(info.quality, Some(reference.compare_filtered(&right, (64, 48), (32, 24))), "the filtered eyes");
+    }
+
+    #[test]
+    fn the_mask_colours_are_made_only_when_asked_for() {
+        let mut worker = Worker::spawn_with_memory(scene(), None).unwrap();
+        worker.post(Request { overlay: false, ..request(32, false) });
+        let f = wait_for(&mut worker, 1);
+        assert!(f.mask_overlay.is_empty() && f.mask.len() == 32 * 24, "no colours, the mask still kept");
+        worker.post(request(32, false));
+        assert_eq!(wait_for(&mut worker, 2).mask_overlay.len(), 32 * 24, "asked for: one per pixel");
     }
 
     #[test]
