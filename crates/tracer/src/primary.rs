@@ -25,7 +25,7 @@
 //!
 //! **Exactness.** Binning only decides which spheres to *test*; the test itself is the
 //! BVH's lane arithmetic on the same values, so a listed sphere yields bit-for-bit the `t`
-//! it would in the BVH (see `SphereFromOrigin::hits4`), and the four rays are bit-for-bit
+//! it would in the BVH (`simd.rs`'s `nearest_root`), and the rays are bit-for-bit
 //! [`EyeView::primary_ray`]'s. For the result to equal [`Tracer::trace_pixel`]'s, the
 //! bound must never miss a sphere the f32 test would report. It is computed in f64 with
 //! the radius grown by 10⁻⁴ of the distance (the f32 test's perpendicular distance is good
@@ -34,13 +34,11 @@
 
 use fearless_simd::{prelude::*, Simd};
 use glam::{DVec3, Vec3};
-use wide::f32x4;
 
 use crate::camera::EyeView;
-use crate::ray::Ray;
 use crate::simd::{each3, nearest_root, F, U};
 use crate::sphere::SphereFromOrigin;
-use crate::surface::{Hit, NO_OBJECT};
+use crate::surface::NO_OBJECT;
 use crate::tracer::Tracer;
 
 /// Tile edge in pixels.
@@ -210,27 +208,6 @@ impl PrimaryBins {
     pub(crate) fn is_empty_at(&self, i: u32, j: u32) -> bool {
         self.spheres_at(i, j).is_empty()
     }
-
-    /// First hits of the primary rays `dirs` of pixels (i + k, j), k = 0..4, all in the
-    /// tile of pixel (i, j): per lane the hit parameter (+∞ for none) and sphere id.
-    #[inline]
-    fn closest4(&self, i: u32, j: u32, dirs: [f32x4; 3]) -> ([f32; 4], [u32; 4]) {
-        let mut t_best = f32x4::splat(f32::INFINITY);
-        let mut best = [u32::MAX; 4];
-        for s in self.spheres_at(i, j) {
-            let t = s.hits4(dirs, t_best);
-            let nearer = t.simd_lt(t_best);
-            if nearer.any() {
-                t_best = nearer.bitselect(t, t_best);
-                for (lane, b) in best.iter_mut().enumerate() {
-                    if nearer.as_array()[lane] != 0.0 {
-                        *b = s.id;
-                    }
-                }
-            }
-        }
-        (t_best.to_array(), best)
-    }
 }
 
 /// One eye's view with its screen bins built: traces that view's primary rays.
@@ -267,26 +244,6 @@ impl BinnedView<'_> {
         }
         (t_best, best, d)
     }
-
-    /// The first hits of the primary rays of pixels (i + k, j), k = 0..n (n ≤ 4), which lie
-    /// in one tile: per lane the ray and what it meets, `None` for a lane beyond `n` or a
-    /// ray that meets nothing. The rays are [`EyeView::primary_ray`]'s and the hits
-    /// [`Tracer::intersect`]'s, bit for bit.
-    #[inline]
-    pub(crate) fn hits4(&self, i: u32, j: u32, n: usize) -> [Option<(Ray, Hit)>; 4] {
-        if self.bins.is_empty_at(i, j) {
-            return [None; 4];
-        }
-        let view = self.view;
-        let dirs = view.primary_dirs4(i, j);
-        let (t, ids) = self.bins.closest4(i, j, dirs);
-        std::array::from_fn(|k| {
-            (k < n && t[k].is_finite()).then(|| {
-                let dir = Vec3::new(dirs[0].as_array()[k], dirs[1].as_array()[k], dirs[2].as_array()[k]);
-                (Ray::new(view.origin, dir), Hit { t: t[k], object: ids[k] })
-            })
-        })
-    }
 }
 
 #[cfg(test)]
@@ -294,6 +251,7 @@ mod tests {
     use super::*;
     use crate::camera::{Camera, Eye};
     use crate::scene::Scene;
+    use crate::surface::Hit;
 
     fn scene(name: &str) -> Scene {
         let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -301,10 +259,11 @@ mod tests {
         Scene::from_toml(&text, &path).expect("valid scene")
     }
 
-    /// Every pixel's first hit through the bins is the BVH's, four at a time (the last group
-    /// short where the row ends), and the rays are the view's.
+    /// Every pixel's first hit through the bins is the BVH's, a vector of lanes at a time
+    /// (the last group short where the row ends), and the rays are the view's.
     fn assert_same_as_bvh(scene: &Scene, camera: &Camera, t: f32, w: u32, h: u32) {
         let tracer = Tracer::new(scene, t);
+        let lanes = crate::simd::lane_width() as u32;
         for eye in [Eye::Left, Eye::Right] {
             let view = camera.view(eye, w, h);
             let mut bins = PrimaryBins::default();
@@ -312,18 +271,27 @@ mod tests {
             let binned = BinnedView { tracer: &tracer, view: &view, bins: &bins };
             let mut hits = 0;
             for j in 0..h {
-                for i in (0..w).step_by(4) {
-                    let n = (w - i).min(4) as usize;
-                    let four = binned.hits4(i, j, n);
-                    for (k, got) in four.into_iter().enumerate() {
-                        let ray = view.primary_ray(i + k as u32, j);
-                        let want = (k < n).then(|| tracer.intersect(&ray, f32::INFINITY)).flatten();
-                        let key = |h: Option<Hit>| h.map(|h| (h.t.to_bits(), h.object));
-                        assert_eq!(key(got.map(|g| g.1)), key(want), "{eye:?} pixel ({i} + {k}, {j})");
-                        if let Some((r, _)) = got {
-                            assert_eq!(r, ray, "{eye:?} pixel ({i} + {k}, {j}): the view's ray");
-                            hits += 1;
+                for i in (0..w).step_by(lanes as usize) {
+                    let (t, ids, d) = fearless_simd::dispatch!(crate::simd::level(), simd => simd.vectorize(|| {
+                        let (t, ids, d) = binned.hits_lanes(simd, i, j);
+                        let mut out = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
+                        let n = t.as_slice().len();
+                        out.0[..n].copy_from_slice(t.as_slice());
+                        out.1[..n].copy_from_slice(ids.as_slice());
+                        for (column, v) in out.2.iter_mut().zip(&d) {
+                            column[..n].copy_from_slice(v.as_slice());
                         }
+                        out
+                    }));
+                    for k in 0..(w - i).min(lanes) as usize {
+                        let ray = view.primary_ray(i + k as u32, j);
+                        let want = tracer.intersect(&ray, f32::INFINITY);
+                        let got = t[k].is_finite().then(|| Hit { t: t[k], object: ids[k] });
+                        let key = |h: Option<Hit>| h.map(|h| (h.t.to_bits(), h.object));
+                        assert_eq!(key(got), key(want), "{eye:?} pixel ({i} + {k}, {j})");
+                        let dir = Vec3::new(d[0][k], d[1][k], d[2][k]);
+                        assert_eq!(dir, ray.dir, "{eye:?} pixel ({i} + {k}, {j}): the view's ray");
+                        hits += usize::from(got.is_some());
                     }
                 }
             }

@@ -18,7 +18,7 @@ use crate::film::{Film, Record};
 use crate::marks::{Marks, MarksRow, Rewrite};
 use crate::primary::{BinnedView, PrimaryBins, TILE};
 use crate::ray::Ray;
-use crate::second_view::{by_quads, SecondView};
+use crate::second_view::{by_lanes, SecondView};
 use crate::simd::F;
 use crate::stats::RayCounts;
 use crate::surface::{Hit, Shading, NO_OBJECT};
@@ -254,7 +254,7 @@ fn trace_only(
     if let Some(marks) = marks.as_mut() {
         marks.clear_only(Some(only));
     }
-    by_quads(bits::ones(only).map(|i| (i, ())), |base, mask, _| {
+    by_lanes(bits::ones(only), SecondView::lanes(), |base, mask| {
         counts.primary += u64::from(mask.count_ones());
         second.push_traced(wavefront, base, j, mask, 0, &mut |i, rgb, touch| {
             sink.background(i as usize..i as usize + 1, rgb);

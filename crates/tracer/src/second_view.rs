@@ -24,11 +24,14 @@
 //! same point from either eye, so its bits hold for the second view as for the first; only
 //! what depends on the direction of view is recomputed.
 
+use fearless_simd::{dispatch, prelude::*, Simd};
 use glam::Vec3;
 
 use crate::camera::EyeView;
 use crate::film::Film;
 use crate::primary::BinnedView;
+use crate::ray::Ray;
+use crate::simd::F;
 use crate::stats::RayCounts;
 use crate::surface::Hit;
 use crate::swept::Touch;
@@ -46,32 +49,25 @@ pub struct SecondView<'a> {
 /// Marks a tag of [`SecondView::shade_on`] whose pixel was retraced.
 const RETRACED: u32 = 1 << 31;
 
-/// Groups ascending pixel columns by the aligned quad of four they fall in: calls
-/// `quad(first column, lane mask, payloads)` once per quad.
-pub(crate) fn by_quads<T: Copy + Default>(
-    items: impl IntoIterator<Item = (u32, T)>,
-    mut quad: impl FnMut(u32, u32, [T; 4]),
-) {
-    let mut current: Option<(u32, u32, [T; 4])> = None;
-    for (i, payload) in items {
-        let base = i & !3;
+/// Groups ascending pixel columns by the aligned group of `lanes` (a power of two, at most
+/// 32) they fall in: calls `group(first column, lane mask)` once per group.
+pub(crate) fn by_lanes(cols: impl IntoIterator<Item = u32>, lanes: u32, mut group: impl FnMut(u32, u32)) {
+    debug_assert!(lanes.is_power_of_two() && lanes <= 32, "{lanes} lanes");
+    let mut current: Option<(u32, u32)> = None;
+    for i in cols {
+        let base = i & !(lanes - 1);
         match &mut current {
-            Some((b, mask, payloads)) if *b == base => {
-                *mask |= 1 << (i - base);
-                payloads[(i - base) as usize] = payload;
-            }
+            Some((b, mask)) if *b == base => *mask |= 1 << (i - base),
             _ => {
-                if let Some((b, mask, payloads)) = current.take() {
-                    quad(b, mask, payloads);
+                if let Some((b, mask)) = current.take() {
+                    group(b, mask);
                 }
-                let mut payloads = [T::default(); 4];
-                payloads[(i - base) as usize] = payload;
-                current = Some((base, 1 << (i - base), payloads));
+                current = Some((base, 1 << (i - base)));
             }
         }
     }
-    if let Some((b, mask, payloads)) = current {
-        quad(b, mask, payloads);
+    if let Some((b, mask)) = current {
+        group(b, mask);
     }
 }
 
@@ -118,14 +114,14 @@ impl<'a> SecondView<'a> {
         }
     }
 
-    /// Lanes of the quad from column `base` that lie in the image.
-    fn lanes_from(&self, base: u32) -> usize {
-        (self.eye.view.width.saturating_sub(base) as usize).min(4)
+    /// How many columns [`SecondView::push_traced`] takes at once: the lane width.
+    pub(crate) fn lanes() -> u32 {
+        crate::simd::lane_width() as u32
     }
 
-    /// Pushes the pixels `mask` names of the quad from `base` with full primary rays; the
-    /// ones that see only background go straight to `out(tag, colour, touch)`. Tags are
-    /// columns | `flag`.
+    /// Pushes the pixels `mask` names of the group of [`SecondView::lanes`] columns from
+    /// `base` (a multiple of it) with full primary rays, in lanes; the ones that see only
+    /// background go straight to `out(tag, colour, touch)`. Tags are columns | `flag`.
     pub(crate) fn push_traced(
         &self,
         wavefront: &mut Wavefront,
@@ -135,20 +131,60 @@ impl<'a> SecondView<'a> {
         flag: u32,
         out: &mut impl FnMut(u32, u32, Touch),
     ) {
-        let hits = self.eye.hits4(base, j, self.lanes_from(base));
-        for (k, first) in hits.into_iter().enumerate() {
-            if mask & (1 << k) == 0 {
-                continue;
+        dispatch!(crate::simd::level(), simd => simd.vectorize(
+            #[inline(always)]
+            || self.push_traced_in(simd, wavefront, (base, j, mask, flag), out),
+        ));
+    }
+
+    #[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
+    #[inline(always)]
+    fn push_traced_in<S: Simd>(
+        &self,
+        simd: S,
+        wavefront: &mut Wavefront,
+        (base, j, mask, flag): (u32, u32, u32, u32),
+        out: &mut impl FnMut(u32, u32, Touch),
+    ) {
+        let lanes = F::<S>::LEN;
+        debug_assert!(
+            (base as usize).is_multiple_of(lanes) && u64::from(mask) < 1 << lanes,
+            "group {base}, mask {mask:b}"
+        );
+        let (tracer, view) = (self.eye.tracer, self.eye.view);
+        let background = |wavefront: &mut Wavefront, i: u32, out: &mut dyn FnMut(u32, u32, Touch)| {
+            // Marked later, together (`mark_background`).
+            out(i | flag, tracer.background_rgb, Touch::NONE);
+            if self.mark && self.eye.bins.may_meet_moving(i, j) {
+                wavefront.push_background(i | flag);
             }
-            let i = base + k as u32;
-            if let Some((ray, hit)) = first {
-                wavefront.push_hit(&ray, hit, None, i | flag);
+        };
+        if self.eye.bins.is_empty_at(base, j) {
+            for i in crate::bits::ones(&[u64::from(mask)]) {
+                background(wavefront, base + i, out);
+            }
+            return;
+        }
+        let hits = self.eye.hits_lanes(simd, base, j);
+        let hit = hits.0.abs().simd_lt(F::<S>::splat(simd, f32::INFINITY)).to_bitmask() as u32;
+        if mask == hit && u64::from(mask) == (1 << lanes) - 1 {
+            // Every ray of the group hits: into the batch whole.
+            wavefront.push_lanes(simd, view.origin, hits, base | flag);
+            return;
+        }
+        let (mut t, mut ids, mut d) = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
+        hits.0.store_slice(&mut t[..lanes]);
+        hits.1.store_slice(&mut ids[..lanes]);
+        for (column, v) in d.iter_mut().zip(&hits.2) {
+            v.store_slice(&mut column[..lanes]);
+        }
+        for l in crate::bits::ones(&[u64::from(mask)]) {
+            let (i, k) = (base + l, l as usize);
+            if hit & (1 << l) != 0 {
+                let ray = Ray::new(view.origin, Vec3::new(d[0][k], d[1][k], d[2][k]));
+                wavefront.push_hit(&ray, Hit { t: t[k], object: ids[k] }, None, i | flag);
             } else {
-                // Marked later, together (`mark_background`).
-                out(i | flag, self.eye.tracer.background_rgb, Touch::NONE);
-                if self.mark && self.eye.bins.may_meet_moving(i, j) {
-                    wavefront.push_background(i | flag);
-                }
+                background(wavefront, i, out);
             }
         }
     }
@@ -163,7 +199,7 @@ impl<'a> SecondView<'a> {
         mut out: impl FnMut(u32, u32, Touch),
     ) {
         with_wavefront(|wavefront| {
-            by_quads(cols.into_iter().map(|i| (i, ())), |base, mask, _| {
+            by_lanes(cols, Self::lanes(), |base, mask| {
                 counts.primary += u64::from(mask.count_ones());
                 self.push_traced(wavefront, base, j, mask, 0, &mut out);
             });
@@ -238,7 +274,7 @@ impl<'a> SecondView<'a> {
             // The silhouettes the named spheres missed: full primary rays, four at a time.
             let missed = std::mem::take(wavefront.missed_mut());
             counts.primary += missed.len() as u64;
-            by_quads(missed.iter().map(|&i| (i, ())), |base, mask, _| {
+            by_lanes(missed.iter().copied(), Self::lanes(), |base, mask| {
                 self.push_traced(wavefront, base, j, mask, RETRACED, &mut out_tagged);
             });
             *wavefront.missed_mut() = missed;
@@ -309,6 +345,15 @@ mod tests {
                     retraced += 1;
                 }
             }
+            // Every pixel of the row aimed at one sphere: whole groups of pixels retraced.
+            let items: Vec<_> = (0..w).map(|i| (i, j % n, 0)).collect();
+            second.shade_on(j, items.iter().copied(), &mut counts, |i, rgb, again, _| {
+                let ray = view.primary_ray(i, j);
+                assert_eq!(again, tracer.intersect_object(&ray, j % n).is_none(), "({i}, {j}), one sphere");
+                if again {
+                    assert_eq!(rgb, tracer.trace_pixel(&view, i, j, &mut plain).rgb, "({i}, {j}) retraced");
+                }
+            });
             // Aimed at what each pixel sees, with its true light bits: the full trace.
             let truth: Vec<_> = (0..w).map(|i| tracer.trace_pixel(&view, i, j, &mut plain)).collect();
             let items = (0..w).filter(|&i| truth[i as usize].surface.is_hit()).map(|i| {

@@ -137,15 +137,6 @@ impl SphereFromOrigin {
         let c = (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2]) - r2;
         Self { oc, r2, c, id }
     }
-
-    /// Each lane's ray (unit direction `d`, from the origin) against the sphere: `t` in
-    /// `(0, t_max)` per lane, +∞ otherwise. Bit-for-bit what [`SpherePacket::hits`] gives
-    /// for the same ray and sphere: the same operations on the same values.
-    #[inline]
-    pub(crate) fn hits4(&self, d: [f32x4; 3], t_max: f32x4) -> f32x4 {
-        let oc = self.oc.map(f32x4::splat);
-        nearest_root(oc, d, f32x4::splat(self.r2), f32x4::splat(self.c), t_max)
-    }
 }
 
 /// The lane-wise core of the ray–sphere test shared by every SIMD query, in the order of
