@@ -224,8 +224,9 @@ pub(crate) struct BinnedView<'a> {
 impl BinnedView<'_> {
     /// The first hits of the primary rays of pixels (i + l, j), l = 0..LEN, which lie in one
     /// tile (and the image, where lanes are wanted): per lane the hit parameter (+∞ for
-    /// none), the sphere, and the ray's direction. Lane by lane the operations of
-    /// [`BinnedView::hits4`], so bit for bit its answers.
+    /// none), the sphere, and the ray's direction: [`EyeView::primary_ray`]'s rays and
+    /// [`Tracer::intersect`]'s hits, bit for bit (each sphere's `t` is the same operations
+    /// on the same values as the BVH's; a test compares the two).
     #[expect(
         clippy::inline_always,
         reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"

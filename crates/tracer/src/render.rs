@@ -144,7 +144,7 @@ enum Pass<'a> {
 /// A whole row goes tile by tile: a tile whose bin is empty is background without a sphere
 /// test, the others find their first hits a vector of pixels at a time. The hits are then
 /// shaded together, as one batch of this thread's wavefront, in the same lanes. Chosen
-/// pixels of a row go four at a time, through the very rays and shading.
+/// pixels of a row go a lane group at a time, through the very rays and shading.
 fn trace_row(
     eye: &BinnedView<'_>,
     j: u32,
@@ -236,7 +236,7 @@ fn trace_row_in<S: Simd>(
     counts
 }
 
-/// [`trace_row`] of the pixels `only` names: full primary rays four at a time (the rays
+/// [`trace_row`] of the pixels `only` names: full primary rays a lane group at a time (the rays
 /// and hits of every other pass, bit for bit), shaded as one batch.
 fn trace_only(
     wavefront: &mut Wavefront,

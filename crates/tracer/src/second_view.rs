@@ -271,7 +271,7 @@ impl<'a> SecondView<'a> {
                 wavefront.push_named(i, object, lights);
             }
             wavefront.aim_named(view, j, tracer);
-            // The silhouettes the named spheres missed: full primary rays, four at a time.
+            // The silhouettes the named spheres missed: full primary rays, a lane group at a time.
             let missed = std::mem::take(wavefront.missed_mut());
             counts.primary += missed.len() as u64;
             by_lanes(missed.iter().copied(), Self::lanes(), |base, mask| {
