@@ -279,6 +279,8 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
     let mut reference = Reference::default();
     let mut back = Finished::default();
     let mut seq = 0u64;
+    // The last frame rendered, for a request that differs from it only in the overlay.
+    let mut last: Option<FrameInfo> = None;
     loop {
         let request = {
             let mut inbox = lock(&shared.inbox);
@@ -291,6 +293,7 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
                         // The tracer is rebuilt from the scene for every frame below.
                         scene = new;
                         scene_light = scene.lights.first().map(|l| l.position);
+                        last = None;
                     }
                     break r;
                 }
@@ -298,6 +301,18 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
             }
         };
         let started = Instant::now();
+        if let Some(info) = last.filter(|info| Request { overlay: request.overlay, ..info.request } == request) {
+            // The mask switched on or off: the same frame, its overlay made or dropped.
+            back.fill_from(&frame, info.samples, &request);
+            seq += 1;
+            let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+            back.info = Some(FrameInfo { seq, request, wall_ms, ..info });
+            last = back.info;
+            let mut out = lock(&shared.outbox);
+            std::mem::swap(&mut out.frame, &mut back);
+            out.fresh = true;
+            continue;
+        }
         if let (Some(light), Some(home)) = (scene.lights.first_mut(), scene_light) {
             light.position = request.light.unwrap_or(home);
         }
@@ -319,6 +334,7 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
         seq += 1;
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
         back.info = Some(FrameInfo { seq, request, samples, stats, quality, wall_ms });
+        last = back.info;
         let mut out = lock(&shared.outbox);
         std::mem::swap(&mut out.frame, &mut back);
         out.fresh = true;
@@ -446,8 +462,19 @@ mod tests {
         worker.post(Request { overlay: false, ..request(32, false) });
         let f = wait_for(&mut worker, 1);
         assert!(f.mask_overlay.is_empty() && f.mask.len() == 32 * 24, "no colours, the mask still kept");
+        let (left, traced) = (f.left.clone(), f.info.unwrap().stats.left.ms);
         worker.post(request(32, false));
-        assert_eq!(wait_for(&mut worker, 2).mask_overlay.len(), 32 * 24, "asked for: one per pixel");
+        let f = wait_for(&mut worker, 2);
+        assert_eq!(f.mask_overlay.len(), 32 * 24, "asked for: one per pixel");
+        // Only the overlay was asked for: the same frame, not traced again.
+        assert_eq!((&f.left, f.info.unwrap().stats.left.ms), (&left, traced));
+        let mut direct = StereoFrame::new();
+        let mut tracer = Tracer::new(&scene(), 0.0);
+        tracer.set_max_depth(2);
+        direct.render(&tracer, &Camera::default(), 32, 24, Options::default());
+        let mut overlay = Vec::new();
+        stereo::downsample_mask(direct.mask(), (32, 24), &mut overlay, (32, 24));
+        assert_eq!(f.mask_overlay, overlay, "the frame's own mask colours");
     }
 
     #[test]
