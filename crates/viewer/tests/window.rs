@@ -71,6 +71,21 @@ fn under_xvfb(dir: &Path, args: &[&OsStr], env: &[(&str, &str)]) -> String {
     stderr
 }
 
+/// Runs the viewer on the seed scene with `args` and `--dump` under Xvfb (scratch in `dir`),
+/// and returns the dumped frame: width, height, RGB bytes.
+fn dumped(dir: &Path, args: &[&str]) -> (u32, u32, Vec<u8>) {
+    let dump = dir.join("dump.png");
+    let scene = seed_scene();
+    let exe = OsStr::new(env!("CARGO_BIN_EXE_stereotrace"));
+    let args: Vec<&OsStr> = [exe, "--scene".as_ref(), scene.as_os_str()]
+        .into_iter()
+        .chain(args.iter().map(OsStr::new))
+        .chain(["--dump".as_ref(), dump.as_os_str()])
+        .collect();
+    under_xvfb(dir, &args, &[]);
+    read_rgb_png(&dump)
+}
+
 /// Runs the viewer and xdotool from the shell `script` under `xvfb-run` in `dir`, as
 /// [`under_xvfb`]: the script gets the binary as `$0` and the seed scene as `$1`.
 fn scripted(dir: &Path, script: &str, env: &[(&str, &str)]) -> String {
@@ -123,19 +138,8 @@ fn window_shows_both_eyes_under_xvfb() {
     }
     let dir = std::env::temp_dir().join(format!("stereotrace-window-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let dump = dir.join("dump.png");
     let (width, height) = (WIDTH.to_string(), HEIGHT.to_string());
-    let scene = seed_scene();
-    let args = ["--frames", "5", "--time", "1.0", "--width", &width, "--height", &height, "--dump"];
-    let exe = OsStr::new(env!("CARGO_BIN_EXE_stereotrace"));
-    let args: Vec<&OsStr> = [exe, "--scene".as_ref(), scene.as_os_str()]
-        .into_iter()
-        .chain(args.iter().map(OsStr::new))
-        .chain([dump.as_os_str()])
-        .collect();
-    under_xvfb(&dir, &args, &[]);
-
-    let (w, h, rgb) = read_rgb_png(&dump);
+    let (w, h, rgb) = dumped(&dir, &["--frames", "5", "--time", "1.0", "--width", &width, "--height", &height]);
     assert_eq!((w, h), (WIDTH, HEIGHT), "the dump has the window's size (Xvfb scale factor 1)");
     let half = w / 2;
     // The panel covers the top-left of the left eye; the strip right of it shows the scene.
@@ -251,18 +255,8 @@ fn a_render_scale_of_200_shows_the_supersampled_eyes() {
     }
     let dir = std::env::temp_dir().join(format!("stereotrace-scale-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
-    let dump = dir.join("dump.png");
-    let scene = seed_scene();
-    let args =
-        ["--frames", "3", "--time", "1.0", "--render-scale", "200", "--width", "800", "--height", "300", "--dump"];
-    let exe = OsStr::new(env!("CARGO_BIN_EXE_stereotrace"));
-    let args: Vec<&OsStr> = [exe, "--scene".as_ref(), scene.as_os_str()]
-        .into_iter()
-        .chain(args.iter().map(OsStr::new))
-        .chain([dump.as_os_str()])
-        .collect();
-    under_xvfb(&dir, &args, &[]);
-    let (w, h, rgb) = read_rgb_png(&dump);
+    let args = ["--frames", "3", "--time", "1.0", "--render-scale", "200", "--width", "800", "--height", "300"];
+    let (w, h, rgb) = dumped(&dir, &args);
     assert_eq!((w, h), (800, 300));
     let shown = columns(&rgb, w, 400, 800);
     let render = |supersample: &str| {
