@@ -48,7 +48,7 @@ use crate::syslibs;
 use crate::timing::{RateMeter, SceneClock};
 use crate::ui::{self, Actions, Readout, SceneReadout};
 use crate::window::{self, Dump, Size, Window};
-use crate::worker::{FrameInfo, Worker};
+use crate::worker::{FrameInfo, Request, Worker};
 
 /// Time between UI ticks (240 Hz: above VR headsets' 90 and high-refresh monitors' 144, so a
 /// fast enough renderer is never held back by the tick that posts its requests).
@@ -57,6 +57,12 @@ const FRAME_INTERVAL: Duration = Duration::from_micros(4_167);
 /// Longest time between redraws of an otherwise unchanged window (clocks and rates in the
 /// panel keep moving).
 const IDLE_REDRAW: Duration = Duration::from_millis(250);
+
+/// How often the panel's frame numbers (times, rays, shares, the frame-time plot) are
+/// refreshed: they change with every frame, and repainting their text and plot every frame
+/// cost the UI thread ~1 ms a frame (egui's software rasteriser redraws whatever changed),
+/// time a 2-core machine takes from the tracer; numbers are read at a few updates a second.
+const READOUT_REFRESH: Duration = Duration::from_millis(250);
 
 /// How long the hint that Tab hides the UI is shown, unless Tab is pressed first.
 const HINT_SHOWN: Duration = Duration::from_secs(12);
@@ -124,6 +130,43 @@ struct Meters {
     render: RateMeter,
     /// The newest frames' times, for the panel's plot.
     history: FrameTimes,
+    /// What the panel shows of them.
+    shown: Shown,
+}
+
+/// The frame numbers on the panel, as last refreshed ([`READOUT_REFRESH`]).
+#[derive(Clone, Debug, Default)]
+struct Shown {
+    /// When they were taken (`None`: not yet).
+    at: Option<Instant>,
+    /// The newest frame then.
+    frame: Option<FrameInfo>,
+    /// The frame times then.
+    history: FrameTimes,
+    /// The scene time then.
+    time: f32,
+}
+
+impl Shown {
+    /// Takes the newest numbers when the refresh is due at `now`, or at once when the frame
+    /// answers another request than the one shown (a setting changed, not only the time)
+    /// or `every_frame` (a scripted run, whose dump shows its last frame's numbers).
+    fn refresh(
+        &mut self,
+        now: Instant,
+        (frame, history, time): (Option<&FrameInfo>, &FrameTimes, f32),
+        every_frame: bool,
+    ) {
+        let other =
+            |a: &FrameInfo, b: &FrameInfo| Request { time: 0.0, ..a.request } != Request { time: 0.0, ..b.request };
+        let changed = match (&self.frame, frame) {
+            (Some(a), Some(b)) => other(a, b),
+            (a, b) => a.is_some() != b.is_some(),
+        };
+        if every_frame || changed || self.at.is_none_or(|at| now - at >= READOUT_REFRESH) {
+            *self = Self { at: Some(now), frame: frame.copied(), history: history.clone(), time };
+        }
+    }
 }
 
 /// What is drawn over the eyes besides the panel's contents.
@@ -221,6 +264,7 @@ impl Viewer {
                 ui: RateMeter::new(now, 0),
                 render: RateMeter::new(now, 0),
                 history: FrameTimes::default(),
+                shown: Shown::default(),
             },
             fps_log: FpsLog::from_env(),
             screenshots: Screenshots::default(),
@@ -403,13 +447,15 @@ impl Viewer {
     fn panel(&mut self, window: &mut Window, frame: Option<&FrameInfo>, now: Instant) -> egui::FullOutput {
         let raw_input = window.take_egui_input();
         let w = &self.watch;
+        let m = &mut self.meters;
+        m.shown.refresh(now, (frame, &m.history, self.clock.time(now)), self.config.frames.is_some());
         let readout = Readout {
-            ui_fps: self.meters.ui.rate(),
-            render_fps: self.meters.render.rate(),
-            frame,
-            time: self.clock.time(now),
+            ui_fps: m.ui.rate(),
+            render_fps: m.render.rate(),
+            frame: m.shown.frame.as_ref(),
+            time: m.shown.time,
             animated: w.scene().is_animated(),
-            history: &self.meters.history,
+            history: &m.shown.history,
             saved: self.screenshots.note.recent(now),
             scene: SceneReadout { name: w.name(), error: w.error(), files: w.files(), folder_error: w.folder_error() },
             fullscreen: window.is_fullscreen(),
@@ -563,6 +609,7 @@ impl ApplicationHandler for App {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use stereo::FrameStats;
 
     #[test]
     fn tab_hides_the_ui_and_ends_the_hint_and_esc_closes_the_overlay_first() {
@@ -578,5 +625,38 @@ mod tests {
         assert!(!chrome.escape_quits(), "Esc closes the key overlay first");
         assert!(!chrome.keys_open, "closed");
         assert!(chrome.escape_quits(), "then Esc quits");
+    }
+
+    #[test]
+    fn the_panel_numbers_refresh_a_few_times_a_second_or_when_a_setting_changes() {
+        let scene = Scene::from_toml("[[spheres]]\ncenter = [0.0, 0.0, 10.0]\nradius = 1.0\n", "s.toml").unwrap();
+        let settings = Settings::from_scene(&scene);
+        let info = |seq: u64, time: f32, width: u32| {
+            let request = settings.request(&scene, time, width, 8);
+            FrameInfo {
+                seq,
+                request,
+                samples: request.samples,
+                stats: FrameStats::default(),
+                quality: None,
+                wall_ms: 1.0,
+            }
+        };
+        let (t0, history) = (Instant::now(), FrameTimes::default());
+        let mut shown = Shown::default();
+        shown.refresh(t0, (None, &history, 0.0), false);
+        assert!(shown.frame.is_none() && shown.at == Some(t0), "taken at once");
+        let first = info(1, 0.1, 8);
+        shown.refresh(t0, (Some(&first), &history, 0.1), false);
+        assert_eq!(shown.frame.map(|f| f.seq), Some(1), "the first frame shows at once");
+        let later = READOUT_REFRESH / 2;
+        shown.refresh(t0 + later, (Some(&info(2, 0.2, 8)), &history, 0.2), false);
+        assert_eq!((shown.frame.map(|f| f.seq), shown.time), (Some(1), 0.1), "only the time moved: kept");
+        shown.refresh(t0 + later, (Some(&info(3, 0.2, 8)), &history, 0.2), true);
+        assert_eq!(shown.frame.map(|f| f.seq), Some(3), "a scripted run shows every frame's numbers");
+        shown.refresh(t0 + later, (Some(&info(4, 0.2, 16)), &history, 0.2), false);
+        assert_eq!(shown.frame.map(|f| f.seq), Some(4), "another eye size shows at once");
+        shown.refresh(t0 + later + READOUT_REFRESH, (Some(&info(5, 0.3, 16)), &history, 0.3), false);
+        assert_eq!((shown.frame.map(|f| f.seq), shown.time), (Some(5), 0.3), "refreshed when due");
     }
 }
