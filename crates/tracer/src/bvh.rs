@@ -41,6 +41,13 @@ const SAH_LEVELS: usize = 24;
 /// Traversal stack depth: a node pushes at most three interior children besides the one
 /// visited next (leaves are tested where they are met), and no path has more than 56 nodes.
 const STACK: usize = 3 * 56 + 1;
+/// Deepest tree (in 4-wide levels) traversed with the short stack [`SHALLOW_STACK`]; a
+/// cloud of a thousand spheres is well within it (the tests check). The stack is cleared
+/// for every ray, and the long one's 1.3 kB cost a `memset` call per ray (~2 % of a frame
+/// of the thousand-sphere scene).
+const SHALLOW_DEPTH: usize = 8;
+/// Stack for trees up to [`SHALLOW_DEPTH`] levels.
+const SHALLOW_STACK: usize = 3 * SHALLOW_DEPTH + 1;
 
 /// A node of the traversed tree: up to four children, their boxes in SIMD lanes.
 #[derive(Clone, Copy, Debug)]
@@ -77,6 +84,8 @@ pub(crate) struct Bvh {
     nodes: Vec<Node>,
     packets: Vec<SpherePacket>,
     items: Vec<u32>,
+    /// Levels of 4-wide nodes on the longest path from the root (0 unless `Root::Node`).
+    depth: usize,
     /// For each sphere id, its packet and lane.
     slots: Vec<(u32, u32)>,
     /// Scratch: the binary build tree.
@@ -203,6 +212,16 @@ impl Bvh {
     /// Closest hit in `(0, t_max)` among the spheres other than `skip` (`NO_OBJECT`: none
     /// left out).
     pub(crate) fn intersect(&self, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
+        if self.depth <= SHALLOW_DEPTH {
+            self.intersect_with::<SHALLOW_STACK>(ray, t_max, skip)
+        } else {
+            self.intersect_with::<STACK>(ray, t_max, skip)
+        }
+    }
+
+    /// [`Bvh::intersect`] with a traversal stack of `N` entries, `N` > 3 × `self.depth`.
+    #[inline]
+    fn intersect_with<const N: usize>(&self, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         let (mut t_best, mut best) = (t_max, None);
         match self.root {
@@ -215,7 +234,7 @@ impl Bvh {
             Root::Node => {}
         }
         let br = BoxRay::new(ray);
-        let mut stack = [Entry::default(); STACK];
+        let mut stack = [Entry::default(); N];
         let mut sp = 1;
         while sp > 0 {
             sp -= 1;
@@ -255,6 +274,16 @@ impl Bvh {
 
     /// Whether any sphere other than `skip` blocks the ray before `t_max` (early exit).
     pub(crate) fn occluded(&self, ray: &Ray, t_max: f32, skip: u32) -> bool {
+        if self.depth <= SHALLOW_DEPTH {
+            self.occluded_with::<SHALLOW_STACK>(ray, t_max, skip)
+        } else {
+            self.occluded_with::<STACK>(ray, t_max, skip)
+        }
+    }
+
+    /// [`Bvh::occluded`] with a traversal stack of `N` entries, `N` > 3 × `self.depth`.
+    #[inline]
+    fn occluded_with<const N: usize>(&self, ray: &Ray, t_max: f32, skip: u32) -> bool {
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         match self.root {
             Root::Empty => return false,
@@ -262,7 +291,7 @@ impl Bvh {
             Root::Node => {}
         }
         let br = BoxRay::new(ray);
-        let mut stack = [0u32; STACK];
+        let mut stack = [0u32; N];
         let mut sp = 1;
         while sp > 0 {
             sp -= 1;
@@ -328,6 +357,8 @@ mod tests {
             let (centers, radii) = cloud(n);
             let mut bvh = Bvh::default();
             bvh.build(&centers, &radii);
+            // Clouds this size take the short stack (the lopsided test below, the long one).
+            assert!(bvh.depth <= SHALLOW_DEPTH, "n = {n}: depth {}", bvh.depth);
             for k in 0..2000 {
                 let a = k as f32 * 0.618_034;
                 let dir = Vec3::new((a * 7.3).sin() * 0.6, (a * 3.1).cos() * 0.35, 1.0).normalize();
@@ -372,6 +403,8 @@ mod tests {
         bvh.build(&centers, &radii);
         let depth = bvh.bin_depth(0);
         assert!(depth <= SAH_LEVELS + (n as f32).log2().ceil() as usize + 1, "depth {depth}");
+        // Too deep for the short stack: the long one is the one exercised here.
+        assert!(bvh.depth > SHALLOW_DEPTH, "depth {} in 4-wide levels", bvh.depth);
         for k in 0..200 {
             let a = k as f32 * 1e-4;
             let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, a.sin(), a.cos() * 1e-3).normalize());

@@ -91,6 +91,7 @@ impl Bvh {
         self.packets.clear();
         self.items.clear();
         self.bin.clear();
+        self.depth = 0;
         self.items.extend(0..centers.len() as u32);
         self.slots.clear();
         self.slots.resize(centers.len(), (0, 0));
@@ -107,7 +108,7 @@ impl Bvh {
             self.root = Root::Leaf { count: root.count };
         } else {
             self.root = Root::Node;
-            self.collapse(0);
+            self.collapse(0, 1);
         }
     }
 
@@ -165,10 +166,11 @@ impl Bvh {
         self.build_node(first + 1, level + 1, right, centers, radii);
     }
 
-    /// Appends the 4-wide node for interior binary node `b` (and, depth first, its subtree);
-    /// returns its index. Its children are `b`'s grandchildren and deeper, found by opening
+    /// Appends the 4-wide node for interior binary node `b`, at `level` (the root's is 1), and
+    /// depth first its subtree; returns its index. Its children are `b`'s grandchildren and deeper, found by opening
     /// the interior child of largest surface area until there are four.
-    fn collapse(&mut self, b: usize) -> u32 {
+    fn collapse(&mut self, b: usize, level: usize) -> u32 {
+        self.depth = self.depth.max(level);
         let parent = self.bin[b];
         let mut kids = [parent.first as usize, parent.first as usize + 1, 0, 0];
         let mut n = 2;
@@ -191,7 +193,8 @@ impl Bvh {
                 set_lane(&mut node.bounds[1][a], lane, child.max[a]);
             }
             node.lanes |= 1 << lane;
-            node.child[lane] = if child.count > 0 { leaf_link(child.first, child.count) } else { self.collapse(k) };
+            node.child[lane] =
+                if child.count > 0 { leaf_link(child.first, child.count) } else { self.collapse(k, level + 1) };
         }
         self.nodes[index] = node;
         index as u32
