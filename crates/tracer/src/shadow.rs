@@ -23,8 +23,8 @@
 //!
 //! **Exactness.** As with the primary bins, cells only choose which spheres to test, the
 //! test is the BVH's, and the bound is padded (radius by 10⁻⁴ of the distance, angles by
-//! 10⁻⁴ rad), so [`ShadowBins::occluded`] answers exactly as [`crate::Tracer::occluded`]
-//! would; a test compares the two.
+//! 10⁻⁴ rad), so testing a ray's cell ([`ShadowBins::cell`], then [`ShadowBins::blocks`])
+//! answers exactly as [`crate::Tracer::occluded`] would; a test compares the two.
 
 use std::f64::consts::FRAC_PI_4;
 
@@ -142,12 +142,12 @@ impl ShadowBins {
         }
     }
 
-    /// Whether a sphere other than `skip` (the ray's own sphere when it leaves outwards;
-    /// `NO_OBJECT` for none) blocks `ray`, a shadow ray spawned from surface point `p`
-    /// towards light `k`, before `t_max`. A packet holding only `skip` is not tested at all.
-    /// `None` if the bins cannot answer (no bins for the light, or `p` at the light).
+    /// The cell that a shadow ray spawned from surface point `p` towards light `k` looks up;
+    /// `None` if the bins cannot answer (no bins for the light, or `p` at the light). Apart
+    /// from [`ShadowBins::blocks`] so that a batch of rays can look up all its cells before
+    /// testing any: the lookups are independent loads, and their cache misses overlap.
     #[inline]
-    pub(crate) fn occluded(&self, k: usize, light: Vec3, p: Vec3, ray: &Ray, t_max: f32, skip: u32) -> Option<bool> {
+    pub(crate) fn cell(&self, k: usize, light: Vec3, p: Vec3) -> Option<Cell> {
         let w = p - light;
         let abs = w.abs();
         let m = if abs.x >= abs.y && abs.x >= abs.z {
@@ -167,11 +167,42 @@ impl ShadowBins {
         let inv = major.abs().recip();
         let (u, v) = (f64::from(w[a] * inv), f64::from(w[b] * inv));
         let index = k * CELLS + face * (RES * RES) as usize + (cell(v) * RES + cell(u)) as usize;
-        let packets = &self.packets[self.first[index] as usize..self.first[index + 1] as usize];
-        let (o, d) = (splat3(ray.origin), splat3(ray.dir));
-        let only_skipped = |p: &SpherePacket| p.ids[0] == skip && p.ids[1] == u32::MAX;
-        Some(packets.iter().any(|p| !only_skipped(p) && p.blocks(o, d, t_max, skip)))
+        Some(Cell { first: self.first[index], end: self.first[index + 1] })
     }
+
+    /// Whether a sphere of `cell` other than `skip` (the ray's own sphere when it leaves
+    /// outwards; `NO_OBJECT` for none) blocks `ray`, the shadow ray the cell was looked up
+    /// for, before `t_max`. A packet holding only `skip` is not tested at all.
+    #[inline]
+    pub(crate) fn blocks(&self, cell: Cell, ray: &Ray, t_max: f32, skip: u32) -> bool {
+        let packets = &self.packets[cell.first as usize..cell.end as usize];
+        let (o, d) = (splat3(ray.origin), splat3(ray.dir));
+        packets.iter().any(|p| !only(p, skip) && p.blocks(o, d, t_max, skip))
+    }
+
+    /// Whether `cell` lists no sphere but `skip`, so that nothing in it can block a ray
+    /// leaving `skip`. The common case of a lit point: its cell lists the sphere it lies on.
+    #[inline]
+    pub(crate) fn clear(&self, cell: Cell, skip: u32) -> bool {
+        match cell.end - cell.first {
+            0 => true,
+            1 => only(&self.packets[cell.first as usize], skip),
+            _ => false,
+        }
+    }
+}
+
+/// Whether `packet` holds the sphere `skip` alone.
+#[inline]
+fn only(packet: &SpherePacket, skip: u32) -> bool {
+    packet.ids[0] == skip && packet.ids[1] == u32::MAX
+}
+
+/// A cell of a light's cube map: its packets are `packets[first..end]`.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct Cell {
+    first: u32,
+    end: u32,
 }
 
 /// Indices of the cells of light `k`'s face `face` in the inclusive rectangle `rect`.

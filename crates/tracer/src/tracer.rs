@@ -15,7 +15,7 @@ use crate::cones::Cones;
 use crate::material::{Exponent, Material};
 use crate::ray::{leaves_outwards, spawn_bound, Ray};
 use crate::scene::{Light, RenderSettings, Scene};
-use crate::shadow::ShadowBins;
+use crate::shadow::{Cell, ShadowBins};
 use crate::surface::{Hit, NO_OBJECT};
 use crate::swept::{Arc, SweptRing, Touch};
 
@@ -234,10 +234,35 @@ impl Tracer {
     #[inline]
     #[must_use]
     pub(crate) fn shadowed(&self, k: usize, from: u32, p: Vec3, n: Vec3, ray: &Ray, t_max: f32) -> bool {
+        self.shadowed_in(self.shadow_cell(k, p), from, n, ray, t_max)
+    }
+
+    /// The first half of [`Tracer::shadowed`]: the cell of light `k`'s cube map that the
+    /// shadow ray from `p` looks up (`None` if the bins cannot answer it). A batch of shadow
+    /// rays looks up all its cells first, so their cache misses overlap.
+    #[inline]
+    #[must_use]
+    pub(crate) fn shadow_cell(&self, k: usize, p: Vec3) -> Option<Cell> {
+        self.shadows.cell(k, self.lights[k].position, p)
+    }
+
+    /// Whether the shadow ray of `cell`, leaving the sphere `skip` ([`Tracer::skipped`]),
+    /// has nothing to test: no sphere in the cell but `skip` (see [`ShadowBins::clear`]).
+    #[inline]
+    #[must_use]
+    pub(crate) fn shadow_clear(&self, cell: Cell, skip: u32) -> bool {
+        self.shadows.clear(cell, skip)
+    }
+
+    /// The second half of [`Tracer::shadowed`], given its `cell`.
+    #[inline]
+    #[must_use]
+    pub(crate) fn shadowed_in(&self, cell: Option<Cell>, from: u32, n: Vec3, ray: &Ray, t_max: f32) -> bool {
         let skip = Self::skipped(from, n, ray.dir);
-        self.shadows
-            .occluded(k, self.lights[k].position, p, ray, t_max, skip)
-            .unwrap_or_else(|| self.occluded_skipping(ray, t_max, skip))
+        match cell {
+            Some(cell) => self.shadows.blocks(cell, ray, t_max, skip),
+            None => self.occluded_skipping(ray, t_max, skip),
+        }
     }
 
     /// Hit parameter of `ray` against the one sphere `object`, ignoring all others: one

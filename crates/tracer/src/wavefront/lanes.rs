@@ -231,12 +231,28 @@ fn light_vector<S: Simd>(
             visible |= need & !blocked_all(simd, tracer, (origin, l, dist), objects_u, mask_of(simd, need));
             need = 0;
         }
+        // Every lane's cell first, then the tests: the cells lie scattered through the cube
+        // map, and looking them all up before testing any lets their cache misses overlap.
+        // A cell that lists only the lane's own sphere (most lit points) answers at once.
+        let mut cells = [None; 16];
+        let mut lookup = need;
+        while lookup != 0 {
+            let lane = lookup.trailing_zeros() as usize;
+            lookup &= lookup - 1;
+            let cell = tracer.shadow_cell(k, lane3::<S>(&p, lane));
+            let skip = Tracer::skipped(objects[lane], lane3::<S>(&n, lane), lane3::<S>(&l, lane));
+            if cell.is_some_and(|cell| tracer.shadow_clear(cell, skip)) {
+                visible |= 1 << lane;
+                need &= !(1 << lane);
+            }
+            cells[lane] = cell;
+        }
         while need != 0 {
             let lane = need.trailing_zeros() as usize;
             need &= need - 1;
             let (pl, nl) = (lane3::<S>(&p, lane), lane3::<S>(&n, lane));
             let ray = spawn_ray(pl, nl, lane3::<S>(&l, lane));
-            if !tracer.shadowed(k, objects[lane], pl, nl, &ray, dist.as_slice()[lane]) {
+            if !tracer.shadowed_in(cells[lane], objects[lane], nl, &ray, dist.as_slice()[lane]) {
                 visible |= 1 << lane;
             }
         }
