@@ -1,25 +1,33 @@
-//! A 4-wide bounding-volume hierarchy over the spheres, with 4-wide SIMD leaves.
+//! An 8-wide bounding-volume hierarchy over the spheres, with 4-wide SIMD leaves.
 //!
 //! Built from scratch each frame (a revolving sphere moves; for a thousand spheres the
 //! build takes well under a millisecond) into buffers reused from frame to frame. The tree
 //! is first split in two at every level by the binned surface-area heuristic (median split
-//! as a fallback), then collapsed into nodes of up to four children (Wald et al. 2008,
-//! "Getting rid of packets"; Dammertz et al. 2008, "Shallow bounding volume hierarchies"):
-//! a node keeps its children's boxes in structure-of-arrays lanes, so one ray meets all four
-//! boxes in one SIMD slab test (`wide::f32x4`, portable: SSE2 on x86-64, NEON on aarch64,
-//! scalar elsewhere), and a thousand spheres are ~4 levels deep instead of ~8. Leaves hold
-//! up to eight spheres as two packets of four, each tested in SIMD lanes. A scene of eight
-//! spheres or fewer is one leaf: a flat SIMD loop.
+//! as a fallback), then collapsed into nodes of up to eight children (Wald et al. 2008,
+//! "Getting rid of packets"; Dammertz et al. 2008, "Shallow bounding volume hierarchies";
+//! Embree's BVH8): a node keeps its children's boxes in structure-of-arrays lanes, so one
+//! ray meets all eight boxes in one slab test of `fearless_simd`'s `f32x8` (one AVX2
+//! instruction per step at the 8-lane level, two 4-lane halves at the fallback level, at
+//! the level `simd.rs` chose), and a thousand spheres are ~3 levels deep instead of ~8.
+//! Leaves hold up to eight spheres as two packets of four, each tested in SIMD lanes
+//! (`wide::f32x4`). A scene of eight spheres or fewer is one leaf: a flat SIMD loop.
 //!
 //! The closest-hit traversal tests the leaves among the children a node's ray enters at
 //! once, visits the interior ones nearest first, and drops any whose entry lies beyond the
-//! closest hit so far. [`Bvh::intersect_one`] tests a single sphere through the same lane
-//! arithmetic, so the `t` it reports for a sphere is bit-for-bit the one the closest-hit
-//! query reports (what `stereo`'s exact mode relies on); both equal the scalar
-//! [`crate::intersect_sphere`]. The collapse keeps the binary tree's boxes and only skips
-//! levels, so every sphere the binary traversal would reach is still reached: the answer
-//! is the same.
+//! closest hit so far. The lane kernels call it inside their own dispatched function
+//! ([`Bvh::intersect_in`]); other callers through [`Bvh::intersect`], which dispatches.
+//! [`Bvh::intersect_one`] tests a single sphere through the same lane arithmetic, so the
+//! `t` it reports for a sphere is bit-for-bit the one the closest-hit query reports (what
+//! `stereo`'s exact mode relies on); both equal the scalar [`crate::intersect_sphere`].
+//! The collapse keeps the binary tree's boxes and only skips levels, so every sphere the
+//! binary traversal would reach is still reached: the answer is the same.
 
+#![expect(
+    clippy::inline_always,
+    reason = "the traversal is inlined into the dispatched lane kernels, whose target features it needs"
+)]
+
+use fearless_simd::{dispatch, f32x8, prelude::*, Simd};
 use glam::Vec3;
 use wide::f32x4;
 
@@ -34,27 +42,27 @@ use build::BinNode;
 /// Most packets in one leaf.
 const LEAF_PACKETS: usize = 2;
 /// Children per node.
-const WIDTH: usize = 4;
+const WIDTH: usize = 8;
 /// Binary levels split by the surface-area heuristic; below them the median split takes
 /// over, which bounds the depth at `SAH_LEVELS` + log2(spheres) < 56 whatever the scene.
 const SAH_LEVELS: usize = 24;
-/// Traversal stack depth: a node pushes at most three interior children besides the one
+/// Traversal stack depth: a node pushes at most seven interior children besides the one
 /// visited next (leaves are tested where they are met), and no path has more than 56 nodes.
-const STACK: usize = 3 * 56 + 1;
-/// Deepest tree (in 4-wide levels) traversed with the short stack [`SHALLOW_STACK`]; a
+const STACK: usize = (WIDTH - 1) * 56 + 1;
+/// Deepest tree (in 8-wide levels) traversed with the short stack [`SHALLOW_STACK`]; a
 /// cloud of a thousand spheres is well within it (the tests check). The stack is cleared
-/// for every ray, and the long one's 1.3 kB cost a `memset` call per ray (~2 % of a frame
-/// of the thousand-sphere scene).
-const SHALLOW_DEPTH: usize = 8;
+/// for every ray, and the long one's 3 kB would cost a `memset` call per ray.
+const SHALLOW_DEPTH: usize = 6;
 /// Stack for trees up to [`SHALLOW_DEPTH`] levels.
-const SHALLOW_STACK: usize = 3 * SHALLOW_DEPTH + 1;
+const SHALLOW_STACK: usize = (WIDTH - 1) * SHALLOW_DEPTH + 1;
 
-/// A node of the traversed tree: up to four children, their boxes in SIMD lanes.
+/// A node of the traversed tree: up to eight children, their boxes in SIMD lanes.
 #[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
 struct Node {
     /// The children's boxes: `bounds[0]` the minimum corners, `bounds[1]` the maximum, one
-    /// `f32x4` per axis.
-    bounds: [[f32x4; 3]; 2],
+    /// lane per child for each axis.
+    bounds: [[[f32; WIDTH]; 3]; 2],
     /// Per lane: the child, as a [`Link`].
     child: [Link; WIDTH],
     /// Bit k set when lane k holds a child.
@@ -62,7 +70,7 @@ struct Node {
 }
 
 impl Node {
-    const EMPTY: Self = Self { bounds: [[f32x4::splat(0.0); 3]; 2], child: [0; WIDTH], lanes: 0 };
+    const EMPTY: Self = Self { bounds: [[[0.0; WIDTH]; 3]; 2], child: [0; WIDTH], lanes: 0 };
 }
 
 /// Where traversal starts.
@@ -84,7 +92,7 @@ pub(crate) struct Bvh {
     nodes: Vec<Node>,
     packets: Vec<SpherePacket>,
     items: Vec<u32>,
-    /// Levels of 4-wide nodes on the longest path from the root (0 unless `Root::Node`).
+    /// Levels of 8-wide nodes on the longest path from the root (0 unless `Root::Node`).
     depth: usize,
     /// For each sphere id, its packet and lane.
     slots: Vec<(u32, u32)>,
@@ -92,47 +100,50 @@ pub(crate) struct Bvh {
     bin: Vec<BinNode>,
 }
 
-/// A ray prepared for box tests, splatted across the four child lanes.
-struct BoxRay {
-    origin: [f32x4; 3],
-    inv_dir: [f32x4; 3],
+/// A ray prepared for box tests, splatted across the eight child lanes.
+struct BoxRay<S: Simd> {
+    origin: [f32x8<S>; 3],
+    inv_dir: [f32x8<S>; 3],
     /// Per axis, which corner of a box the ray meets first: 0 (minimum) where the
     /// direction is positive, 1 where it is negative.
     near_side: [usize; 3],
 }
 
-impl BoxRay {
-    fn new(ray: &Ray) -> Self {
+impl<S: Simd> BoxRay<S> {
+    #[inline(always)]
+    fn new(simd: S, ray: &Ray) -> Self {
         // A zero direction component becomes ±10⁻³⁰: its slabs stay finite (±10³⁰·gap, or
         // 0 for an origin on the plane) instead of ∞ and 0·∞ = NaN.
         let safe = |x: f32| if x.abs() < 1e-30 { 1e-30f32.copysign(x) } else { x };
         let dir = Vec3::new(safe(ray.dir.x), safe(ray.dir.y), safe(ray.dir.z));
+        let inv = dir.recip();
         let side = |x: f32| usize::from(x.is_sign_negative());
-        Self {
-            origin: splat3(ray.origin),
-            inv_dir: splat3(dir.recip()),
-            near_side: [side(dir.x), side(dir.y), side(dir.z)],
-        }
+        let splat = |v: Vec3| [v.x, v.y, v.z].map(|x| f32x8::splat(simd, x));
+        Self { origin: splat(ray.origin), inv_dir: splat(inv), near_side: [side(dir.x), side(dir.y), side(dir.z)] }
     }
 
-    /// The slab test against a node's four child boxes: per lane the entry distance, and
+    /// The slab test against a node's eight child boxes: per lane the entry distance, and
     /// the bits of the children the ray meets before `t_max`.
     ///
     /// Per axis the slab is entered at the corner `near_side` names and left at the other
     /// (Williams et al. 2005, "An efficient and robust ray–box intersection algorithm"):
     /// the same two distances a min/max of both would order, one operation fewer each.
-    #[inline]
-    fn enter(&self, node: &Node, t_max: f32) -> (f32x4, u32) {
-        let mut near = f32x4::splat(0.0);
-        let mut far = f32x4::splat(t_max);
+    /// Every value is finite (see [`BoxRay::new`]), so `min` and `max` need no NaN rule.
+    #[inline(always)]
+    fn enter(&self, node: &Node, t_max: f32) -> (f32x8<S>, u32) {
+        let simd = self.origin[0].simd;
+        let mut near = f32x8::splat(simd, 0.0);
+        let mut far = f32x8::splat(simd, t_max);
         for a in 0..3 {
             let side = self.near_side[a];
-            let t_in = (node.bounds[side][a] - self.origin[a]) * self.inv_dir[a];
-            let t_out = (node.bounds[1 - side][a] - self.origin[a]) * self.inv_dir[a];
-            near = t_in.fast_max(near);
-            far = t_out.fast_min(far);
+            let t_in = (f32x8::from_slice(simd, &node.bounds[side][a]) - self.origin[a]) * self.inv_dir[a];
+            let t_out = (f32x8::from_slice(simd, &node.bounds[1 - side][a]) - self.origin[a]) * self.inv_dir[a];
+            near = t_in.max(near);
+            far = t_out.min(far);
         }
-        (near, near.simd_le(far).to_bitmask() & node.lanes)
+        #[expect(clippy::cast_possible_truncation, reason = "eight lanes: the mask has eight bits")]
+        let hit = near.simd_le(far).to_bitmask() as u32;
+        (near, hit & node.lanes)
     }
 }
 
@@ -210,18 +221,37 @@ impl Bvh {
     }
 
     /// Closest hit in `(0, t_max)` among the spheres other than `skip` (`NO_OBJECT`: none
-    /// left out).
+    /// left out), at the lanes `simd.rs` chose.
     pub(crate) fn intersect(&self, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
+        dispatch!(crate::simd::level(), simd => simd.vectorize(
+            #[inline(always)]
+            || self.intersect_in(simd, ray, t_max, skip),
+        ))
+    }
+
+    /// [`Bvh::intersect`] inside a function dispatched at `simd`'s level (a lane kernel).
+    #[inline(always)]
+    pub(crate) fn intersect_in<S: Simd>(&self, simd: S, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
         if self.depth <= SHALLOW_DEPTH {
-            self.intersect_with::<SHALLOW_STACK>(ray, t_max, skip)
+            self.intersect_with::<S, SHALLOW_STACK>(simd, ray, t_max, skip)
         } else {
-            self.intersect_with::<STACK>(ray, t_max, skip)
+            self.intersect_deep(ray, t_max, skip)
         }
     }
 
-    /// [`Bvh::intersect`] with a traversal stack of `N` entries, `N` > 3 × `self.depth`.
-    #[inline]
-    fn intersect_with<const N: usize>(&self, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
+    /// [`Bvh::intersect`] of a tree deeper than [`SHALLOW_DEPTH`] (rare: a lopsided scene),
+    /// out of line so the kernels inline only the short stack's traversal.
+    #[inline(never)]
+    fn intersect_deep(&self, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
+        dispatch!(crate::simd::level(), simd => simd.vectorize(
+            #[inline(always)]
+            || self.intersect_with::<_, STACK>(simd, ray, t_max, skip),
+        ))
+    }
+
+    /// [`Bvh::intersect`] with a traversal stack of `N` entries, `N` > 7 × `self.depth`.
+    #[inline(always)]
+    fn intersect_with<S: Simd, const N: usize>(&self, simd: S, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         let (mut t_best, mut best) = (t_max, None);
         match self.root {
@@ -233,7 +263,7 @@ impl Bvh {
             }
             Root::Node => {}
         }
-        let br = BoxRay::new(ray);
+        let br = BoxRay::new(simd, ray);
         let mut stack = [Entry::default(); N];
         let mut sp = 1;
         while sp > 0 {
@@ -247,10 +277,10 @@ impl Bvh {
             // root first.
             let node = &self.nodes[e.link as usize];
             let (near, mut hit) = br.enter(node, t_best);
-            let near = near.to_array();
+            let near = near.as_slice();
             // Leaves entered are tested at once (cheaper than a trip through the stack);
             // interior children go on the stack sorted farthest first (insertion sort of
-            // ≤ 4), so the nearest is visited next.
+            // ≤ 8), so the nearest is visited next.
             let base = sp;
             while hit != 0 {
                 let lane = hit.trailing_zeros() as usize;
@@ -274,23 +304,26 @@ impl Bvh {
 
     /// Whether any sphere other than `skip` blocks the ray before `t_max` (early exit).
     pub(crate) fn occluded(&self, ray: &Ray, t_max: f32, skip: u32) -> bool {
-        if self.depth <= SHALLOW_DEPTH {
-            self.occluded_with::<SHALLOW_STACK>(ray, t_max, skip)
-        } else {
-            self.occluded_with::<STACK>(ray, t_max, skip)
-        }
+        dispatch!(crate::simd::level(), simd => simd.vectorize(
+            #[inline(always)]
+            || if self.depth <= SHALLOW_DEPTH {
+                self.occluded_with::<_, SHALLOW_STACK>(simd, ray, t_max, skip)
+            } else {
+                self.occluded_with::<_, STACK>(simd, ray, t_max, skip)
+            },
+        ))
     }
 
-    /// [`Bvh::occluded`] with a traversal stack of `N` entries, `N` > 3 × `self.depth`.
-    #[inline]
-    fn occluded_with<const N: usize>(&self, ray: &Ray, t_max: f32, skip: u32) -> bool {
+    /// [`Bvh::occluded`] with a traversal stack of `N` entries, `N` > 7 × `self.depth`.
+    #[inline(always)]
+    fn occluded_with<S: Simd, const N: usize>(&self, simd: S, ray: &Ray, t_max: f32, skip: u32) -> bool {
         let (o, d) = (splat3(ray.origin), splat3(ray.dir));
         match self.root {
             Root::Empty => return false,
             Root::Leaf { count } => return Self::leaf_blocks(self.leaf(0, count), o, d, t_max, skip),
             Root::Node => {}
         }
-        let br = BoxRay::new(ray);
+        let br = BoxRay::new(simd, ray);
         let mut stack = [0u32; N];
         let mut sp = 1;
         while sp > 0 {
@@ -403,14 +436,16 @@ mod tests {
         bvh.build(&centers, &radii);
         let depth = bvh.bin_depth(0);
         assert!(depth <= SAH_LEVELS + (n as f32).log2().ceil() as usize + 1, "depth {depth}");
-        // Too deep for the short stack: the long one is the one exercised here.
-        assert!(bvh.depth > SHALLOW_DEPTH, "depth {} in 4-wide levels", bvh.depth);
+        assert!(bvh.depth <= SAH_LEVELS + 7, "depth {} in 8-wide levels", bvh.depth);
         for k in 0..200 {
             let a = k as f32 * 1e-4;
             let ray = Ray::new(Vec3::new(-1.0, 0.0, 0.0), Vec3::new(1.0, a.sin(), a.cos() * 1e-3).normalize());
             let got = bvh.intersect(&ray, f32::INFINITY, NO_OBJECT);
             let want = brute(&ray, f32::INFINITY, &centers, &radii, NO_OBJECT);
             assert_eq!(got.map(|h| (h.t.to_bits(), h.object)), want.map(|h| (h.t.to_bits(), h.object)), "ray {k}");
+            // The long stack's traversal, which trees deeper than `SHALLOW_DEPTH` take.
+            let deep = bvh.intersect_deep(&ray, f32::INFINITY, NO_OBJECT);
+            assert_eq!(deep.map(|h| (h.t.to_bits(), h.object)), want.map(|h| (h.t.to_bits(), h.object)), "ray {k}");
             assert_eq!(bvh.occluded(&ray, 1e30, NO_OBJECT), want.is_some(), "ray {k}");
         }
     }

@@ -227,6 +227,26 @@ impl Tracer {
         }
     }
 
+    /// [`Tracer::intersect_from`] inside a lane kernel dispatched at `simd`'s level: the
+    /// BVH's traversal is inlined into it, with its target features.
+    #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
+    #[inline(always)]
+    #[must_use]
+    pub(crate) fn intersect_from_in<S: fearless_simd::Simd>(
+        &self,
+        simd: S,
+        from: u32,
+        n: Vec3,
+        ray: &Ray,
+    ) -> Option<Hit> {
+        let skip = Self::skipped(from, n, ray.dir);
+        if skip != NO_OBJECT && self.cones.is_built() {
+            self.cones.intersect_from(from, ray, f32::INFINITY)
+        } else {
+            self.bvh.intersect_in(simd, ray, f32::INFINITY, skip)
+        }
+    }
+
     /// The shadow query: whether anything blocks `ray`, spawned (by [`crate::spawn_ray`])
     /// from the point `p` of sphere `from` (outward normal `n`) towards light `k`, with
     /// `t_max` the distance to it, leaving out the sphere [`Tracer::skipped`] names.

@@ -1,11 +1,11 @@
 //! Building the BVH: a binary tree by the binned surface-area heuristic (Wald 2007), median
-//! splits below [`SAH_LEVELS`], then collapsed into the 4-wide nodes that are traversed
+//! splits below [`SAH_LEVELS`], then collapsed into the 8-wide nodes that are traversed
 //! (see the parent module).
 
 use glam::Vec3;
 
 use super::{leaf_link, Bvh, Node, Root, LEAF_PACKETS, SAH_LEVELS, WIDTH};
-use crate::sphere::{set_lane, SpherePacket, LANES};
+use crate::sphere::{SpherePacket, LANES};
 
 /// A node of the binary build tree: a box, and either two children (`count == 0`: `first`
 /// and `first + 1`) or a leaf of `count` packets starting at `packets[first]`.
@@ -166,13 +166,14 @@ impl Bvh {
         self.build_node(first + 1, level + 1, right, centers, radii);
     }
 
-    /// Appends the 4-wide node for interior binary node `b`, at `level` (the root's is 1), and
+    /// Appends the 8-wide node for interior binary node `b`, at `level` (the root's is 1), and
     /// depth first its subtree; returns its index. Its children are `b`'s grandchildren and deeper, found by opening
-    /// the interior child of largest surface area until there are four.
+    /// the interior child of largest surface area until there are eight.
     fn collapse(&mut self, b: usize, level: usize) -> u32 {
         self.depth = self.depth.max(level);
         let parent = self.bin[b];
-        let mut kids = [parent.first as usize, parent.first as usize + 1, 0, 0];
+        let mut kids = [0; WIDTH];
+        (kids[0], kids[1]) = (parent.first as usize, parent.first as usize + 1);
         let mut n = 2;
         while n < WIDTH {
             let open = (0..n)
@@ -189,8 +190,8 @@ impl Bvh {
         for (lane, &k) in kids[..n].iter().enumerate() {
             let child = self.bin[k];
             for a in 0..3 {
-                set_lane(&mut node.bounds[0][a], lane, child.min[a]);
-                set_lane(&mut node.bounds[1][a], lane, child.max[a]);
+                node.bounds[0][a][lane] = child.min[a];
+                node.bounds[1][a][lane] = child.max[a];
             }
             node.lanes |= 1 << lane;
             node.child[lane] =

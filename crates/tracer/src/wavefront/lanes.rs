@@ -385,7 +385,7 @@ pub(super) fn mirrors<S: Simd>(
                 Some((t, best)) => {
                     (best[lane] != crate::surface::NO_OBJECT).then(|| Hit { t: t[lane], object: best[lane] })
                 }
-                None => tracer.intersect_from(objects[lane], lane3::<S>(&n, lane), &Ray::new(o, dir)),
+                None => tracer.intersect_from_in(simd, objects[lane], lane3::<S>(&n, lane), &Ray::new(o, dir)),
             };
             if let Some(hit) = hit {
                 next.push(o, dir, hit.t, hit.object, e as u32, None);
