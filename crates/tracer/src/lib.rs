@@ -12,7 +12,7 @@
 //! them: primary rays by screen-space tile bins (a vector of rays per SIMD test), shadow and
 //! mirror rays of small scenes by every sphere in lanes, otherwise shadow rays by a cube map
 //! of sphere lists around each light, mirror rays by direction cones between spheres, and
-//! anything else by a 4-wide BVH (four child boxes per SIMD slab test) with SIMD leaves. Each
+//! anything else by an 8-wide BVH (eight child boxes per SIMD slab test) with SIMD leaves. Each
 //! gives bit-for-bit the BVH's answer (tests compare them on every scene).
 //!
 //! Besides colour, the film keeps a per-pixel *visible-surface record*
