@@ -199,7 +199,7 @@ fn only(packet: &SpherePacket, skip: u32) -> bool {
 }
 
 /// A cell of a light's cube map: its packets are `packets[first..end]`.
-#[derive(Clone, Copy, Debug, Default)]
+#[derive(Clone, Copy, Debug)]
 pub(crate) struct Cell {
     first: u32,
     end: u32,

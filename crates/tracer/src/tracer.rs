@@ -254,7 +254,7 @@ impl Tracer {
     #[inline]
     #[must_use]
     pub(crate) fn shadowed(&self, k: usize, from: u32, p: Vec3, n: Vec3, ray: &Ray, t_max: f32) -> bool {
-        self.shadowed_in(self.shadow_cell(k, p), from, n, ray, t_max)
+        self.shadowed_in(self.shadow_cell(k, p), Self::skipped(from, n, ray.dir), ray, t_max)
     }
 
     /// The first half of [`Tracer::shadowed`]: the cell of light `k`'s cube map that the
@@ -274,11 +274,11 @@ impl Tracer {
         self.shadows.clear(cell, skip)
     }
 
-    /// The second half of [`Tracer::shadowed`], given its `cell`.
+    /// The second half of [`Tracer::shadowed`], given its `cell` and the sphere `skip` the
+    /// ray leaves ([`Tracer::skipped`]).
     #[inline]
     #[must_use]
-    pub(crate) fn shadowed_in(&self, cell: Option<Cell>, from: u32, n: Vec3, ray: &Ray, t_max: f32) -> bool {
-        let skip = Self::skipped(from, n, ray.dir);
+    pub(crate) fn shadowed_in(&self, cell: Option<Cell>, skip: u32, ray: &Ray, t_max: f32) -> bool {
         match cell {
             Some(cell) => self.shadows.blocks(cell, ray, t_max, skip),
             None => self.occluded_skipping(ray, t_max, skip),

@@ -166,9 +166,10 @@ impl Bvh {
         self.build_node(first + 1, level + 1, right, centers, radii);
     }
 
-    /// Appends the 8-wide node for interior binary node `b`, at `level` (the root's is 1), and
-    /// depth first its subtree; returns its index. Its children are `b`'s grandchildren and deeper, found by opening
-    /// the interior child of largest surface area until there are eight.
+    /// Appends the 8-wide node for interior binary node `b`, at `level` (the root's is 1),
+    /// and depth first its subtree; returns its index. Its children are `b`'s grandchildren
+    /// and deeper, found by opening the interior child of largest surface area until there
+    /// are eight.
     fn collapse(&mut self, b: usize, level: usize) -> u32 {
         self.depth = self.depth.max(level);
         let parent = self.bin[b];

@@ -234,7 +234,7 @@ fn light_vector<S: Simd>(
         // Every lane's cell first, then the tests: the cells lie scattered through the cube
         // map, and looking them all up before testing any lets their cache misses overlap.
         // A cell that lists only the lane's own sphere (most lit points) answers at once.
-        let mut cells = [None; 16];
+        let (mut cells, mut skips) = ([None; 16], [0u32; 16]);
         let mut lookup = need;
         while lookup != 0 {
             let lane = lookup.trailing_zeros() as usize;
@@ -245,14 +245,13 @@ fn light_vector<S: Simd>(
                 visible |= 1 << lane;
                 need &= !(1 << lane);
             }
-            cells[lane] = cell;
+            (cells[lane], skips[lane]) = (cell, skip);
         }
         while need != 0 {
             let lane = need.trailing_zeros() as usize;
             need &= need - 1;
-            let (pl, nl) = (lane3::<S>(&p, lane), lane3::<S>(&n, lane));
-            let ray = spawn_ray(pl, nl, lane3::<S>(&l, lane));
-            if !tracer.shadowed_in(cells[lane], objects[lane], nl, &ray, dist.as_slice()[lane]) {
+            let ray = spawn_ray(lane3::<S>(&p, lane), lane3::<S>(&n, lane), lane3::<S>(&l, lane));
+            if !tracer.shadowed_in(cells[lane], skips[lane], &ray, dist.as_slice()[lane]) {
                 visible |= 1 << lane;
             }
         }
