@@ -1,4 +1,4 @@
-//! An 8-wide bounding-volume hierarchy over the spheres, with 4-wide SIMD leaves.
+//! An 8-wide bounding-volume hierarchy over the spheres, with 8-sphere SIMD leaves.
 //!
 //! Built from scratch each frame (a revolving sphere moves; for a thousand spheres the
 //! build takes well under a millisecond) into buffers reused from frame to frame. The tree
@@ -9,8 +9,11 @@
 //! ray meets all eight boxes in one slab test of `fearless_simd`'s `f32x8` (one AVX2
 //! instruction per step at the 8-lane level, two 4-lane halves at the fallback level, at
 //! the level `simd.rs` chose), and a thousand spheres are ~3 levels deep instead of ~8.
-//! Leaves hold up to eight spheres as two packets of four, each tested in SIMD lanes
-//! (`wide::f32x4`). A scene of eight spheres or fewer is one leaf: a flat SIMD loop.
+//! Leaves hold up to eight spheres in structure-of-arrays lanes, tested against a ray in the
+//! lane kernels' own arithmetic (`simd.rs`'s `spheres_t`): one 8-lane test with AVX2, two
+//! 4-lane halves at the fallback. The closest of a leaf's hits is found in the lanes too (a
+//! horizontal minimum, the lowest lane on a tie, as a scan in lane order would pick), not
+//! lane by lane. A scene of eight spheres or fewer is one leaf: a flat SIMD loop.
 //!
 //! The closest-hit traversal tests the leaves among the children a node's ray enters at
 //! once, visits the interior ones nearest first, and drops any whose entry lies beyond the
@@ -18,7 +21,10 @@
 //! ([`Bvh::intersect_in`]); other callers through [`Bvh::intersect`], which dispatches.
 //! [`Bvh::intersect_one`] tests a single sphere through the same lane arithmetic, so the
 //! `t` it reports for a sphere is bit-for-bit the one the closest-hit query reports (what
-//! `stereo`'s exact mode relies on); both equal the scalar [`crate::intersect_sphere`].
+//! `stereo`'s exact mode relies on); both equal the scalar [`crate::intersect_sphere`],
+//! and a ray's `t` for a sphere does not depend on the `t_max` it is tested with (a
+//! nearer bound only turns a farther root into a miss), so testing a leaf with the closest
+//! hit so far as its bound finds what a test of every sphere would.
 //! The collapse keeps the binary tree's boxes and only skips levels, so every sphere the
 //! binary traversal would reach is still reached: the answer is the same.
 
@@ -29,19 +35,16 @@
 
 use fearless_simd::{dispatch, f32x8, prelude::*, Simd};
 use glam::Vec3;
-use wide::f32x4;
 
 use crate::ray::Ray;
-use crate::sphere::{splat3, SpherePacket};
+use crate::simd::{each3, load, spheres_t, splat3, F, U};
 use crate::surface::Hit;
 
 mod build;
 
 use build::BinNode;
 
-/// Most packets in one leaf.
-const LEAF_PACKETS: usize = 2;
-/// Children per node.
+/// Children per node, and spheres per leaf.
 const WIDTH: usize = 8;
 /// Binary levels split by the surface-area heuristic; below them the median split takes
 /// over, which bounds the depth at `SAH_LEVELS` + log2(spheres) < 56 whatever the scene.
@@ -73,14 +76,38 @@ impl Node {
     const EMPTY: Self = Self { bounds: [[[0.0; WIDTH]; 3]; 2], child: [0; WIDTH], lanes: 0 };
 }
 
+/// A leaf: up to eight spheres in structure-of-arrays lanes. Unused lanes have NaN centres,
+/// which never hit, and the id `u32::MAX`.
+#[derive(Clone, Copy, Debug)]
+#[repr(C, align(32))]
+struct Leaf {
+    center: [[f32; WIDTH]; 3],
+    radius: [f32; WIDTH],
+    ids: [u32; WIDTH],
+}
+
+impl Leaf {
+    const EMPTY: Self = Self { center: [[f32::NAN; WIDTH]; 3], radius: [0.0; WIDTH], ids: [u32::MAX; WIDTH] };
+
+    /// Each lane's `t` (+∞ where it misses or lies outside `(0, t_max)`) for the lanes from
+    /// `base` (a multiple of the lane width), and those lanes' ids.
+    #[inline(always)]
+    fn hits<S: Simd>(&self, simd: S, (o, d): ([F<S>; 3], [F<S>; 3]), base: usize, t_max: f32) -> (F<S>, U<S>) {
+        let center = each3(|a| load(simd, &self.center[a], base));
+        let radius = load(simd, &self.radius, base);
+        let t = spheres_t(simd, o, d, (center, radius), F::<S>::splat(simd, t_max));
+        (t, U::<S>::from_slice(simd, &self.ids[base..base + F::<S>::LEN]))
+    }
+}
+
 /// Where traversal starts.
 #[derive(Clone, Copy, Debug, Default)]
 enum Root {
     /// No spheres.
     #[default]
     Empty,
-    /// The whole scene is one leaf of `count` packets from `packets[0]`.
-    Leaf { count: u32 },
+    /// The whole scene is one leaf, `leaves[0]`.
+    Leaf,
     /// `nodes[0]`.
     Node,
 }
@@ -90,11 +117,11 @@ enum Root {
 pub(crate) struct Bvh {
     root: Root,
     nodes: Vec<Node>,
-    packets: Vec<SpherePacket>,
+    leaves: Vec<Leaf>,
     items: Vec<u32>,
     /// Levels of 8-wide nodes on the longest path from the root (0 unless `Root::Node`).
     depth: usize,
-    /// For each sphere id, its packet and lane.
+    /// For each sphere id, its leaf and lane.
     slots: Vec<(u32, u32)>,
     /// Scratch: the binary build tree.
     bin: Vec<BinNode>,
@@ -147,22 +174,16 @@ impl<S: Simd> BoxRay<S> {
     }
 }
 
-/// A child of a node in one word: an interior node's index, or for a leaf [`LEAF`] | the
-/// packet count << [`COUNT_SHIFT`] | the first packet. Scenes stay far below the 2²⁹
-/// packets (2³¹ spheres) this leaves room for.
+/// A child of a node in one word: an interior node's index, or [`LEAF`] | a leaf's index.
+/// Scenes stay far below the 2³¹ leaves this leaves room for.
 type Link = u32;
 /// Marks a [`Link`] to a leaf.
 const LEAF: Link = 1 << 31;
-/// Where a leaf [`Link`] keeps its packet count (1 or 2).
-const COUNT_SHIFT: u32 = 29;
 
-/// A leaf link: `count` packets from `first`.
-fn leaf_link(first: u32, count: u32) -> Link {
-    debug_assert!(
-        first < 1 << COUNT_SHIFT && (1..=LEAF_PACKETS as u32).contains(&count),
-        "leaf of {count} packets from {first} does not fit a link"
-    );
-    LEAF | count << COUNT_SHIFT | first
+/// The link to leaf `index`.
+fn leaf_link(index: u32) -> Link {
+    debug_assert!(index < LEAF, "leaf {index} does not fit a link");
+    LEAF | index
 }
 
 /// A closest-hit traversal stack entry: an interior node and where the ray enters it.
@@ -177,47 +198,55 @@ impl Bvh {
     /// Hit parameter in `(0, ∞)` of the ray against sphere `k` alone (a test oracle).
     #[cfg(test)]
     pub(crate) fn intersect_one(&self, ray: &Ray, k: u32) -> Option<f32> {
-        let (packet, lane) = self.slots[k as usize];
-        let t = self.packets[packet as usize].hits(splat3(ray.origin), splat3(ray.dir), f32::INFINITY)[lane as usize];
+        fn lane_t<S: Simd>(simd: S, leaf: &Leaf, ray: &Ray, lane: usize) -> f32 {
+            let base = lane / F::<S>::LEN * F::<S>::LEN;
+            let ray = (splat3(simd, ray.origin), splat3(simd, ray.dir));
+            leaf.hits(simd, ray, base, f32::INFINITY).0.as_slice()[lane - base]
+        }
+        let (leaf, lane) = self.slots[k as usize];
+        let leaf = &self.leaves[leaf as usize];
+        let t = dispatch!(crate::simd::level(), simd => lane_t(simd, leaf, ray, lane as usize));
         t.is_finite().then_some(t)
     }
 
-    /// The packets of a leaf.
-    #[inline]
-    fn leaf(&self, first: u32, count: u32) -> &[SpherePacket] {
-        &self.packets[first as usize..(first + count) as usize]
+    /// The leaf a [`Link`] names.
+    #[inline(always)]
+    fn leaf_at(&self, link: Link) -> &Leaf {
+        &self.leaves[(link & !LEAF) as usize]
     }
 
-    /// The packets of the leaf `link` points to.
-    #[inline]
-    fn leaf_at(&self, link: Link) -> &[SpherePacket] {
-        let first = link & ((1 << COUNT_SHIFT) - 1);
-        self.leaf(first, (link & !LEAF) >> COUNT_SHIFT)
-    }
-
-    /// Narrows `(t_best, best)` to the closest hit among a leaf's spheres other than `skip`.
-    #[inline]
-    fn leaf_closest(
-        leaf: &[SpherePacket],
-        o: [f32x4; 3],
-        d: [f32x4; 3],
+    /// Narrows `(t_best, best)` to the closest hit among a leaf's spheres other than `skip`:
+    /// the smallest `t`, and of equal ones the lowest lane.
+    #[inline(always)]
+    fn leaf_closest<S: Simd>(
+        simd: S,
+        leaf: &Leaf,
+        ray: ([F<S>; 3], [F<S>; 3]),
         skip: u32,
         t_best: &mut f32,
         best: &mut Option<u32>,
     ) {
-        for p in leaf {
-            for (lane, t) in p.hits(o, d, *t_best).into_iter().enumerate() {
-                if t < *t_best && p.ids[lane] != skip {
-                    (*t_best, *best) = (t, Some(p.ids[lane]));
-                }
+        let inf = F::<S>::splat(simd, f32::INFINITY);
+        for base in (0..WIDTH).step_by(F::<S>::LEN) {
+            let (t, ids) = leaf.hits(simd, ray, base, *t_best);
+            // Every finite `t` is below `t_best`: the test's bound.
+            let t = ids.simd_eq(U::<S>::splat(simd, skip)).select(inf, t);
+            if t.simd_lt(inf).any_true() {
+                let nearest = t.reduce_min();
+                let lane = t.simd_eq(F::<S>::splat(simd, nearest)).to_bitmask().trailing_zeros() as usize;
+                (*t_best, *best) = (nearest, Some(leaf.ids[base + lane]));
             }
         }
     }
 
     /// Whether any of a leaf's spheres other than `skip` is hit before `t_max`.
-    #[inline]
-    fn leaf_blocks(leaf: &[SpherePacket], o: [f32x4; 3], d: [f32x4; 3], t_max: f32, skip: u32) -> bool {
-        leaf.iter().any(|p| p.blocks(o, d, t_max, skip))
+    #[inline(always)]
+    fn leaf_blocks<S: Simd>(simd: S, leaf: &Leaf, ray: ([F<S>; 3], [F<S>; 3]), t_max: f32, skip: u32) -> bool {
+        let inf = F::<S>::splat(simd, f32::INFINITY);
+        (0..WIDTH).step_by(F::<S>::LEN).any(|base| {
+            let (t, ids) = leaf.hits(simd, ray, base, t_max);
+            (t.simd_lt(inf) & ids.simd_ne(U::<S>::splat(simd, skip))).any_true()
+        })
     }
 
     /// Closest hit in `(0, t_max)` among the spheres other than `skip` (`NO_OBJECT`: none
@@ -252,13 +281,13 @@ impl Bvh {
     /// [`Bvh::intersect`] with a traversal stack of `N` entries, `N` > 7 × `self.depth`.
     #[inline(always)]
     fn intersect_with<S: Simd, const N: usize>(&self, simd: S, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
-        let (o, d) = (splat3(ray.origin), splat3(ray.dir));
+        let lane_ray = (splat3(simd, ray.origin), splat3(simd, ray.dir));
         let (mut t_best, mut best) = (t_max, None);
         match self.root {
             Root::Empty => return None,
-            Root::Leaf { count } => {
-                // A small scene is one leaf: its packets are the whole test, no box needed.
-                Self::leaf_closest(self.leaf(0, count), o, d, skip, &mut t_best, &mut best);
+            Root::Leaf => {
+                // A small scene is one leaf: its lanes are the whole test, no box needed.
+                Self::leaf_closest(simd, &self.leaves[0], lane_ray, skip, &mut t_best, &mut best);
                 return best.map(|object| Hit { t: t_best, object });
             }
             Root::Node => {}
@@ -287,7 +316,7 @@ impl Bvh {
                 hit &= hit - 1;
                 let entry = Entry { link: node.child[lane], near: near[lane] };
                 if entry.link & LEAF != 0 {
-                    Self::leaf_closest(self.leaf_at(entry.link), o, d, skip, &mut t_best, &mut best);
+                    Self::leaf_closest(simd, self.leaf_at(entry.link), lane_ray, skip, &mut t_best, &mut best);
                     continue;
                 }
                 let mut k = sp;
@@ -317,10 +346,10 @@ impl Bvh {
     /// [`Bvh::occluded`] with a traversal stack of `N` entries, `N` > 7 × `self.depth`.
     #[inline(always)]
     fn occluded_with<S: Simd, const N: usize>(&self, simd: S, ray: &Ray, t_max: f32, skip: u32) -> bool {
-        let (o, d) = (splat3(ray.origin), splat3(ray.dir));
+        let lane_ray = (splat3(simd, ray.origin), splat3(simd, ray.dir));
         match self.root {
             Root::Empty => return false,
-            Root::Leaf { count } => return Self::leaf_blocks(self.leaf(0, count), o, d, t_max, skip),
+            Root::Leaf => return Self::leaf_blocks(simd, &self.leaves[0], lane_ray, t_max, skip),
             Root::Node => {}
         }
         let br = BoxRay::new(simd, ray);
@@ -335,7 +364,7 @@ impl Bvh {
                 hit &= hit - 1;
                 let link = node.child[lane];
                 if link & LEAF != 0 {
-                    if Self::leaf_blocks(self.leaf_at(link), o, d, t_max, skip) {
+                    if Self::leaf_blocks(simd, self.leaf_at(link), lane_ray, t_max, skip) {
                         return true;
                     }
                 } else {

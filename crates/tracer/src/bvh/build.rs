@@ -4,11 +4,10 @@
 
 use glam::Vec3;
 
-use super::{leaf_link, Bvh, Node, Root, LEAF_PACKETS, SAH_LEVELS, WIDTH};
-use crate::sphere::{SpherePacket, LANES};
+use super::{leaf_link, Bvh, Leaf, Node, Root, SAH_LEVELS, WIDTH};
 
 /// A node of the binary build tree: a box, and either two children (`count == 0`: `first`
-/// and `first + 1`) or a leaf of `count` packets starting at `packets[first]`.
+/// and `first + 1`) or a leaf (`count` > 0 spheres), `leaves[first]`.
 #[derive(Clone, Copy, Debug, Default)]
 pub(super) struct BinNode {
     min: Vec3,
@@ -88,7 +87,7 @@ impl Bvh {
     /// Rebuilds over the spheres `(centers[k], radii[k])`, reusing the buffers.
     pub(crate) fn build(&mut self, centers: &[Vec3], radii: &[f32]) {
         self.nodes.clear();
-        self.packets.clear();
+        self.leaves.clear();
         self.items.clear();
         self.bin.clear();
         self.depth = 0;
@@ -103,9 +102,8 @@ impl Bvh {
         let mut items = std::mem::take(&mut self.items);
         self.build_node(0, 0, &mut items, centers, radii);
         self.items = items;
-        let root = self.bin[0];
-        if root.count > 0 {
-            self.root = Root::Leaf { count: root.count };
+        if self.bin[0].count > 0 {
+            self.root = Root::Leaf;
         } else {
             self.root = Root::Node;
             self.collapse(0, 1);
@@ -123,17 +121,19 @@ impl Bvh {
             cmin = cmin.min(c);
             cmax = cmax.max(c);
         }
-        if items.len() <= LANES * LEAF_PACKETS {
-            let first = self.packets.len() as u32;
-            for chunk in items.chunks(LANES) {
-                let mut packet = SpherePacket::EMPTY;
-                for (lane, &k) in chunk.iter().enumerate() {
-                    packet.set(lane, k, centers[k as usize], radii[k as usize]);
-                    self.slots[k as usize] = (self.packets.len() as u32, lane as u32);
+        if items.len() <= WIDTH {
+            let first = self.leaves.len() as u32;
+            let mut leaf = Leaf::EMPTY;
+            for (lane, &k) in items.iter().enumerate() {
+                let (c, r) = (centers[k as usize], radii[k as usize]);
+                for a in 0..3 {
+                    leaf.center[a][lane] = c[a];
                 }
-                self.packets.push(packet);
+                (leaf.radius[lane], leaf.ids[lane]) = (r, k);
+                self.slots[k as usize] = (first, lane as u32);
             }
-            self.bin[index] = BinNode { min, max, first, count: self.packets.len() as u32 - first };
+            self.leaves.push(leaf);
+            self.bin[index] = BinNode { min, max, first, count: items.len() as u32 };
             return;
         }
         let split = if level < SAH_LEVELS { sah_split(items, centers, radii, cmin, cmax) } else { None };
@@ -195,8 +195,7 @@ impl Bvh {
                 node.bounds[1][a][lane] = child.max[a];
             }
             node.lanes |= 1 << lane;
-            node.child[lane] =
-                if child.count > 0 { leaf_link(child.first, child.count) } else { self.collapse(k, level + 1) };
+            node.child[lane] = if child.count > 0 { leaf_link(child.first) } else { self.collapse(k, level + 1) };
         }
         self.nodes[index] = node;
         index as u32
