@@ -8,13 +8,16 @@
 //!   marked an edge.
 //!
 //! A reprojected miss keeps the left eye's background colour either way. Copy mode fills
-//! its reprojected pixels in stage 4's pass (`retrace.rs`), so it has no stage 5.
+//! its reprojected pixels in stage 4's pass (`retrace.rs`), so it has no stage 5. Exact
+//! mode does stage 4 in stage 5's pass instead: each row is one batch of the tracer's
+//! wavefront ([`SecondView::shade_row`]), its retraced pixels beside its reprojected ones,
+//! so the batch fills whole vectors of lanes and the row is read once.
 
 use std::cell::RefCell;
 use std::ops::Add;
 
 use rayon::prelude::*;
-use tracer::{EyeView, Film, MarksRow, RayCounts, SecondView, NO_OBJECT};
+use tracer::{EyeView, Film, MarksRow, RayCounts, SecondView, KEEP, NO_OBJECT, TRACE};
 
 use crate::image::Image;
 use crate::mode::Mode;
@@ -77,8 +80,9 @@ struct Row<'a> {
 /// Stage 5 over the image: every right pixel of `redo` that `mask` marks
 /// [`PixelClass::Reprojected`] is filled into `out` from its source in `src` on the `left`
 /// film (rendered for the view `lv`), as `how` says, by `right`, the right eye's view.
-/// Stage 4 has cleared the marks of `redo`'s pixels; this sets those of the pixels it
-/// shades.
+/// For [`Fill::Reshade`], stage 4 has traced the other pixels and cleared the marks of
+/// `redo`'s pixels, and this sets those of the pixels it shades; [`Fill::Exact`] does
+/// stage 4's part itself (see the module doc).
 pub(crate) fn fill(
     right: SecondView<'_>,
     (lv, left): (&EyeView, &Film),
@@ -175,24 +179,51 @@ fn reshade_row(right: SecondView<'_>, (lv, left): (&EyeView, &Film), row: Row<'_
     Filled { rays, sphere_tests: 0 }
 }
 
-/// One row of [`Fill::Exact`]: each pixel's own ray against the sphere its source saw, as
-/// one list; the silhouettes it misses are retraced and marked edges. A pixel whose source
-/// saw background takes its colour as the list is made.
+/// One row of [`Fill::Exact`], stages 4 and 5 in one batch: each reprojected pixel's own ray
+/// against the sphere its source saw (the silhouettes it misses are retraced and marked
+/// edges), every other pixel of the row traced afresh. A pixel whose source saw background
+/// takes its colour.
 fn exact_row(right: SecondView<'_>, left: &Film, row: Row<'_>) -> Filled {
     let Row { j, rgb, mask, src, only, mut marks } = row;
+    if let Some(marks) = marks.as_mut() {
+        marks.clear_only(only);
+    }
     let mut rays = RayCounts::default();
-    let named = with_list(|list| {
-        list_row(left, (mask, src), rgb, only, list, |i, s| (i, left.object[s], left.lights[s]));
-        right.shade_on(j, list.iter().copied(), &mut rays, |i, c, retraced, touch| {
-            rgb[i as usize] = c;
-            if let Some(marks) = marks.as_mut() {
-                marks.set(i, touch);
+    with_plan(|plan, missed| {
+        let entry =
+            |(&class, &source): (&PixelClass, &u32)| if class == PixelClass::Reprojected { source } else { TRACE };
+        match only {
+            // One plain loop the compiler vectorises.
+            None => plan.extend(mask.iter().zip(src).map(entry)),
+            Some(bits) => {
+                plan.resize(rgb.len(), KEEP);
+                for i in chosen(Some(bits), rgb.len()).map(|i| i as usize) {
+                    plan[i] = entry((&mask[i], &src[i]));
+                }
             }
-            if retraced {
-                mask[i as usize] = PixelClass::RetracedEdge;
-            }
-        });
-        list.len() as u64
-    });
-    Filled { rays, sphere_tests: named }
+        }
+        let sphere_tests = right.shade_row(j, (left, plan), (rgb, marks.as_mut()), &mut rays, missed);
+        for &i in missed.iter() {
+            mask[i as usize] = PixelClass::RetracedEdge;
+        }
+        Filled { rays, sphere_tests }
+    })
+}
+
+thread_local! {
+    /// This thread's plan of a row ([`SecondView::shade_row`]) and its list of missed
+    /// silhouettes, reused from row to row.
+    static PLAN: RefCell<(Vec<u32>, Vec<u32>)> = const { RefCell::new((Vec::new(), Vec::new())) };
+}
+
+/// Runs `f` with this thread's plan (emptied) and list. A nested call gets its own.
+fn with_plan<R>(f: impl FnOnce(&mut Vec<u32>, &mut Vec<u32>) -> R) -> R {
+    PLAN.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut buffers) => {
+            let (plan, missed) = &mut *buffers;
+            plan.clear();
+            f(plan, missed)
+        }
+        Err(_) => f(&mut Vec::new(), &mut Vec::new()),
+    })
 }

@@ -9,7 +9,7 @@
 
 use std::time::Instant;
 
-use tracer::{Arc, Camera, Eye, Film, Marks, PixelBits, Record, Renderer, Tracer};
+use tracer::{Arc, Camera, Eye, EyeView, Film, Marks, PixelBits, Record, Renderer, SecondView, Tracer};
 
 use crate::fill::{fill, Fill};
 use crate::image::Image;
@@ -246,24 +246,17 @@ impl StereoFrame {
             self.plan = Some(plan);
             stats.stages.reproject = ms_since(t);
 
-            // Stage 4. The paper's mode gathers its reprojected colours in the same pass
-            // over the image: it has no stage 5.
-            let t = Instant::now();
             let right = self.right_renderer.second_view(tracer, &rv).marking(mark);
-            let copy_from = (opts.mode == Mode::Copy).then_some(&self.left.rgb[..]);
-            let redo = Redo { only, marks: &mut self.right_marks, mark };
-            stats.right.rays = retrace(right, &self.mask, &self.src, copy_from, &mut self.right, redo);
-            stats.stages.retrace = ms_since(t);
-
-            // Stage 5.
-            if let Some(how) = Fill::of(opts.mode) {
-                let t = Instant::now();
-                let redo = Redo { only, marks: &mut self.right_marks, mark };
-                let filled = fill(right, (&lv, &self.left), how, (&mut self.mask, &self.src), &mut self.right, redo);
-                stats.stages.reshade = ms_since(t);
-                stats.right.rays += filled.rays;
-                stats.sphere_tests = filled.sphere_tests;
-            }
+            let redo = (only, &mut self.right_marks, mark);
+            retrace_and_fill(
+                right,
+                (&lv, &self.left),
+                opts.mode,
+                (&mut self.mask, &self.src),
+                &mut self.right,
+                redo,
+                &mut stats,
+            );
         }
         stats.right.ms = stats.stages.reproject + stats.stages.retrace + stats.stages.reshade;
         stats.pixels = self.pixel_counts(reused, removed);
@@ -274,6 +267,36 @@ impl StereoFrame {
         self.wedge_hulls = hulls;
         self.stats = stats;
         stats
+    }
+}
+
+/// Stages 4 and 5 of a reprojecting `mode`, by `right` (the right eye's view) into `out`,
+/// from the `left` film (rendered for the view `lv`), the classes in `mask` and the sources
+/// in `src`, over the pixels `only` names (`None`: all), marking them in `marks` if `mark`.
+/// The paper's mode gathers its reprojected colours in stage 4's pass over the image: it
+/// has no stage 5. Exact mode retraces in stage 5's pass instead (`fill.rs`).
+fn retrace_and_fill(
+    right: SecondView<'_>,
+    (lv, left): (&EyeView, &Film),
+    mode: Mode,
+    (mask, src): (&mut [PixelClass], &[u32]),
+    out: &mut Image,
+    (only, marks, mark): (Option<&PixelBits>, &mut Marks, bool),
+    stats: &mut FrameStats,
+) {
+    let how = Fill::of(mode);
+    if how != Some(Fill::Exact) {
+        let t = Instant::now();
+        let copy_from = (mode == Mode::Copy).then_some(&left.rgb[..]);
+        stats.right.rays = retrace(right, mask, src, copy_from, out, Redo { only, marks, mark });
+        stats.stages.retrace = ms_since(t);
+    }
+    if let Some(how) = how {
+        let t = Instant::now();
+        let filled = fill(right, (lv, left), how, (mask, src), out, Redo { only, marks, mark });
+        stats.stages.reshade = ms_since(t);
+        stats.right.rays += filled.rays;
+        stats.sphere_tests = filled.sphere_tests;
     }
 }
 

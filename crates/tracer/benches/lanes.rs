@@ -1,8 +1,9 @@
 //! Criterion benchmarks of the shading wavefront's lane kernels, batch by batch, through the
 //! services a second view uses (each call shades one row's list of pixels as one batch):
 //! full traces (first hits, shadow rays, highlights, the mirror chain), re-shading of known
-//! surfaces (highlights and the mirror chain only) and `exact` mode's single-sphere shading
-//! (known light bits, then the mirror chain). Two more isolate a kernel: the shadow batch
+//! surfaces (highlights and the mirror chain only) and `exact` mode's rows (each pixel's
+//! own ray against the one sphere it sees, shaded with known light bits, then the mirror
+//! chain). Two more isolate a kernel: the shadow batch
 //! (first hits and shadow rays, no mirrors: the scene at reflection depth 0) and the mirror
 //! batch (re-shading with known light bits at depth 1: highlights and one level of mirror
 //! rays with their shadow rays). And the marking of temporal reuse: the full trace with
@@ -75,14 +76,15 @@ fn batches(c: &mut Criterion) {
             });
         });
         c.bench_function(&format!("lanes{lanes}_exact_rows_{W}x{H}_{name}"), |b| {
+            let (mut rgb, mut plan, mut missed) = (vec![0u32; W as usize], Vec::new(), Vec::new());
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
                 for j in 0..H {
-                    let items = hit(j).map(|i| {
-                        let s = truth[(j * W + i) as usize].surface;
-                        (i, s.object, s.lights)
-                    });
-                    second.shade_on(j, items, &mut counts, |_, c, _, _| sum = sum.wrapping_add(c));
+                    // Each pixel aimed at the sphere it sees, with its light bits.
+                    plan.clear();
+                    plan.extend((0..W).map(|i| j * W + i));
+                    second.shade_row(j, (film, &plan), (&mut rgb, None), &mut counts, &mut missed);
+                    sum = rgb.iter().fold(sum, |s, &c| s.wrapping_add(c));
                 }
                 black_box((sum, counts))
             });

@@ -95,7 +95,7 @@ pub use material::Material;
 pub use ray::{reflect, spawn_ray, Ray};
 pub use render::Renderer;
 pub use scene::{Light, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
-pub use second_view::SecondView;
+pub use second_view::{SecondView, KEEP, TRACE};
 pub use shade::Shaded;
 pub use simd::{lane_width, LANES_VAR};
 pub use sphere::{intersect_sphere, Sphere};

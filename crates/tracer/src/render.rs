@@ -202,7 +202,7 @@ fn trace_row_in<S: Simd>(
                 || {
                     let hits = eye.hits_lanes(simd, i0 as u32, j);
                     if whole && hits.0.abs().simd_lt(F::<S>::splat(simd, f32::INFINITY)).all_true() {
-                        wavefront.push_lanes(simd, view.origin, hits, i0 as u32);
+                        wavefront.push_lanes(simd, view.origin, hits, i0 as u32, None);
                         return None;
                     }
                     Some(hits)
@@ -256,7 +256,7 @@ fn trace_only(
     }
     by_lanes(bits::ones(only), SecondView::lanes(), |base, mask| {
         counts.primary += u64::from(mask.count_ones());
-        second.push_traced(wavefront, base, j, mask, 0, &mut |i, rgb, touch| {
+        second.push_traced(wavefront, base, j, mask, &mut |i, rgb, touch| {
             sink.background(i as usize..i as usize + 1, rgb);
             if let Some(marks) = marks.as_mut() {
                 marks.set(i, touch);

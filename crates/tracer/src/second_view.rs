@@ -2,19 +2,22 @@
 //! visible-surface record (Adelson & Hodges 1993, "Stereoscopic ray-tracing"), in one place.
 //!
 //! A [`SecondView`] is an eye's view with its screen bins built, made by
-//! [`crate::Renderer::second_view`]. For a row's pixels, given as lists, it gives:
+//! [`crate::Renderer::second_view`]. For a row's pixels it gives:
 //! - [`SecondView::trace_pixels`]: full primary rays (the retrace of gaps, borders, object
 //!   edges and shadow boundaries), bit-for-bit the pixels [`crate::Renderer::render`]
 //!   would make;
 //! - [`SecondView::reshade`]: surfaces the other eye saw, re-lit for these pixels' rays.
 //!   Their view-independent light and light visibility are kept; highlights and mirror rays
 //!   are recomputed (`reshade` mode);
-//! - [`SecondView::shade_on`]: each pixel's own ray against the one sphere the other eye saw
-//!   there, shaded with that eye's light visibility, and fully retraced where it misses
-//!   that sphere (`exact` mode).
+//! - [`SecondView::shade_row`]: a whole row by a plan, a pixel of the other eye per column
+//!   (or none: trace afresh, or keep): each pixel's own ray against the one sphere the
+//!   other eye saw there, shaded with that eye's light visibility, and fully retraced where
+//!   it misses that sphere or the plan says so (`exact` mode). The plan is read a group of
+//!   lanes at a time, and a group whose rays all hit their spheres enters the batch in
+//!   vector stores, as a first view's rows do.
 //!
-//! Every list is shaded as one batch of the thread's wavefront (`wavefront.rs`), so the
-//! pixels of a second view go through the very kernels a first view's do.
+//! Every row's pixels are shaded as one batch of the thread's wavefront (`wavefront.rs`), so
+//! the pixels of a second view go through the very kernels a first view's do.
 //!
 //! And [`Tracer::nearest_depth`] bounds how near the eyes any sphere comes, which bounds
 //! how far anything can shift between the eyes.
@@ -29,13 +32,16 @@ use glam::Vec3;
 
 use crate::camera::EyeView;
 use crate::film::Film;
+use crate::marks::MarksRow;
 use crate::primary::BinnedView;
 use crate::ray::Ray;
-use crate::simd::F;
+use crate::simd::{F, U};
 use crate::stats::RayCounts;
 use crate::surface::Hit;
+use crate::surface::NO_OBJECT;
 use crate::swept::Touch;
 use crate::tracer::Tracer;
+use crate::wavefront::{one_object, per_object};
 use crate::wavefront::{with_wavefront, Wavefront};
 
 /// One eye's view, ready to trace and re-shade lists of its pixels (see the module doc).
@@ -46,8 +52,10 @@ pub struct SecondView<'a> {
     mark: bool,
 }
 
-/// Marks a tag of [`SecondView::shade_on`] whose pixel was retraced.
-const RETRACED: u32 = 1 << 31;
+/// A [`SecondView::shade_row`] plan entry: trace the pixel afresh.
+pub const TRACE: u32 = u32::MAX;
+/// A [`SecondView::shade_row`] plan entry: leave the pixel as it is.
+pub const KEEP: u32 = u32::MAX - 1;
 
 /// Groups ascending pixel columns by the aligned group of `lanes` (a power of two, at most
 /// 32) they fall in: calls `group(first column, lane mask)` once per group.
@@ -91,7 +99,7 @@ impl<'a> SecondView<'a> {
     fn mark_background(&self, wavefront: &mut Wavefront, j: u32, out: &mut impl FnMut(u32, u32, Touch)) {
         if self.mark {
             let rgb = self.eye.tracer.background_rgb;
-            wavefront.mark_background(self.eye.tracer, self.eye.view, (j, !RETRACED), &mut |tag, touch| {
+            wavefront.mark_background(self.eye.tracer, self.eye.view, (j, u32::MAX), &mut |tag, touch| {
                 out(tag, rgb, touch);
             });
         }
@@ -101,7 +109,7 @@ impl<'a> SecondView<'a> {
     /// are this view's (not another view's, whose pixels carry those rays' marks).
     fn mark_batch(&self, wavefront: &mut Wavefront, j: u32, own: bool) {
         if self.mark {
-            wavefront.mark_dynamic(self.eye.tracer, |tag| own && self.eye.bins.may_meet_moving(tag & !RETRACED, j));
+            wavefront.mark_dynamic(self.eye.tracer, |tag| own && self.eye.bins.may_meet_moving(tag, j));
         }
     }
 
@@ -121,19 +129,18 @@ impl<'a> SecondView<'a> {
 
     /// Pushes the pixels `mask` names of the group of [`SecondView::lanes`] columns from
     /// `base` (a multiple of it) with full primary rays, in lanes; the ones that see only
-    /// background go straight to `out(tag, colour, touch)`. Tags are columns | `flag`.
+    /// background go straight to `out(column, colour, touch)`. Tags are columns.
     pub(crate) fn push_traced(
         &self,
         wavefront: &mut Wavefront,
         base: u32,
         j: u32,
         mask: u32,
-        flag: u32,
         out: &mut impl FnMut(u32, u32, Touch),
     ) {
         dispatch!(crate::simd::level(), simd => simd.vectorize(
             #[inline(always)]
-            || self.push_traced_in(simd, wavefront, (base, j, mask, flag), out),
+            || self.push_traced_in(simd, wavefront, (base, j, mask), out),
         ));
     }
 
@@ -143,7 +150,7 @@ impl<'a> SecondView<'a> {
         &self,
         simd: S,
         wavefront: &mut Wavefront,
-        (base, j, mask, flag): (u32, u32, u32, u32),
+        (base, j, mask): (u32, u32, u32),
         out: &mut impl FnMut(u32, u32, Touch),
     ) {
         let lanes = F::<S>::LEN;
@@ -154,9 +161,9 @@ impl<'a> SecondView<'a> {
         let (tracer, view) = (self.eye.tracer, self.eye.view);
         let background = |wavefront: &mut Wavefront, i: u32, out: &mut dyn FnMut(u32, u32, Touch)| {
             // Marked later, together (`mark_background`).
-            out(i | flag, tracer.background_rgb, Touch::NONE);
+            out(i, tracer.background_rgb, Touch::NONE);
             if self.mark && self.eye.bins.may_meet_moving(i, j) {
-                wavefront.push_background(i | flag);
+                wavefront.push_background(i);
             }
         };
         if self.eye.bins.is_empty_at(base, j) {
@@ -169,7 +176,7 @@ impl<'a> SecondView<'a> {
         let hit = hits.0.abs().simd_lt(F::<S>::splat(simd, f32::INFINITY)).to_bitmask() as u32;
         if mask == hit && u64::from(mask) == (1 << lanes) - 1 {
             // Every ray of the group hits: into the batch whole.
-            wavefront.push_lanes(simd, view.origin, hits, base | flag);
+            wavefront.push_lanes(simd, view.origin, hits, base, None);
             return;
         }
         let (mut t, mut ids, mut d) = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
@@ -182,7 +189,7 @@ impl<'a> SecondView<'a> {
             let (i, k) = (base + l, l as usize);
             if hit & (1 << l) != 0 {
                 let ray = Ray::new(view.origin, Vec3::new(d[0][k], d[1][k], d[2][k]));
-                wavefront.push_hit(&ray, Hit { t: t[k], object: ids[k] }, None, i | flag);
+                wavefront.push_hit(&ray, Hit { t: t[k], object: ids[k] }, None, i);
             } else {
                 background(wavefront, i, out);
             }
@@ -201,7 +208,7 @@ impl<'a> SecondView<'a> {
         with_wavefront(|wavefront| {
             by_lanes(cols, Self::lanes(), |base, mask| {
                 counts.primary += u64::from(mask.count_ones());
-                self.push_traced(wavefront, base, j, mask, 0, &mut out);
+                self.push_traced(wavefront, base, j, mask, &mut out);
             });
             wavefront.shade(self.eye.tracer, counts);
             self.mark_batch(wavefront, j, true);
@@ -249,42 +256,137 @@ impl<'a> SecondView<'a> {
         });
     }
 
-    /// For each `(column, object, light bits)` of row `j` (ascending columns): the pixel's
-    /// own primary ray against the one sphere `object` alone, shaded with `lights` where it
-    /// hits; where it misses that sphere (a silhouette), the pixel is retraced with a full
-    /// primary ray. Hands `out(column, colour, retraced, touch)` for each.
+    /// Makes the pixels of row `j` as `plan` says, one entry per column, in one batch:
+    /// - the index (row-major) of a pixel of `film`, the other view's, its record kept: this
+    ///   pixel's own primary ray is tested against the one sphere that pixel saw, and where
+    ///   it hits, shaded with that pixel's light bits; where it misses (a silhouette) the
+    ///   pixel is traced afresh and its column pushed to `missed`; where that pixel saw only
+    ///   background, this one takes its colour;
+    /// - [`TRACE`]: traced afresh, with a full primary ray;
+    /// - [`KEEP`]: left as it is.
     ///
-    /// With the sphere the pixel really sees and its true light bits, the colour is
-    /// bit-for-bit the full trace's: the ray, its `t` and the shading are the same
-    /// operations on the same values.
-    pub fn shade_on(
+    /// Colours go to `rgb` (the row), and when marking, each pixel made is marked in `marks`
+    /// (a pixel that takes a background colour carries no ray of its own and is left
+    /// unmarked). Returns the single-sphere tests made (not scene rays, so not counted in
+    /// `counts`).
+    ///
+    /// With the sphere the pixel really sees and its true light bits, a pixel is bit-for-bit
+    /// the full trace's: the ray, its `t` and the shading are the same operations on the same
+    /// values.
+    pub fn shade_row(
         &self,
         j: u32,
-        items: impl IntoIterator<Item = (u32, u32, u32)>,
+        (film, plan): (&Film, &[u32]),
+        (rgb, mut marks): (&mut [u32], Option<&mut MarksRow<'_>>),
         counts: &mut RayCounts,
-        mut out: impl FnMut(u32, u32, bool, Touch),
-    ) {
-        let (tracer, view) = (self.eye.tracer, self.eye.view);
-        let mut out_tagged = |tag: u32, rgb: u32, touch: Touch| out(tag & !RETRACED, rgb, tag & RETRACED != 0, touch);
-        with_wavefront(|wavefront| {
-            for (i, object, lights) in items {
-                wavefront.push_named(i, object, lights);
+        missed: &mut Vec<u32>,
+    ) -> u64 {
+        debug_assert_eq!(plan.len(), rgb.len(), "a plan entry per pixel of the row");
+        debug_assert_ne!(film.record(), crate::Record::Colour, "the other view's record is needed");
+        missed.clear();
+        let marking = self.mark && marks.is_some();
+        let mut out = |i: u32, colour: u32, touch: Touch| {
+            rgb[i as usize] = colour;
+            if let Some(marks) = marks.as_deref_mut().filter(|_| marking) {
+                marks.set(i, touch);
             }
-            wavefront.aim_named(view, j, tracer);
-            // The silhouettes the named spheres missed: full primary rays, a lane group at a time.
-            let missed = std::mem::take(wavefront.missed_mut());
-            counts.primary += missed.len() as u64;
-            by_lanes(missed.iter().copied(), Self::lanes(), |base, mask| {
-                self.push_traced(wavefront, base, j, mask, RETRACED, &mut out_tagged);
-            });
-            *wavefront.missed_mut() = missed;
-            wavefront.shade(tracer, counts);
+        };
+        with_wavefront(|wavefront| {
+            let tests = dispatch!(crate::simd::level(), simd => simd.vectorize(
+                #[inline(always)]
+                || self.push_row_in(simd, wavefront, j, (film, plan), counts, (missed, &mut out)),
+            ));
+            wavefront.shade(self.eye.tracer, counts);
             self.mark_batch(wavefront, j, true);
             for e in 0..wavefront.len() {
-                out_tagged(wavefront.tag(e), wavefront.rgb(e), self.touch(wavefront, e));
+                out(wavefront.tag(e), wavefront.rgb(e), self.touch(wavefront, e));
             }
-            self.mark_background(wavefront, j, &mut out_tagged);
-        });
+            self.mark_background(wavefront, j, &mut out);
+            tests
+        })
+    }
+
+    /// The first half of [`SecondView::shade_row`] with the lanes of `simd`: each group of
+    /// lanes of the row read from the plan, aimed and pushed into the batch (a group that
+    /// hits its spheres in every lane in vector stores). `out(column, colour, touch)` takes
+    /// the colours made without shading. Returns the single-sphere tests made.
+    #[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
+    #[inline(always)]
+    fn push_row_in<S: Simd>(
+        &self,
+        simd: S,
+        wavefront: &mut Wavefront,
+        j: u32,
+        (film, plan): (&Film, &[u32]),
+        counts: &mut RayCounts,
+        (missed, out): (&mut Vec<u32>, &mut impl FnMut(u32, u32, Touch)),
+    ) -> u64 {
+        let (tracer, view) = (self.eye.tracer, self.eye.view);
+        let lanes = F::<S>::LEN;
+        let all = (1u32 << lanes) - 1;
+        let inf = F::<S>::splat(simd, f32::INFINITY);
+        let origin = crate::simd::splat3(simd, view.origin);
+        let (mut objects, mut lights) = ([0u32; 16], [0u32; 16]);
+        let mut tests = 0;
+        for base in (0..plan.len()).step_by(lanes) {
+            let group = &plan[base..(base + lanes).min(plan.len())];
+            let (mut traced, mut named) = (0u32, 0u32);
+            for (l, &source) in group.iter().enumerate() {
+                match source {
+                    TRACE => traced |= 1 << l,
+                    KEEP => {}
+                    source => {
+                        let s = source as usize;
+                        let object = film.object[s];
+                        if object == NO_OBJECT {
+                            out((base + l) as u32, film.rgb[s], Touch::NONE);
+                        } else {
+                            named |= 1 << l;
+                            (objects[l], lights[l]) = (object, film.lights[s]);
+                        }
+                    }
+                }
+            }
+            if named != 0 {
+                tests += u64::from(named.count_ones());
+                // The other lanes aim at a named lane's sphere, and are left out.
+                let first = objects[named.trailing_zeros() as usize];
+                for (l, object) in objects.iter_mut().enumerate().take(lanes) {
+                    if named & (1 << l) == 0 {
+                        *object = first;
+                    }
+                }
+                let at = (&objects[..lanes], one_object(&objects[..lanes]));
+                let columns = U::<S>::splat(simd, base as u32) + crate::simd::lane_index(simd);
+                let d = view.primary_dirs_at(simd, F::<S>::float_from(columns), j);
+                let c = crate::simd::each3(|a| per_object(simd, at, |o| tracer.centers[o][a]));
+                let r = per_object(simd, at, |o| tracer.radii[o]);
+                let t = crate::simd::spheres_t(simd, origin, d, (c, r), inf);
+                let hit = t.simd_lt(inf).to_bitmask() as u32 & named;
+                if hit == all {
+                    let known = U::<S>::from_slice(simd, &lights[..lanes]);
+                    let ids = U::<S>::from_slice(simd, &objects[..lanes]);
+                    wavefront.push_lanes(simd, view.origin, (t, ids, d), base as u32, Some(known));
+                } else {
+                    let (ts, dirs) = (t.as_slice(), crate::simd::each3(|a| d[a].as_slice()));
+                    for l in crate::bits::ones(&[u64::from(hit)]) {
+                        let l = l as usize;
+                        let ray = Ray::new(view.origin, Vec3::new(dirs[0][l], dirs[1][l], dirs[2][l]));
+                        let hit = Hit { t: ts[l], object: objects[l] };
+                        wavefront.push_hit(&ray, hit, Some(lights[l]), (base + l) as u32);
+                    }
+                }
+                // The silhouettes the named spheres missed are traced afresh.
+                let miss = named & !hit;
+                missed.extend(crate::bits::ones(&[u64::from(miss)]).map(|l| base as u32 + l));
+                traced |= miss;
+            }
+            if traced != 0 {
+                counts.primary += u64::from(traced.count_ones());
+                self.push_traced_in(simd, wavefront, (base as u32, j, traced), out);
+            }
+        }
+        tests
     }
 }
 
@@ -319,57 +421,118 @@ mod tests {
         Scene::load(path).expect("scene loads")
     }
 
+    /// A colour no traced pixel has: its high byte is set.
+    const UNTOUCHED: u32 = 0xFF00_FF00;
+
     #[test]
-    fn single_sphere_tests_retrace_where_the_sphere_test_misses_and_shade_like_a_full_trace() {
+    fn a_planned_row_is_the_full_trace_wherever_its_sphere_and_bits_are_true() {
         let scene = scene("many.toml");
         let tracer = Tracer::new(&scene, 0.0);
-        let (w, h) = (94, 54); // a short last quad
+        let (w, h) = (94, 54); // a short last group of lanes
         let view = scene.camera.view(Eye::Right, w, h);
         let mut renderer = Renderer::new();
         let second = renderer.second_view(&tracer, &view);
         let n = tracer.sphere_count() as u32;
-        let (mut counts, mut plain, mut hits, mut retraced) = (RayCounts::default(), RayCounts::default(), 0, 0);
+        let mut plain = RayCounts::default();
+        let truth: Vec<_> = (0..h)
+            .flat_map(|j| (0..w).map(move |i| (i, j)))
+            .map(|(i, j)| tracer.trace_pixel(&view, i, j, &mut plain))
+            .collect();
+        // A film that names, for pixel (i, j), the sphere and light bits `pick` gives, or
+        // background (object NO_OBJECT) of a colour of its own.
+        let film_of = |pick: &dyn Fn(u32, u32) -> Option<(u32, u32)>| {
+            let mut film = Film::new(w, h);
+            for (k, (i, j)) in (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).enumerate() {
+                (film.object[k], film.lights[k], film.rgb[k]) = match pick(i, j) {
+                    Some((object, lights)) => (object, lights, UNTOUCHED),
+                    None => (NO_OBJECT, 0, 0x0012_3400 | i),
+                };
+            }
+            film
+        };
+        let (mut counts, mut missed) = (RayCounts::default(), Vec::new());
+        let (mut hits, mut retraced, mut kept, mut copied) = (0, 0, 0, 0);
+
+        // Aimed at arbitrary spheres, with some pixels traced, some kept and some taking a
+        // background colour: retraced exactly where the lone sphere test misses, and then
+        // with the full trace's colour.
+        let film = film_of(&|i, j| (i % 5 != 2).then_some(((i * 13 + 7 * j) % n, 0)));
         for j in 0..h {
-            // Aimed at arbitrary spheres: retraced exactly where the lone sphere test misses,
-            // and then with the full trace's colour.
-            let items: Vec<_> = (0..w).filter(|i| i % 3 != 1).map(|i| (i, (i * 13 + 7 * j) % n, 0)).collect();
-            let mut seen = Vec::new();
-            second.shade_on(j, items.iter().copied(), &mut counts, |i, rgb, again, _| seen.push((i, rgb, again)));
-            seen.sort_unstable();
-            assert_eq!(seen.len(), items.len(), "one answer per pixel");
-            for (&(i, object, _), &(col, rgb, again)) in items.iter().zip(&seen) {
-                let ray = view.primary_ray(i, j);
-                assert_eq!((col, again), (i, tracer.intersect_object(&ray, object).is_none()), "({i}, {j})");
-                if again {
-                    assert_eq!(rgb, tracer.trace_pixel(&view, i, j, &mut plain).rgb, "({i}, {j}) retraced");
-                    retraced += 1;
+            let plan: Vec<u32> = (0..w)
+                .map(|i| match i % 7 {
+                    3 => TRACE,
+                    5 => KEEP,
+                    _ => j * w + i,
+                })
+                .collect();
+            let mut rgb = vec![UNTOUCHED; w as usize];
+            let tests = second.shade_row(j, (&film, &plan), (&mut rgb, None), &mut counts, &mut missed);
+            let named = plan.iter().filter(|&&s| s < KEEP && film.object[s as usize] != NO_OBJECT).count();
+            assert_eq!(tests, named as u64, "row {j}: one sphere test per named pixel");
+            for (i, (&source, &got)) in plan.iter().zip(&rgb).enumerate() {
+                let (i, k) = (i as u32, (j * w) as usize + i);
+                let full = truth[k].rgb;
+                let miss = source < KEEP
+                    && film.object[k] != NO_OBJECT
+                    && tracer.intersect_object(&view.primary_ray(i, j), film.object[k]).is_none();
+                assert_eq!(missed.contains(&i), miss, "({i}, {j}): listed as missed");
+                let want = match source {
+                    KEEP => {
+                        kept += 1;
+                        UNTOUCHED
+                    }
+                    TRACE => full,
+                    _ if film.object[k] == NO_OBJECT => {
+                        copied += 1;
+                        film.rgb[k]
+                    }
+                    _ if miss => {
+                        retraced += 1;
+                        full
+                    }
+                    // Shaded with made-up bits: only made.
+                    _ => got & 0x00FF_FFFF,
+                };
+                assert_eq!(got, want, "({i}, {j}), plan {source}");
+            }
+        }
+        // Every pixel of the row aimed at one sphere: whole groups of lanes retraced.
+        let film = film_of(&|_, j| Some((j % n, 0)));
+        for j in 0..h {
+            let plan: Vec<u32> = (0..w).map(|i| j * w + i).collect();
+            let mut rgb = vec![UNTOUCHED; w as usize];
+            second.shade_row(j, (&film, &plan), (&mut rgb, None), &mut counts, &mut missed);
+            for i in 0..w {
+                let miss = tracer.intersect_object(&view.primary_ray(i, j), j % n).is_none();
+                assert_eq!(missed.contains(&i), miss, "({i}, {j}), one sphere");
+                if miss {
+                    assert_eq!(rgb[i as usize], truth[(j * w + i) as usize].rgb, "({i}, {j}) retraced");
                 }
             }
-            // Every pixel of the row aimed at one sphere: whole groups of pixels retraced.
-            let items: Vec<_> = (0..w).map(|i| (i, j % n, 0)).collect();
-            second.shade_on(j, items.iter().copied(), &mut counts, |i, rgb, again, _| {
-                let ray = view.primary_ray(i, j);
-                assert_eq!(again, tracer.intersect_object(&ray, j % n).is_none(), "({i}, {j}), one sphere");
-                if again {
-                    assert_eq!(rgb, tracer.trace_pixel(&view, i, j, &mut plain).rgb, "({i}, {j}) retraced");
-                }
-            });
-            // Aimed at what each pixel sees, with its true light bits: the full trace.
-            let truth: Vec<_> = (0..w).map(|i| tracer.trace_pixel(&view, i, j, &mut plain)).collect();
-            let items = (0..w).filter(|&i| truth[i as usize].surface.is_hit()).map(|i| {
-                let s = truth[i as usize].surface;
-                (i, s.object, s.lights)
-            });
-            second.shade_on(j, items, &mut counts, |i, rgb, again, _| {
-                assert_eq!((rgb, again), (truth[i as usize].rgb, false), "({i}, {j})");
-                hits += 1;
-            });
+        }
+        // Aimed at what each pixel sees, with its true light bits: the full trace.
+        let film = film_of(&|i, j| {
+            let s = truth[(j * w + i) as usize].surface;
+            s.is_hit().then_some((s.object, s.lights))
+        });
+        for j in 0..h {
+            let plan: Vec<u32> = (0..w).map(|i| j * w + i).collect();
+            let mut rgb = vec![UNTOUCHED; w as usize];
+            second.shade_row(j, (&film, &plan), (&mut rgb, None), &mut counts, &mut missed);
+            assert!(missed.is_empty(), "row {j}: every named sphere is hit");
+            for i in 0..w {
+                let k = (j * w + i) as usize;
+                let want = if truth[k].surface.is_hit() { truth[k].rgb } else { film.rgb[k] };
+                assert_eq!(rgb[i as usize], want, "({i}, {j})");
+                hits += usize::from(truth[k].surface.is_hit());
+            }
             // And every pixel traced afresh.
             second.trace_pixels(j, 0..w, &mut counts, |i, rgb, _| {
-                assert_eq!(rgb, truth[i as usize].rgb, "({i}, {j}) traced");
+                assert_eq!(rgb, truth[(j * w + i) as usize].rgb, "({i}, {j}) traced");
             });
         }
         assert!(hits > 500 && retraced > 500, "the view sees spheres: {hits} hits, {retraced} retraced");
+        assert!(kept > 500 && copied > 500, "{kept} kept, {copied} copied");
     }
 
     #[test]

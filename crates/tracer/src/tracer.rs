@@ -286,7 +286,7 @@ impl Tracer {
     }
 
     /// Hit parameter of `ray` against the one sphere `object`, ignoring all others: one
-    /// sphere test, not a scene ray: the oracle of [`crate::SecondView::shade_on4`].
+    /// sphere test, not a scene ray: the oracle of [`crate::SecondView::shade_row`].
     #[cfg(test)]
     #[must_use]
     pub(crate) fn intersect_object(&self, ray: &Ray, object: u32) -> Option<f32> {

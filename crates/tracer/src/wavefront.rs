@@ -28,6 +28,8 @@ use crate::tracer::Tracer;
 mod lanes;
 mod marks;
 
+pub(crate) use lanes::{one_object, per_object};
+
 /// Structure-of-arrays columns of three.
 type Column3 = [Vec<f32>; 3];
 
@@ -135,21 +137,6 @@ impl Level {
         }
     }
 
-    /// Moves entry `from` to `to` (the columns a sample has before it is shaded).
-    fn move_entry(&mut self, from: usize, to: usize) {
-        for c in [&mut self.o, &mut self.d, &mut self.v] {
-            for x in c {
-                x[to] = x[from];
-            }
-        }
-        self.t[to] = self.t[from];
-        self.object[to] = self.object[from];
-        self.parent[to] = self.parent[from];
-        self.lights[to] = self.lights[from];
-        self.known[to] = self.known[from];
-        self.reflects[to] = self.reflects[from];
-    }
-
     /// Adds a hit: ray (`o`, `d`) meets `object` at `t`; `known` light bits, if any.
     #[expect(
         clippy::inline_always,
@@ -179,8 +166,6 @@ pub(crate) struct Wavefront {
     levels: Vec<Level>,
     /// Levels in use.
     depth: usize,
-    /// Columns whose named sphere their ray missed (see [`Wavefront::aim_named`]).
-    missed: Vec<u32>,
     /// Tags of pixels whose primary rays met nothing, to be marked together
     /// ([`Wavefront::mark_background`]).
     background: Vec<u32>,
@@ -211,8 +196,8 @@ impl Wavefront {
 
     /// Adds a whole vector of samples whose primary rays from `origin` along `d` all meet a
     /// sphere (at `t`, sphere `objects`): those of the pixels `column + l` of a row, lane by
-    /// lane, tagged with their columns; what [`Wavefront::push_hit`] would add for each, in
-    /// vector stores.
+    /// lane, tagged with their columns, with their light bits if `known`; what
+    /// [`Wavefront::push_hit`] would add for each, in vector stores.
     #[expect(
         clippy::inline_always,
         reason = "runs inside the dispatched primary-ray kernel; out of line it loses the kernel's target features"
@@ -224,6 +209,7 @@ impl Wavefront {
         origin: Vec3,
         (t, objects, d): (F<S>, U<S>, [F<S>; 3]),
         column: u32,
+        known: Option<U<S>>,
     ) {
         let level = &mut self.levels[0];
         let (e, lanes) = (level.used, F::<S>::LEN);
@@ -235,78 +221,13 @@ impl Wavefront {
         t.store_slice(&mut level.t[entries.clone()]);
         objects.store_slice(&mut level.object[entries.clone()]);
         (U::<S>::splat(simd, column) + crate::simd::lane_index(simd)).store_slice(&mut level.parent[entries.clone()]);
-        level.lights[entries.clone()].fill(0);
-        level.known[entries.clone()].fill(false);
+        match known {
+            Some(bits) => bits.store_slice(&mut level.lights[entries.clone()]),
+            None => level.lights[entries.clone()].fill(0),
+        }
+        level.known[entries.clone()].fill(known.is_some());
         level.reflects[entries].fill(false);
         level.used = e + lanes;
-    }
-
-    /// Adds a sample of pixel (`column`, row) whose primary ray from `origin` is still to be
-    /// aimed at the one sphere `object` ([`Wavefront::aim_named`]); `known` are its light
-    /// bits. Its tag is the column.
-    pub(crate) fn push_named(&mut self, column: u32, object: u32, known: u32) {
-        // The ray (origin, direction, `t`) is made by `aim_named`.
-        let level = &mut self.levels[0];
-        let e = level.used;
-        level.reserve(e + 1);
-        level.object[e] = object;
-        level.parent[e] = column;
-        level.lights[e] = known;
-        level.known[e] = true;
-        level.reflects[e] = false;
-        level.used = e + 1;
-    }
-
-    /// Aims the samples [`Wavefront::push_named`] added, all of row `j` of `view`: each
-    /// pixel's primary ray against its one sphere, in lanes, bit-for-bit the ray and `t` of
-    /// every other query. Samples whose ray misses that sphere leave the batch; their
-    /// columns are listed in [`Wavefront::missed_mut`].
-    pub(crate) fn aim_named(&mut self, view: &EyeView, j: u32, tracer: &Tracer) {
-        dispatch!(crate::simd::level(), simd => self.aim_named_in(simd, view, j, tracer));
-    }
-
-    fn aim_named_in<S: Simd>(&mut self, simd: S, view: &EyeView, j: u32, tracer: &Tracer) {
-        let level = &mut self.levels[0];
-        let (n, lanes) = (level.len(), F::<S>::LEN);
-        // Whole vectors: the lanes past the last sample aim at sphere 0 and are ignored.
-        level.reserve(n.div_ceil(lanes) * lanes);
-        for e in n..n.div_ceil(lanes) * lanes {
-            (level.parent[e], level.object[e]) = (0, 0);
-        }
-        let origin = crate::simd::splat3(simd, view.origin);
-        simd.vectorize(
-            #[inline(always)]
-            || {
-                for k in (0..n).step_by(lanes) {
-                    let columns = F::<S>::float_from(U::<S>::from_slice(simd, &level.parent[k..k + lanes]));
-                    let d = view.primary_dirs_at(simd, columns, j);
-                    let objects = &level.object[k..k + lanes];
-                    let at = (objects, lanes::one_object(objects));
-                    let c = crate::simd::each3(|a| lanes::per_object(simd, at, |o| tracer.centers[o][a]));
-                    let r = lanes::per_object(simd, at, |o| tracer.radii[o]);
-                    let inf = F::<S>::splat(simd, f32::INFINITY);
-                    let t = crate::simd::spheres_t(simd, origin, d, (c, r), inf);
-                    crate::simd::store3::<S>(origin, &mut level.o, k);
-                    crate::simd::store3::<S>(d, &mut level.d, k);
-                    crate::simd::store3::<S>(d, &mut level.v, k);
-                    t.store_slice(&mut level.t[k..k + lanes]);
-                }
-            },
-        );
-        // Keep the hits, in order; list the misses.
-        self.missed.clear();
-        let mut kept = 0;
-        for e in 0..n {
-            if level.t[e].is_finite() {
-                if kept != e {
-                    level.move_entry(e, kept);
-                }
-                kept += 1;
-            } else {
-                self.missed.push(level.parent[e]);
-            }
-        }
-        level.used = kept;
     }
 
     /// Notes that the pixel `tag` (its column, and flags above `column_mask`) saw only
@@ -328,12 +249,6 @@ impl Wavefront {
             marks::mark_background(tracer, view, (j, &self.background, column_mask), out);
             self.background.clear();
         }
-    }
-
-    /// The columns [`Wavefront::aim_named`] found missing their sphere (a list the caller
-    /// may take and give back, to keep its buffer).
-    pub(crate) fn missed_mut(&mut self) -> &mut Vec<u32> {
-        &mut self.missed
     }
 
     /// Adds a sample of pixel `column` of a row of this view: what the ray of pixel `source`

@@ -28,7 +28,7 @@ use crate::tracer::Tracer;
 /// The sphere all of a vector's entries hit, if they hit one (the common case: pixels side by
 /// side see one surface).
 #[inline(always)]
-pub(super) fn one_object(objects: &[u32]) -> Option<u32> {
+pub(crate) fn one_object(objects: &[u32]) -> Option<u32> {
     let first = objects[0];
     objects.iter().all(|&o| o == first).then_some(first)
 }
@@ -37,7 +37,7 @@ pub(super) fn one_object(objects: &[u32]) -> Option<u32> {
 /// (`one`, from [`one_object`]). Built lane by lane, a vector is stored as scalars and read
 /// back whole, which stalls on the store-to-load forwarding; the splat does not.
 #[inline(always)]
-pub(super) fn per_object<S: Simd>(simd: S, (objects, one): (&[u32], Option<u32>), f: impl Fn(usize) -> f32) -> F<S> {
+pub(crate) fn per_object<S: Simd>(simd: S, (objects, one): (&[u32], Option<u32>), f: impl Fn(usize) -> f32) -> F<S> {
     match one {
         Some(o) => F::<S>::splat(simd, f(o as usize)),
         None => F::<S>::from_fn(simd, |l| f(objects[l] as usize)),
@@ -183,7 +183,7 @@ pub(super) fn shade<S: Simd>(
         let bits = light_vector(simd, tracer, level, j, (p, n, &g), first, counts);
         // Stage 3.
         let v = load3(simd, &level.v, j);
-        let out = highlight_vector(simd, tracer, &level.object[j..j + lanes], [p, n, v], &bits, &g);
+        let out = highlight_vector(simd, tracer, &level.object[j..j + lanes], [p, n, v], bits, &g);
         store3::<S>(out, &mut level.spec, j);
     }
     whole
@@ -201,29 +201,30 @@ fn light_vector<S: Simd>(
     (p, n, g): ([F<S>; 3], [F<S>; 3], &Gathered<S>),
     first: bool,
     counts: &mut RayCounts,
-) -> [u32; 16] {
+) -> U<S> {
     let lanes = F::<S>::LEN;
     let zero = F::<S>::splat(simd, 0.0);
+    let u0 = U::<S>::splat(simd, 0);
     let all_spheres = tracer.centers.len() <= ALL_SPHERES_MAX;
     let objects = &level.object[j..j + lanes];
-    let mut bits = [0u32; 16];
     let objects_u = U::<S>::from_slice(simd, objects);
+    // Level 0's entries may come with their bits known (found by another view): which
+    // lanes, and their bits, once for every light.
+    let (known, given) = if first {
+        let known = level.known[j..j + lanes].iter().rev().fold(0u64, |b, &k| b << 1 | u64::from(k));
+        (known, U::<S>::from_slice(simd, &level.lights[j..j + lanes]))
+    } else {
+        (0, u0)
+    };
+    let mut bits = u0;
     let mut sum = [zero; 3];
     for (k, light) in tracer.lights.iter().enumerate() {
         let (l, dist) = to_light(simd, light.position, p);
         let ndl = dot::<S>(n, l);
         let faces = ndl.simd_gt(zero).to_bitmask();
+        let bit = U::<S>::splat(simd, 1 << k);
         // Lanes whose bits are known take them; the others cast a shadow ray.
-        let (mut known, mut visible) = (0u64, 0u64);
-        if first {
-            for lane in 0..lanes {
-                if level.known[j + lane] {
-                    known |= 1 << lane;
-                    visible |= u64::from(level.lights[j + lane] >> k & 1) << lane;
-                }
-            }
-            visible &= faces;
-        }
+        let mut visible = if known == 0 { 0 } else { known & faces & (given & bit).simd_ne(u0).to_bitmask() };
         let mut need = faces & !known;
         counts.shadow += u64::from(need.count_ones());
         if need != 0 && all_spheres {
@@ -255,11 +256,9 @@ fn light_vector<S: Simd>(
                 visible |= 1 << lane;
             }
         }
-        for (lane, b) in bits.iter_mut().enumerate().take(lanes) {
-            *b |= u32::from(visible >> lane & 1 != 0) << k;
-        }
         if visible != 0 {
             let visible = mask_of(simd, visible);
+            bits = visible.select(bits | bit, bits);
             let color = splat3(simd, light.color);
             sum = each3(|a| visible.select(sum[a] + ndl * color[a], sum[a]));
         }
@@ -267,7 +266,7 @@ fn light_vector<S: Simd>(
     let ambient = F::<S>::splat(simd, tracer.settings.ambient);
     let (kd, c) = (g.diffuse, g.color);
     store3::<S>(each3(|a| c[a] * (ambient + kd * sum[a])), &mut level.diffuse, j);
-    level.lights[j..j + lanes].copy_from_slice(&bits[..lanes]);
+    bits.store_slice(&mut level.lights[j..j + lanes]);
     bits
 }
 
@@ -279,7 +278,7 @@ fn highlight_vector<S: Simd>(
     tracer: &Tracer,
     objects: &[u32],
     [p, n, d]: [[F<S>; 3]; 3],
-    bits: &[u32; 16],
+    bits: U<S>,
     g: &Gathered<S>,
 ) -> [F<S>; 3] {
     let lanes = F::<S>::LEN;
@@ -291,7 +290,6 @@ fn highlight_vector<S: Simd>(
     if !shiny.any_true() {
         return out;
     }
-    let bits = U::<S>::from_slice(simd, &bits[..lanes]);
     let steps = 32 - g.exponent_bits.leading_zeros();
     let e = g.exponent;
     for (k, light) in tracer.lights.iter().enumerate() {
