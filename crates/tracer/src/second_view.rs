@@ -277,39 +277,41 @@ impl<'a> SecondView<'a> {
         &self,
         j: u32,
         (film, plan): (&Film, &[u32]),
-        (rgb, mut marks): (&mut [u32], Option<&mut MarksRow<'_>>),
+        (rgb, marks): (&mut [u32], Option<&mut MarksRow<'_>>),
         counts: &mut RayCounts,
         missed: &mut Vec<u32>,
     ) -> u64 {
         debug_assert_eq!(plan.len(), rgb.len(), "a plan entry per pixel of the row");
         debug_assert_ne!(film.record(), crate::Record::Colour, "the other view's record is needed");
         missed.clear();
-        let marking = self.mark && marks.is_some();
-        let mut out = |i: u32, colour: u32, touch: Touch| {
-            rgb[i as usize] = colour;
-            if let Some(marks) = marks.as_deref_mut().filter(|_| marking) {
-                marks.set(i, touch);
-            }
-        };
+        // Marks only when this view marks and the caller keeps them.
+        let mut marks = marks.filter(|_| self.mark);
         with_wavefront(|wavefront| {
             let tests = dispatch!(crate::simd::level(), simd => simd.vectorize(
                 #[inline(always)]
-                || self.push_row_in(simd, wavefront, j, (film, plan), counts, (missed, &mut out)),
+                || self.push_row_in(simd, wavefront, j, (film, plan), counts, (missed, rgb, &mut marks)),
             ));
             wavefront.shade(self.eye.tracer, counts);
-            self.mark_batch(wavefront, j, true);
+            // Colours in a plain loop; marks, when kept, in one of their own.
             for e in 0..wavefront.len() {
-                out(wavefront.tag(e), wavefront.rgb(e), self.touch(wavefront, e));
+                rgb[wavefront.tag(e) as usize] = wavefront.rgb(e);
             }
-            self.mark_background(wavefront, j, &mut out);
+            if let Some(marks) = marks {
+                self.mark_batch(wavefront, j, true);
+                for e in 0..wavefront.len() {
+                    marks.set(wavefront.tag(e), self.touch(wavefront, e));
+                }
+                self.mark_background(wavefront, j, &mut |i, _, touch| marks.set(i, touch));
+            }
             tests
         })
     }
 
     /// The first half of [`SecondView::shade_row`] with the lanes of `simd`: each group of
     /// lanes of the row read from the plan, aimed and pushed into the batch (a group that
-    /// hits its spheres in every lane in vector stores). `out(column, colour, touch)` takes
-    /// the colours made without shading. Returns the single-sphere tests made.
+    /// hits its spheres in every lane in vector stores). The colours made without shading
+    /// go straight to `rgb`, and the marks of traced pixels that see background to `marks`.
+    /// Returns the single-sphere tests made.
     #[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
     #[inline(always)]
     fn push_row_in<S: Simd>(
@@ -319,7 +321,7 @@ impl<'a> SecondView<'a> {
         j: u32,
         (film, plan): (&Film, &[u32]),
         counts: &mut RayCounts,
-        (missed, out): (&mut Vec<u32>, &mut impl FnMut(u32, u32, Touch)),
+        (missed, rgb, marks): (&mut Vec<u32>, &mut [u32], &mut Option<&mut MarksRow<'_>>),
     ) -> u64 {
         let (tracer, view) = (self.eye.tracer, self.eye.view);
         let lanes = F::<S>::LEN;
@@ -339,7 +341,8 @@ impl<'a> SecondView<'a> {
                         let s = source as usize;
                         let object = film.object[s];
                         if object == NO_OBJECT {
-                            out((base + l) as u32, film.rgb[s], Touch::NONE);
+                            // Marked nowhere: its ray is the other view's.
+                            rgb[base + l] = film.rgb[s];
                         } else {
                             named |= 1 << l;
                             (objects[l], lights[l]) = (object, film.lights[s]);
@@ -383,7 +386,12 @@ impl<'a> SecondView<'a> {
             }
             if traced != 0 {
                 counts.primary += u64::from(traced.count_ones());
-                self.push_traced_in(simd, wavefront, (base as u32, j, traced), out);
+                self.push_traced_in(simd, wavefront, (base as u32, j, traced), &mut |i, colour, touch| {
+                    rgb[i as usize] = colour;
+                    if let Some(marks) = marks.as_deref_mut() {
+                        marks.set(i, touch);
+                    }
+                });
             }
         }
         tests
