@@ -28,7 +28,7 @@ const H: u32 = 180;
 
 fn batches(c: &mut Criterion) {
     let lanes = lane_width();
-    for name in ["seed.toml", "thousand.toml"] {
+    for name in ["seed.toml", "many.toml", "thousand.toml"] {
         let s = scene(name);
         let tracer = Tracer::new(&s, 0.0);
         let view = s.camera.view(Eye::Right, W, H);
