@@ -121,11 +121,11 @@ pub(crate) fn fill(
 thread_local! {
     /// This thread's list of a row's pixels to shade, reused from row to row (a warm frame
     /// allocates nothing).
-    static LIST: RefCell<Vec<(u32, u32, u32)>> = const { RefCell::new(Vec::new()) };
+    static LIST: RefCell<Vec<(u32, u32)>> = const { RefCell::new(Vec::new()) };
 }
 
 /// Runs `f` with this thread's list, emptied. A nested call gets a list of its own.
-fn with_list<R>(f: impl FnOnce(&mut Vec<(u32, u32, u32)>) -> R) -> R {
+fn with_list<R>(f: impl FnOnce(&mut Vec<(u32, u32)>) -> R) -> R {
     LIST.with(|cell| match cell.try_borrow_mut() {
         Ok(mut list) => {
             list.clear();
@@ -135,9 +135,10 @@ fn with_list<R>(f: impl FnOnce(&mut Vec<(u32, u32, u32)>) -> R) -> R {
     })
 }
 
-/// Lists the pixels of a row that stage 5 shades: for each chosen column `i` whose pixel
-/// is reprojected and whose source on the `left` film saw a surface, `item(i, source)`. A
-/// reprojected pixel whose source saw background takes that colour into `rgb` instead.
+/// Lists the pixels of a row that reshade mode's stage 5 shades: `(i, source)` for each
+/// chosen column `i` whose pixel is reprojected and whose source on the `left` film saw a
+/// surface. A reprojected pixel whose source saw background takes that colour into `rgb`
+/// instead.
 ///
 /// One plain loop over the row, before any shading: built lazily inside the shading's
 /// loop, the list cost a call and its reloads per pixel (~8 % of an exact frame, measured).
@@ -146,8 +147,7 @@ fn list_row(
     (mask, src): (&[PixelClass], &[u32]),
     rgb: &mut [u32],
     only: Option<&[u64]>,
-    list: &mut Vec<(u32, u32, u32)>,
-    item: impl Fn(u32, usize) -> (u32, u32, u32),
+    list: &mut Vec<(u32, u32)>,
 ) {
     for i in chosen(only, rgb.len()) {
         let k = i as usize;
@@ -158,7 +158,7 @@ fn list_row(
         if left.object[s] == NO_OBJECT {
             rgb[k] = left.rgb[s];
         } else {
-            list.push(item(i, s));
+            list.push((i, s as u32));
         }
     }
 }
@@ -168,8 +168,8 @@ fn reshade_row(right: SecondView<'_>, (lv, left): (&EyeView, &Film), row: Row<'_
     let Row { j, rgb, mask, src, only, mut marks } = row;
     let mut rays = RayCounts::default();
     with_list(|list| {
-        list_row(left, (mask, src), rgb, only, list, |i, s| (i, s as u32, 0));
-        right.reshade(j, (lv, left), list.iter().map(|&(i, s, _)| (i, s)), &mut rays, |i, c, touch| {
+        list_row(left, (mask, src), rgb, only, list);
+        right.reshade(j, (lv, left), list.iter().copied(), &mut rays, |i, c, touch| {
             rgb[i as usize] = c;
             if let Some(marks) = marks.as_mut() {
                 marks.set(i, touch);
