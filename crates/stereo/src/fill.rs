@@ -11,16 +11,21 @@
 //! its reprojected pixels in stage 4's pass (`retrace.rs`), so it has no stage 5. Exact
 //! mode does stage 4 in stage 5's pass instead: each row is one batch of the tracer's
 //! wavefront ([`SecondView::shade_row`]), its retraced pixels beside its reprojected ones,
-//! so the batch fills whole vectors of lanes and the row is read once.
+//! so the batch fills whole vectors of lanes and the row is read once. On a fresh frame it
+//! goes further and does stages 2 to 5 in one pass over bands of rows
+//! ([`reproject_and_fill_exact`]): a band is reprojected and classified, then made at once,
+//! while the left film's rows it reads are still in cache.
 
 use std::cell::RefCell;
 use std::ops::Add;
+use std::time::Instant;
 
 use rayon::prelude::*;
-use tracer::{EyeView, Film, MarksRow, RayCounts, SecondView, KEEP, NO_OBJECT, TRACE};
+use tracer::{EyeView, Film, Marks, MarksRow, RayCounts, Rewrite, RowPlan, SecondView, KEEP, NO_OBJECT, TRACE};
 
 use crate::image::Image;
 use crate::mode::Mode;
+use crate::reproject::{band_then, Reprojection, BAND};
 use crate::retrace::{chosen, row_of, Redo};
 use crate::stats::PixelClass;
 
@@ -112,7 +117,7 @@ pub(crate) fn fill(
             let row = Row { j: j as u32, rgb, mask, src, only, marks: mark.then_some(marks) };
             match how {
                 Fill::Reshade => reshade_row(right, (lv, left), row),
-                Fill::Exact => exact_row(right, left, row),
+                Fill::Exact => exact_row(right, left, row, None),
             }
         })
         .reduce(Filled::default, Filled::add)
@@ -182,27 +187,40 @@ fn reshade_row(right: SecondView<'_>, (lv, left): (&EyeView, &Film), row: Row<'_
 /// One row of [`Fill::Exact`], stages 4 and 5 in one batch: each reprojected pixel's own ray
 /// against the sphere its source saw (the silhouettes it misses are retraced and marked
 /// edges), every other pixel of the row traced afresh. A pixel whose source saw background
-/// takes its colour.
-fn exact_row(right: SecondView<'_>, left: &Film, row: Row<'_>) -> Filled {
+/// takes its colour. `seen` holds, per column, the object and light bits of the pixel's
+/// source, where the caller has them at hand (`None`: they are read from the film here).
+fn exact_row(right: SecondView<'_>, left: &Film, row: Row<'_>, seen: Option<(&[u32], &[u32])>) -> Filled {
     let Row { j, rgb, mask, src, only, mut marks } = row;
     if let Some(marks) = marks.as_mut() {
         marks.clear_only(only);
     }
     let mut rays = RayCounts::default();
-    with_plan(|plan, missed| {
+    with_plan(|Plan { source, object, lights, missed }| {
         let entry =
             |(&class, &source): (&PixelClass, &u32)| if class == PixelClass::Reprojected { source } else { TRACE };
         match only {
             // One plain loop the compiler vectorises.
-            None => plan.extend(mask.iter().zip(src).map(entry)),
+            None => source.extend(mask.iter().zip(src).map(entry)),
             Some(bits) => {
-                plan.resize(rgb.len(), KEEP);
+                source.resize(rgb.len(), KEEP);
                 for i in chosen(Some(bits), rgb.len()).map(|i| i as usize) {
-                    plan[i] = entry((&mask[i], &src[i]));
+                    source[i] = entry((&mask[i], &src[i]));
                 }
             }
         }
-        let sphere_tests = right.shade_row(j, (left, plan), (rgb, marks.as_mut()), &mut rays, missed);
+        let plan = match seen {
+            Some((object, lights)) => RowPlan { source, object, lights },
+            None => RowPlan::read(left, source, (object, lights)),
+        };
+        debug_assert!(
+            plan.source
+                .iter()
+                .zip(plan.object)
+                .zip(plan.lights)
+                .all(|((&s, &o), &l)| { s >= KEEP || (left.object[s as usize], left.lights[s as usize]) == (o, l) }),
+            "row {j}: the plan's objects and light bits are its sources'"
+        );
+        let sphere_tests = right.shade_row(j, plan, (rgb, marks.as_mut()), &mut rays, missed);
         for &i in missed.iter() {
             mask[i as usize] = PixelClass::RetracedEdge;
         }
@@ -210,20 +228,168 @@ fn exact_row(right: SecondView<'_>, left: &Film, row: Row<'_>) -> Filled {
     })
 }
 
-thread_local! {
-    /// This thread's plan of a row ([`SecondView::shade_row`]) and its list of missed
-    /// silhouettes, reused from row to row.
-    static PLAN: RefCell<(Vec<u32>, Vec<u32>)> = const { RefCell::new((Vec::new(), Vec::new())) };
+/// What [`reproject_and_fill_exact`] cost: stage 5's rays and tests, and the thread time
+/// (seconds, summed over threads) of its reprojection and of its shading.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct FusedExact {
+    pub filled: Filled,
+    pub reproject_s: f64,
+    pub fill_s: f64,
 }
 
-/// Runs `f` with this thread's plan (emptied) and list. A nested call gets its own.
-fn with_plan<R>(f: impl FnOnce(&mut Vec<u32>, &mut Vec<u32>) -> R) -> R {
-    PLAN.with(|cell| match cell.try_borrow_mut() {
-        Ok(mut buffers) => {
-            let (plan, missed) = &mut *buffers;
-            plan.clear();
-            f(plan, missed)
+impl Add for FusedExact {
+    type Output = Self;
+    fn add(self, other: Self) -> Self {
+        Self {
+            filled: self.filled + other.filled,
+            reproject_s: self.reproject_s + other.reproject_s,
+            fill_s: self.fill_s + other.fill_s,
         }
-        Err(_) => f(&mut Vec::new(), &mut Vec::new()),
+    }
+}
+
+/// Stages 2 to 5 of a fresh [`Fill::Exact`] frame in one pass over bands of rows: each
+/// band is reprojected and classified (`reproject.rs`: `src` and `class`, copied to `mask`)
+/// and at once made, row by row, as [`fill`] makes it (`exact_row`), into `out`, marking
+/// into `marks` if `mark`.
+///
+/// The result is [`reproject_and_classify`](crate::reproject::reproject_and_classify)
+/// followed by [`fill`], byte for byte: a band's rows depend only on the left film, and a
+/// row's fill only on its own row of the source map and classes. But the left film's rows
+/// that a band's fill reads (objects, light bits, colours) were read a moment before by its
+/// classification, and its rows of `src` and `mask` were just written: they are still in
+/// the core's cache, where two passes over the image read them back from memory.
+pub(crate) fn reproject_and_fill_exact(
+    right: SecondView<'_>,
+    left: &Film,
+    p: Reprojection,
+    (src, class, mask): (&mut [u32], &mut [PixelClass], &mut [PixelClass]),
+    out: &mut Image,
+    (marks, mark): (&mut Marks, bool),
+) -> FusedExact {
+    let (w, h) = (out.width as usize, out.height as usize);
+    debug_assert!(
+        [src.len(), class.len(), mask.len(), left.z.len()].iter().all(|&n| n == out.rgb.len()) && w * h == n_of(out),
+        "the planes must have the image's size"
+    );
+    let band_pixels = (w * BAND).max(1);
+    out.rgb
+        .par_chunks_mut(band_pixels)
+        .zip(mask.par_chunks_mut(band_pixels))
+        .zip(src.par_chunks_mut(band_pixels))
+        .zip(class.par_chunks_mut(band_pixels))
+        .zip(marks.bands_mut(Rewrite::All, BAND))
+        .enumerate()
+        .map(|(b, ((((rgb, mask), src), class), mut marks))| {
+            let t = Instant::now();
+            let mut reproject_s = 0.0;
+            let (mut rows, mut marks) = (rgb.chunks_mut(w).zip(mask.chunks_mut(w)), marks.rows());
+            let mut filled = Filled::default();
+            band_then(left, p, (b, h), (src, class), |k, src, class, seen| {
+                if k == 0 {
+                    reproject_s = t.elapsed().as_secs_f64();
+                }
+                // (`band_then` calls once for each of the band's rows, in order.)
+                if let (Some((rgb, mask)), marks) = (rows.next(), marks.next()) {
+                    mask.copy_from_slice(class);
+                    let j = (b * BAND + k) as u32;
+                    let row = Row { j, rgb, mask, src, only: None, marks: marks.filter(|_| mark) };
+                    filled = filled + exact_row(right, left, row, Some(seen));
+                }
+            });
+            FusedExact { filled, reproject_s, fill_s: t.elapsed().as_secs_f64() - reproject_s }
+        })
+        .reduce(FusedExact::default, FusedExact::add)
+}
+
+/// Pixels of `image`.
+fn n_of(image: &Image) -> usize {
+    image.width as usize * image.height as usize
+}
+
+/// A row's plan for [`SecondView::shade_row`], its buffers, and the list of missed
+/// silhouettes.
+#[derive(Default)]
+struct Plan {
+    source: Vec<u32>,
+    object: Vec<u32>,
+    lights: Vec<u32>,
+    missed: Vec<u32>,
+}
+
+thread_local! {
+    /// This thread's [`Plan`], reused from row to row.
+    static PLAN: RefCell<Plan> = const {
+        RefCell::new(Plan { source: Vec::new(), object: Vec::new(), lights: Vec::new(), missed: Vec::new() })
+    };
+}
+
+/// Runs `f` with this thread's plan (its source emptied). A nested call gets its own.
+fn with_plan<R>(f: impl FnOnce(&mut Plan) -> R) -> R {
+    PLAN.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut plan) => {
+            plan.source.clear();
+            f(&mut plan)
+        }
+        Err(_) => f(&mut Plan::default()),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use tracer::{Eye, Record, Renderer, Scene, Tracer};
+
+    use super::*;
+    use crate::mode::Options;
+    use crate::reproject::reproject_and_classify;
+
+    /// The one pass of a fresh exact frame is the two passes it replaces (stages 2 and 3
+    /// over the image, then [`fill`]), byte for byte: colours, classes, sources and marks.
+    #[test]
+    fn one_banded_pass_is_the_two_passes() {
+        for (name, t) in [("seed.toml", 0.8), ("many.toml", 0.0), ("thousand.toml", 0.3)] {
+            let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+            let scene = Scene::load(path).expect("scene loads");
+            let tracer = Tracer::new(&scene, t);
+            // Rows that end in a short band, and a short group of lanes.
+            let (w, h) = (101, 3 * BAND as u32 + 5);
+            let (lv, rv) = (scene.camera.view(Eye::Left, w, h), scene.camera.view(Eye::Right, w, h));
+            let mut left = Film::new(1, 1);
+            Renderer::new().render_marking(&tracer, &lv, &mut left, Record::Keys);
+            let p = Reprojection::new(&tracer, &scene.camera, &rv, Options { mode: Mode::Exact, retrace_edges: false });
+            let n = (w * h) as usize;
+            for mark in [false, true] {
+                let mut renderer = Renderer::new();
+                let right = renderer.second_view(&tracer, &rv).marking(mark);
+                let frame = || (vec![7u32; n], vec![PixelClass::Traced; n], vec![PixelClass::Traced; n]);
+                let image = || Image { width: w, height: h, rgb: vec![0; n] };
+
+                let ((mut src, mut class, mut mask), mut out, mut marks) = (frame(), image(), Marks::new(w, h));
+                let one = reproject_and_fill_exact(
+                    right,
+                    &left,
+                    p,
+                    (&mut src, &mut class, &mut mask),
+                    &mut out,
+                    (&mut marks, mark),
+                );
+
+                let ((mut src2, mut class2, _), mut out2, mut marks2) = (frame(), image(), Marks::new(w, h));
+                reproject_and_classify(&left, p, &mut src2, &mut class2);
+                let mut mask2 = class2.clone();
+                let redo = Redo { only: None, marks: &mut marks2, mark };
+                let two = fill(right, (&lv, &left), Fill::Exact, (&mut mask2, &src2), &mut out2, redo);
+
+                let at = format!("{name}, marking {mark}");
+                assert_eq!((src, class), (src2, class2), "{at}: sources and classes");
+                assert_eq!(mask, mask2, "{at}: classes after the silhouettes found");
+                assert_eq!(out.rgb, out2.rgb, "{at}: colours");
+                assert_eq!(marks.bits(), marks2.bits(), "{at}: marked pixels");
+                assert!((0..n).all(|k| marks.touch(k) == marks2.touch(k)), "{at}: the marks' touches");
+                assert_eq!((one.filled.rays, one.filled.sphere_tests), (two.rays, two.sphere_tests), "{at}: costs");
+                assert!(mask.contains(&PixelClass::Reprojected) && mask.contains(&PixelClass::RetracedGap), "{at}");
+                assert!(!mark || marks.bits().count() > 0 || name == "many.toml", "{at}: something marked");
+            }
+        }
+    }
 }

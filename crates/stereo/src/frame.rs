@@ -11,7 +11,7 @@ use std::time::Instant;
 
 use tracer::{Arc, Camera, Eye, EyeView, Film, Marks, PixelBits, Record, Renderer, SecondView, Tracer};
 
-use crate::fill::{fill, Fill};
+use crate::fill::{fill, reproject_and_fill_exact, Fill};
 use crate::image::Image;
 use crate::mode::{Mode, Options};
 use crate::reproject::{reproject_and_classify, reproject_and_classify_rows, Reprojection, NO_SOURCE};
@@ -228,6 +228,8 @@ impl StereoFrame {
             };
             self.mask.fill(PixelClass::Traced);
             stats.stages.retrace = ms_since(t);
+        } else if !reused && opts.mode == Mode::Exact {
+            self.exact_in_one_pass(tracer, (camera, &rv), opts, mark, &mut stats);
         } else {
             // Stages 2 and 3: the source map and the class of every right pixel.
             let t = Instant::now();
@@ -320,6 +322,33 @@ fn made_classes(mask: &[PixelClass], made: &PixelBits) -> [u64; 5] {
 }
 
 impl StereoFrame {
+    /// Stages 2 to 5 of a fresh exact frame in one banded pass (`fill.rs`), for the right
+    /// eye's view `rv` of `camera`, marking if `mark`. The pass's time goes to `stats`,
+    /// split between the reproject and reshade stages as the thread time each part took.
+    fn exact_in_one_pass(
+        &mut self,
+        tracer: &Tracer,
+        (camera, rv): (&Camera, &EyeView),
+        opts: Options,
+        mark: bool,
+        stats: &mut FrameStats,
+    ) {
+        let t = Instant::now();
+        let plan = Reprojection::new(tracer, camera, rv, opts);
+        self.plan = Some(plan);
+        self.class.resize(self.mask.len(), PixelClass::Traced);
+        let right = self.right_renderer.second_view(tracer, rv).marking(mark);
+        let bins_s = t.elapsed().as_secs_f64();
+        let planes = (&mut self.src[..], &mut self.class[..], &mut self.mask[..]);
+        let marks = (&mut self.right_marks, mark);
+        let cost = reproject_and_fill_exact(right, &self.left, plan, planes, &mut self.right, marks);
+        let (ms, fill_s) = (ms_since(t), cost.fill_s + bins_s);
+        let share = cost.reproject_s / (cost.reproject_s + fill_s).max(f64::MIN_POSITIVE);
+        (stats.stages.reproject, stats.stages.reshade) = (ms * share, ms * (1.0 - share));
+        stats.right.rays = cost.filled.rays;
+        stats.sphere_tests = cost.filled.sphere_tests;
+    }
+
     /// The right pixels by class. A fresh frame counts its mask; a reused one takes the
     /// last frame's counts, less the last classes of the pixels it made again (`removed`,
     /// `None` in full mode, where every pixel is traced) plus their new ones: kept pixels

@@ -22,7 +22,9 @@
 //! 5. fill (`fill.rs`) the reprojected pixels, through the same view: reshade, or shade
 //!    exactly. Copy mode copies the left colour in stage 4's pass over the image instead,
 //!    so the right image is swept once; exact mode does stage 4 in stage 5's pass, each row
-//!    one batch of retraced and reprojected pixels together.
+//!    one batch of retraced and reprojected pixels together, and on a fresh frame runs
+//!    stages 2 to 5 in one pass over bands of rows, each band made as soon as it is
+//!    classified, while the left rows it reads are in cache.
 //!
 //! [`Mode::Full`] traces the whole right eye as it traces the left, with a renderer of its
 //! own, and times it as stage 4.
@@ -41,7 +43,8 @@
 //! - `reproject/scanline` (classify): Algorithm 1 for one scanline;
 //! - `reproject` (reproject/scanline, classify, mode, stats): stages 2 and 3 over the image;
 //! - `retrace` (image, stats): stage 4;
-//! - `fill` (image, mode, retrace, stats): stage 5 (and exact mode's stage 4);
+//! - `fill` (image, mode, reproject, retrace, stats): stage 5 (and exact mode's stage 4, and
+//!   on a fresh frame its stages 2 to 5 in one banded pass);
 //! - `reuse` (reproject, stats): which right pixels a reused frame makes again;
 //! - `frame` (reproject, retrace, fill, reuse, image, mode, stats): the stages in order;
 //! - `mask` (stats), `layout`: how a frame is shown, beside the pipeline (the mask's colour

@@ -152,7 +152,8 @@ pub struct FrameStats {
     pub pixels: PixelCounts,
     /// Time per stage.
     pub stages: StageTimes,
-    /// Single-sphere tests made by exact mode (not scene rays, so not in `right.rays`).
+    /// Exact mode's pixels tested against the one sphere their source saw, alone or in their
+    /// screen tile's search (not scene rays, so not in `right.rays`).
     pub sphere_tests: u64,
     /// What was kept from the last frame.
     pub reuse: Reuse,

@@ -16,7 +16,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use tracer::{lane_width, Eye, Film, RayCounts, Record, Renderer, Scene, Shaded, Tracer};
+use tracer::{lane_width, Eye, Film, RayCounts, Record, Renderer, RowPlan, Scene, Shaded, Tracer};
 
 fn scene(name: &str) -> Scene {
     let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -77,13 +77,15 @@ fn batches(c: &mut Criterion) {
         });
         c.bench_function(&format!("lanes{lanes}_exact_rows_{W}x{H}_{name}"), |b| {
             let (mut rgb, mut plan, mut missed) = (vec![0u32; W as usize], Vec::new(), Vec::new());
+            let mut seen = (Vec::new(), Vec::new());
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
                 for j in 0..H {
                     // Each pixel aimed at the sphere it sees, with its light bits.
                     plan.clear();
                     plan.extend((0..W).map(|i| j * W + i));
-                    second.shade_row(j, (film, &plan), (&mut rgb, None), &mut counts, &mut missed);
+                    let plan = RowPlan::read(film, &plan, (&mut seen.0, &mut seen.1));
+                    second.shade_row(j, plan, (&mut rgb, None), &mut counts, &mut missed);
                     sum = rgb.iter().fold(sum, |s, &c| s.wrapping_add(c));
                 }
                 black_box((sum, counts))

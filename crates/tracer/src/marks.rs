@@ -59,6 +59,31 @@ pub struct MarksRow<'a> {
     near: &'a mut [u64],
 }
 
+/// A band of rows of [`Marks`], to write one row after another ([`Marks::bands_mut`]).
+#[derive(Debug)]
+pub struct MarksBand<'a> {
+    bits: &'a mut [u64],
+    touch: &'a mut [Touch],
+    near: &'a mut [u64],
+    /// Words per row of `bits` and `near`.
+    stride: usize,
+    /// Pixels per row of `touch`.
+    width: usize,
+}
+
+impl MarksBand<'_> {
+    /// The band's rows, top to bottom.
+    pub fn rows(&mut self) -> impl Iterator<Item = MarksRow<'_>> {
+        let bits = self.bits.chunks_mut(self.stride);
+        let near = self.near.chunks_mut(self.stride);
+        bits.zip(self.touch.chunks_mut(self.width)).zip(near).map(|((bits, touch), near)| MarksRow {
+            bits,
+            touch,
+            near,
+        })
+    }
+}
+
 impl MarksRow<'_> {
     /// Pixel `i`'s tree meets the swept volumes as `touch` says.
     #[inline]
@@ -141,6 +166,25 @@ impl Marks {
             bits,
             touch,
             near,
+        })
+    }
+
+    /// The rows in bands of `rows` (the last band may be short), to write in parallel, by a
+    /// pass that changes what `rewrite` says: [`Marks::rows_mut`] for a pass that works a
+    /// band of rows at a time.
+    pub fn bands_mut(&mut self, rewrite: Rewrite, rows: usize) -> impl IndexedParallelIterator<Item = MarksBand<'_>> {
+        if rewrite == Rewrite::All {
+            self.windows.clear();
+        }
+        let (stride, w, rows) = (self.bits.stride().max(1), (self.bits.width() as usize).max(1), rows.max(1));
+        let bits = self.bits.words_mut().par_chunks_mut(stride * rows);
+        let near = self.near.words_mut().par_chunks_mut(stride * rows);
+        (bits, self.touch.par_chunks_mut(w * rows), near).into_par_iter().map(move |(bits, touch, near)| MarksBand {
+            bits,
+            touch,
+            near,
+            stride,
+            width: w,
         })
     }
 
@@ -301,6 +345,31 @@ mod tests {
                 rewrite(&mut marks, how, (seed, frame, rings), chosen);
                 wedges = next;
             }
+        }
+    }
+
+    #[test]
+    fn bands_hold_the_rows_in_order() {
+        use std::sync::atomic::{AtomicU32, Ordering};
+        // Rows of two words, and a short last band.
+        let (w, h) = (70, 11);
+        let (mut by_rows, mut by_bands) = (Marks::new(w, h), Marks::new(w, h));
+        rewrite(&mut by_rows, Rewrite::All, (9, 1, 3), |_, _| true);
+        for rows in [1, 3, 4, 11, 20] {
+            let counted: Vec<AtomicU32> = (0..h).map(|_| AtomicU32::new(0)).collect();
+            by_bands.bands_mut(Rewrite::All, rows).enumerate().for_each(|(b, mut band)| {
+                for (k, mut row) in band.rows().enumerate() {
+                    let j = (b * rows + k) as u32;
+                    for i in 0..w {
+                        row.set(i, touch_of(mix(9, i, j, 1), 3));
+                    }
+                    counted[j as usize].fetch_add(1, Ordering::Relaxed);
+                }
+            });
+            assert!(counted.iter().all(|n| n.load(Ordering::Relaxed) == 1), "{rows} rows a band: each row once");
+            assert_eq!(by_bands.bits(), by_rows.bits(), "{rows} rows a band");
+            assert_eq!(by_bands.touch, by_rows.touch, "{rows} rows a band");
+            by_bands = Marks::new(w, h);
         }
     }
 

@@ -12,9 +12,13 @@
 //! - [`SecondView::shade_row`]: a whole row by a plan, a pixel of the other eye per column
 //!   (or none: trace afresh, or keep): each pixel's own ray against the one sphere the
 //!   other eye saw there, shaded with that eye's light visibility, and fully retraced where
-//!   it misses that sphere or the plan says so (`exact` mode). The plan is read a group of
-//!   lanes at a time, and a group whose rays all hit their spheres enters the batch in
-//!   vector stores, as a first view's rows do.
+//!   it misses that sphere or the plan says so (`exact` mode). The plan ([`RowPlan`])
+//!   holds each source's sphere and light bits in column order, so it is read a group of
+//!   lanes at a time, by vector loads and compares. A group whose rays all hit their
+//!   spheres enters the batch in vector stores, as a first view's rows do; a group with
+//!   pixels to trace as well searches its screen tile's spheres once for all its lanes,
+//!   and a planned pixel whose nearest sphere is its own takes that hit (its `t` is the
+//!   lone test's, bit for bit) with its light bits.
 //!
 //! Every row's pixels are shaded as one batch of the thread's wavefront (`wavefront.rs`), so
 //! the pixels of a second view go through the very kernels a first view's do.
@@ -41,7 +45,7 @@ use crate::surface::Hit;
 use crate::surface::NO_OBJECT;
 use crate::swept::Touch;
 use crate::tracer::Tracer;
-use crate::wavefront::{one_object, per_object};
+use crate::wavefront::per_object;
 use crate::wavefront::{with_wavefront, Wavefront};
 
 /// One eye's view, ready to trace and re-shade lists of its pixels (see the module doc).
@@ -56,6 +60,49 @@ pub struct SecondView<'a> {
 pub const TRACE: u32 = u32::MAX;
 /// A [`SecondView::shade_row`] plan entry: leave the pixel as it is.
 pub const KEEP: u32 = u32::MAX - 1;
+
+/// A row's plan for [`SecondView::shade_row`]: three slices with an entry per column.
+///
+/// Where `source` names a pixel of the other view's film, `object` and `lights` hold that
+/// pixel's object and light bits, read from the film in column order: a group of lanes then
+/// reads them in one load each, instead of a load per lane at scattered sources and a
+/// vector rebuilt from scalar stores. Elsewhere they may hold anything.
+#[derive(Clone, Copy, Debug)]
+pub struct RowPlan<'a> {
+    /// A pixel of the other view's film (a row-major index), [`TRACE`] or [`KEEP`].
+    pub source: &'a [u32],
+    /// The object of the pixel `source` names.
+    pub object: &'a [u32],
+    /// The light bits of the pixel `source` names.
+    pub lights: &'a [u32],
+}
+
+impl<'a> RowPlan<'a> {
+    /// The plan `source` (entries as [`RowPlan::source`]), its objects and light bits read
+    /// from `film` into `object` and `lights` (cleared first).
+    pub fn read(film: &Film, source: &'a [u32], (object, lights): (&'a mut Vec<u32>, &'a mut Vec<u32>)) -> Self {
+        object.clear();
+        lights.clear();
+        for &s in source {
+            let (o, l) = if s < KEEP { (film.object[s as usize], film.lights[s as usize]) } else { (NO_OBJECT, 0) };
+            object.push(o);
+            lights.push(l);
+        }
+        Self { source, object, lights }
+    }
+
+    /// Columns in the row.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.source.len()
+    }
+
+    /// Whether the row has no column.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.source.is_empty()
+    }
+}
 
 /// Groups ascending pixel columns by the aligned group of `lanes` (a power of two, at most
 /// 32) they fall in: calls `group(first column, lane mask)` once per group.
@@ -158,40 +205,58 @@ impl<'a> SecondView<'a> {
             (base as usize).is_multiple_of(lanes) && u64::from(mask) < 1 << lanes,
             "group {base}, mask {mask:b}"
         );
-        let (tracer, view) = (self.eye.tracer, self.eye.view);
-        let background = |wavefront: &mut Wavefront, i: u32, out: &mut dyn FnMut(u32, u32, Touch)| {
-            // Marked later, together (`mark_background`).
-            out(i, tracer.background_rgb, Touch::NONE);
-            if self.mark && self.eye.bins.may_meet_moving(i, j) {
-                wavefront.push_background(i);
-            }
-        };
         if self.eye.bins.is_empty_at(base, j) {
             for i in crate::bits::ones(&[u64::from(mask)]) {
-                background(wavefront, base + i, out);
+                self.background(wavefront, (base + i, j), out);
             }
             return;
         }
         let hits = self.eye.hits_lanes(simd, base, j);
+        self.push_found_in(simd, wavefront, (base, j, mask), hits, None, out);
+    }
+
+    /// A pixel (i, j) whose primary ray sees only background: its colour to `out`, and its
+    /// column noted for [`SecondView::mark_background`] when marking and it may be marked.
+    fn background(&self, wavefront: &mut Wavefront, (i, j): (u32, u32), out: &mut impl FnMut(u32, u32, Touch)) {
+        // Marked later, together (`mark_background`).
+        out(i, self.eye.tracer.background_rgb, Touch::NONE);
+        if self.mark && self.eye.bins.may_meet_moving(i, j) {
+            wavefront.push_background(i);
+        }
+    }
+
+    /// Pushes the pixels `mask` names of the group of lanes from `base` on row `j`, whose
+    /// first hits are `hits` (the bins' search: `t`, +∞ for none, sphere and ray direction
+    /// per lane), with light bits where `known` has them (as [`Wavefront::push_lanes`]
+    /// takes them); the ones that see only background go to `out`.
+    #[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
+    #[inline(always)]
+    fn push_found_in<S: Simd>(
+        &self,
+        simd: S,
+        wavefront: &mut Wavefront,
+        (base, j, mask): (u32, u32, u32),
+        hits: (F<S>, U<S>, [F<S>; 3]),
+        known: Option<(U<S>, u32)>,
+        out: &mut impl FnMut(u32, u32, Touch),
+    ) {
+        let view = self.eye.view;
         let hit = hits.0.abs().simd_lt(F::<S>::splat(simd, f32::INFINITY)).to_bitmask() as u32;
-        if mask == hit && u64::from(mask) == (1 << lanes) - 1 {
+        if mask == hit && u64::from(mask) == (1 << F::<S>::LEN) - 1 {
             // Every ray of the group hits: into the batch whole.
-            wavefront.push_lanes(simd, view.origin, hits, base, None);
+            wavefront.push_lanes(simd, view.origin, hits, base, known);
             return;
         }
-        let (mut t, mut ids, mut d) = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
-        hits.0.store_slice(&mut t[..lanes]);
-        hits.1.store_slice(&mut ids[..lanes]);
-        for (column, v) in d.iter_mut().zip(&hits.2) {
-            v.store_slice(&mut column[..lanes]);
-        }
+        let (t, ids, d) = (hits.0.as_slice(), hits.1.as_slice(), crate::simd::each3(|a| hits.2[a].as_slice()));
+        let bits = known.as_ref().map(|(bits, which)| (bits.as_slice(), *which));
         for l in crate::bits::ones(&[u64::from(mask)]) {
             let (i, k) = (base + l, l as usize);
             if hit & (1 << l) != 0 {
                 let ray = Ray::new(view.origin, Vec3::new(d[0][k], d[1][k], d[2][k]));
-                wavefront.push_hit(&ray, Hit { t: t[k], object: ids[k] }, None, i);
+                let lights = bits.and_then(|(bits, which)| (which & (1 << l) != 0).then(|| bits[k]));
+                wavefront.push_hit(&ray, Hit { t: t[k], object: ids[k] }, lights, i);
             } else {
-                background(wavefront, i, out);
+                self.background(wavefront, (i, j), out);
             }
         }
     }
@@ -256,19 +321,20 @@ impl<'a> SecondView<'a> {
         });
     }
 
-    /// Makes the pixels of row `j` as `plan` says, one entry per column, in one batch:
-    /// - the index (row-major) of a pixel of `film`, the other view's, its record kept: this
-    ///   pixel's own primary ray is tested against the one sphere that pixel saw, and where
-    ///   it hits, shaded with that pixel's light bits; where it misses (a silhouette) the
-    ///   pixel is traced afresh and its column pushed to `missed`; where that pixel saw only
-    ///   background, this one takes its colour;
+    /// Makes the pixels of row `j` as `plan` says, in one batch. Its source per column is:
+    /// - the index (row-major) of a pixel of the other view's film: this pixel's own primary
+    ///   ray is tested against the one sphere that pixel saw (the plan's object), and where
+    ///   it hits, shaded with that pixel's light bits (the plan's); where it misses (a
+    ///   silhouette) the pixel is traced afresh and its column pushed to `missed`; where
+    ///   that pixel saw only background ([`NO_OBJECT`]), this one is background too, and
+    ///   takes the scene's background colour;
     /// - [`TRACE`]: traced afresh, with a full primary ray;
     /// - [`KEEP`]: left as it is.
     ///
     /// Colours go to `rgb` (the row), and when marking, each pixel made is marked in `marks`
     /// (a pixel that takes a background colour carries no ray of its own and is left
-    /// unmarked). Returns the single-sphere tests made (not scene rays, so not counted in
-    /// `counts`).
+    /// unmarked). Returns the pixels tested against the sphere their plan names, alone or
+    /// in their tile's search (not scene rays, so not counted in `counts`).
     ///
     /// With the sphere the pixel really sees and its true light bits, a pixel is bit-for-bit
     /// the full trace's: the ray, its `t` and the shading are the same operations on the same
@@ -276,20 +342,22 @@ impl<'a> SecondView<'a> {
     pub fn shade_row(
         &self,
         j: u32,
-        (film, plan): (&Film, &[u32]),
+        plan: RowPlan<'_>,
         (rgb, marks): (&mut [u32], Option<&mut MarksRow<'_>>),
         counts: &mut RayCounts,
         missed: &mut Vec<u32>,
     ) -> u64 {
-        debug_assert_eq!(plan.len(), rgb.len(), "a plan entry per pixel of the row");
-        debug_assert_ne!(film.record(), crate::Record::Colour, "the other view's record is needed");
+        debug_assert!(
+            plan.source.len() == rgb.len() && plan.object.len() == rgb.len() && plan.lights.len() == rgb.len(),
+            "a plan entry per pixel of the row"
+        );
         missed.clear();
         // Marks only when this view marks and the caller keeps them.
         let mut marks = marks.filter(|_| self.mark);
         with_wavefront(|wavefront| {
             let tests = dispatch!(crate::simd::level(), simd => simd.vectorize(
                 #[inline(always)]
-                || self.push_row_in(simd, wavefront, j, (film, plan), counts, (missed, rgb, &mut marks)),
+                || self.push_row_in(simd, wavefront, j, plan, counts, (missed, rgb, &mut marks)),
             ));
             wavefront.shade(self.eye.tracer, counts);
             // Colours in a plain loop; marks, when kept, in one of their own.
@@ -311,7 +379,7 @@ impl<'a> SecondView<'a> {
     /// lanes of the row read from the plan, aimed and pushed into the batch (a group that
     /// hits its spheres in every lane in vector stores). The colours made without shading
     /// go straight to `rgb`, and the marks of traced pixels that see background to `marks`.
-    /// Returns the single-sphere tests made.
+    /// Returns the pixels tested against their planned spheres.
     #[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
     #[inline(always)]
     fn push_row_in<S: Simd>(
@@ -319,7 +387,7 @@ impl<'a> SecondView<'a> {
         simd: S,
         wavefront: &mut Wavefront,
         j: u32,
-        (film, plan): (&Film, &[u32]),
+        plan: RowPlan<'_>,
         counts: &mut RayCounts,
         (missed, rgb, marks): (&mut Vec<u32>, &mut [u32], &mut Option<&mut MarksRow<'_>>),
     ) -> u64 {
@@ -328,48 +396,62 @@ impl<'a> SecondView<'a> {
         let all = (1u32 << lanes) - 1;
         let inf = F::<S>::splat(simd, f32::INFINITY);
         let origin = crate::simd::splat3(simd, view.origin);
-        let (mut objects, mut lights) = ([0u32; 16], [0u32; 16]);
+        let splat = |x: u32| U::<S>::splat(simd, x);
+        let (mut objects, mut short) = ([0u32; 16], [[KEEP; 16]; 3]);
         let mut tests = 0;
         for base in (0..plan.len()).step_by(lanes) {
-            let group = &plan[base..(base + lanes).min(plan.len())];
-            let (mut traced, mut named) = (0u32, 0u32);
-            for (l, &source) in group.iter().enumerate() {
-                match source {
-                    TRACE => traced |= 1 << l,
-                    KEEP => {}
-                    source => {
-                        let s = source as usize;
-                        let object = film.object[s];
-                        if object == NO_OBJECT {
-                            // Marked nowhere: its ray is the other view's.
-                            rgb[base + l] = film.rgb[s];
-                        } else {
-                            named |= 1 << l;
-                            (objects[l], lights[l]) = (object, film.lights[s]);
-                        }
-                    }
+            let end = (base + lanes).min(plan.len());
+            let [source, object, lights] = if end - base == lanes {
+                [&plan.source[base..end], &plan.object[base..end], &plan.lights[base..end]]
+            } else {
+                // The row's last, short group, its missing lanes kept.
+                for (pad, part) in short.iter_mut().zip([plan.source, plan.object, plan.lights]) {
+                    pad[..end - base].copy_from_slice(&part[base..end]);
+                    pad[end - base..].fill(KEEP);
                 }
+                let [a, b, c] = &short;
+                [&a[..lanes], &b[..lanes], &c[..lanes]]
+            };
+            // The group's lanes by what the plan says, each set a vector compare.
+            let entries = U::<S>::from_slice(simd, source);
+            let ids = U::<S>::from_slice(simd, object);
+            let mut traced = entries.simd_eq(splat(TRACE)).to_bitmask() as u32;
+            let given = all & !traced & !(entries.simd_eq(splat(KEEP)).to_bitmask() as u32);
+            let background = given & ids.simd_eq(splat(NO_OBJECT)).to_bitmask() as u32;
+            let named = given & !background;
+            for l in crate::bits::ones(&[u64::from(background)]) {
+                // The other view's pixel is the background colour (not read from its film,
+                // where it has long left the cache). Marked nowhere: its ray is that view's.
+                rgb[base + l as usize] = tracer.background_rgb;
             }
-            if named != 0 {
-                tests += u64::from(named.count_ones());
+            tests += u64::from(named.count_ones());
+            // A group of traced and named lanes searches its tile's spheres once for all of
+            // them (its traced lanes need that anyway): a named lane whose nearest sphere is
+            // its own takes that hit, bit for bit its lone test's, with its light bits. The
+            // other named lanes are tested alone, as a group of named lanes only is.
+            let (mut found, mut alone) = (None, named);
+            if named != 0 && traced != 0 && !self.eye.bins.is_empty_at(base as u32, j) {
+                let hits = self.eye.hits_lanes(simd, base as u32, j);
+                let own = (hits.0.simd_lt(inf) & hits.1.simd_eq(ids)).to_bitmask() as u32 & named;
+                (found, alone) = (Some((hits, own)), named & !own);
+            }
+            if alone != 0 {
                 // The other lanes aim at a named lane's sphere, and are left out.
-                let first = objects[named.trailing_zeros() as usize];
-                for (l, object) in objects.iter_mut().enumerate().take(lanes) {
-                    if named & (1 << l) == 0 {
-                        *object = first;
-                    }
-                }
-                let at = (&objects[..lanes], one_object(&objects[..lanes]));
-                let columns = U::<S>::splat(simd, base as u32) + crate::simd::lane_index(simd);
+                let first = splat(object[alone.trailing_zeros() as usize]);
+                let ids = crate::simd::mask_of(simd, u64::from(alone)).select(ids, first);
+                let one =
+                    (ids.simd_eq(first).to_bitmask() as u32 == all).then(|| object[alone.trailing_zeros() as usize]);
+                ids.store_slice(&mut objects[..lanes]);
+                let at = (&objects[..lanes], one);
+                let columns = splat(base as u32) + crate::simd::lane_index(simd);
                 let d = view.primary_dirs_at(simd, F::<S>::float_from(columns), j);
                 let c = crate::simd::each3(|a| per_object(simd, at, |o| tracer.centers[o][a]));
                 let r = per_object(simd, at, |o| tracer.radii[o]);
                 let t = crate::simd::spheres_t(simd, origin, d, (c, r), inf);
-                let hit = t.simd_lt(inf).to_bitmask() as u32 & named;
+                let hit = t.simd_lt(inf).to_bitmask() as u32 & alone;
                 if hit == all {
-                    let known = U::<S>::from_slice(simd, &lights[..lanes]);
-                    let ids = U::<S>::from_slice(simd, &objects[..lanes]);
-                    wavefront.push_lanes(simd, view.origin, (t, ids, d), base as u32, Some(known));
+                    let known = U::<S>::from_slice(simd, lights);
+                    wavefront.push_lanes(simd, view.origin, (t, ids, d), base as u32, Some((known, all)));
                 } else {
                     let (ts, dirs) = (t.as_slice(), crate::simd::each3(|a| d[a].as_slice()));
                     for l in crate::bits::ones(&[u64::from(hit)]) {
@@ -380,18 +462,22 @@ impl<'a> SecondView<'a> {
                     }
                 }
                 // The silhouettes the named spheres missed are traced afresh.
-                let miss = named & !hit;
+                let miss = alone & !hit;
                 missed.extend(crate::bits::ones(&[u64::from(miss)]).map(|l| base as u32 + l));
                 traced |= miss;
             }
-            if traced != 0 {
-                counts.primary += u64::from(traced.count_ones());
-                self.push_traced_in(simd, wavefront, (base as u32, j, traced), &mut |i, colour, touch| {
-                    rgb[i as usize] = colour;
-                    if let Some(marks) = marks.as_deref_mut() {
-                        marks.set(i, touch);
-                    }
-                });
+            let mut out = |i: u32, colour: u32, touch: Touch| {
+                rgb[i as usize] = colour;
+                if let Some(marks) = marks.as_deref_mut() {
+                    marks.set(i, touch);
+                }
+            };
+            counts.primary += u64::from(traced.count_ones());
+            if let Some((hits, own)) = found {
+                let known = (U::<S>::from_slice(simd, lights), own);
+                self.push_found_in(simd, wavefront, (base as u32, j, traced | own), hits, Some(known), &mut out);
+            } else if traced != 0 {
+                self.push_traced_in(simd, wavefront, (base as u32, j, traced), &mut out);
             }
         }
         tests
@@ -429,6 +515,19 @@ mod tests {
         Scene::load(path).expect("scene loads")
     }
 
+    /// Row `j` of `second` made by `plan` (sources on `film`) into `rgb`: the sphere tests.
+    fn plan_row(
+        second: &SecondView<'_>,
+        j: u32,
+        (film, plan): (&Film, &[u32]),
+        rgb: &mut [u32],
+        missed: &mut Vec<u32>,
+    ) -> u64 {
+        let (mut object, mut lights) = (Vec::new(), Vec::new());
+        let plan = RowPlan::read(film, plan, (&mut object, &mut lights));
+        second.shade_row(j, plan, (rgb, None), &mut RayCounts::default(), missed)
+    }
+
     /// A colour no traced pixel has: its high byte is set.
     const UNTOUCHED: u32 = 0xFF00_FF00;
 
@@ -447,7 +546,8 @@ mod tests {
             .map(|(i, j)| tracer.trace_pixel(&view, i, j, &mut plain))
             .collect();
         // A film that names, for pixel (i, j), the sphere and light bits `pick` gives, or
-        // background (object NO_OBJECT) of a colour of its own.
+        // background (object NO_OBJECT) of a colour of its own, which a planned pixel does not
+        // take: it takes the scene's background colour.
         let film_of = |pick: &dyn Fn(u32, u32) -> Option<(u32, u32)>| {
             let mut film = Film::new(w, h);
             for (k, (i, j)) in (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).enumerate() {
@@ -474,7 +574,7 @@ mod tests {
                 })
                 .collect();
             let mut rgb = vec![UNTOUCHED; w as usize];
-            let tests = second.shade_row(j, (&film, &plan), (&mut rgb, None), &mut counts, &mut missed);
+            let tests = plan_row(&second, j, (&film, &plan), &mut rgb, &mut missed);
             let named = plan.iter().filter(|&&s| s < KEEP && film.object[s as usize] != NO_OBJECT).count();
             assert_eq!(tests, named as u64, "row {j}: one sphere test per named pixel");
             for (i, (&source, &got)) in plan.iter().zip(&rgb).enumerate() {
@@ -490,9 +590,10 @@ mod tests {
                         UNTOUCHED
                     }
                     TRACE => full,
+                    // The scene's background, not the film's colour there.
                     _ if film.object[k] == NO_OBJECT => {
                         copied += 1;
-                        film.rgb[k]
+                        tracer.background_rgb
                     }
                     _ if miss => {
                         retraced += 1;
@@ -509,7 +610,7 @@ mod tests {
         for j in 0..h {
             let plan: Vec<u32> = (0..w).map(|i| j * w + i).collect();
             let mut rgb = vec![UNTOUCHED; w as usize];
-            second.shade_row(j, (&film, &plan), (&mut rgb, None), &mut counts, &mut missed);
+            plan_row(&second, j, (&film, &plan), &mut rgb, &mut missed);
             for i in 0..w {
                 let miss = tracer.intersect_object(&view.primary_ray(i, j), j % n).is_none();
                 assert_eq!(missed.contains(&i), miss, "({i}, {j}), one sphere");
@@ -526,11 +627,11 @@ mod tests {
         for j in 0..h {
             let plan: Vec<u32> = (0..w).map(|i| j * w + i).collect();
             let mut rgb = vec![UNTOUCHED; w as usize];
-            second.shade_row(j, (&film, &plan), (&mut rgb, None), &mut counts, &mut missed);
+            plan_row(&second, j, (&film, &plan), &mut rgb, &mut missed);
             assert!(missed.is_empty(), "row {j}: every named sphere is hit");
             for i in 0..w {
                 let k = (j * w + i) as usize;
-                let want = if truth[k].surface.is_hit() { truth[k].rgb } else { film.rgb[k] };
+                let want = if truth[k].surface.is_hit() { truth[k].rgb } else { tracer.background_rgb };
                 assert_eq!(rgb[i as usize], want, "({i}, {j})");
                 hits += usize::from(truth[k].surface.is_hit());
             }
@@ -541,6 +642,42 @@ mod tests {
         }
         assert!(hits > 500 && retraced > 500, "the view sees spheres: {hits} hits, {retraced} retraced");
         assert!(kept > 500 && copied > 500, "{kept} kept, {copied} copied");
+    }
+
+    #[test]
+    fn a_group_of_planned_and_traced_lanes_is_the_full_trace() {
+        // Big spheres, so that many groups of lanes hit in every lane: traced lanes among
+        // planned ones (true spheres and light bits) enter the batch whole, each lane with
+        // its own light bits or none.
+        let scene = scene("seed.toml");
+        let tracer = Tracer::new(&scene, 0.4);
+        let (w, h) = (160, 90);
+        let view = scene.camera.view(Eye::Right, w, h);
+        let mut renderer = Renderer::new();
+        let second = renderer.second_view(&tracer, &view);
+        let mut plain = RayCounts::default();
+        let truth: Vec<_> = (0..h)
+            .flat_map(|j| (0..w).map(move |i| (i, j)))
+            .map(|(i, j)| tracer.trace_pixel(&view, i, j, &mut plain))
+            .collect();
+        let mut film = Film::new(w, h);
+        for (k, shaded) in truth.iter().enumerate() {
+            (film.object[k], film.lights[k], film.rgb[k]) = (shaded.surface.object, shaded.surface.lights, shaded.rgb);
+        }
+        let (lanes, mut whole) = (SecondView::lanes(), 0);
+        let mut missed = Vec::new();
+        for j in 0..h {
+            let plan: Vec<u32> = (0..w).map(|i| if (i + j) % 5 == 1 { TRACE } else { j * w + i }).collect();
+            let mut rgb = vec![UNTOUCHED; w as usize];
+            plan_row(&second, j, (&film, &plan), &mut rgb, &mut missed);
+            assert!(missed.is_empty(), "row {j}: every planned sphere is hit");
+            for i in 0..w {
+                assert_eq!(rgb[i as usize], truth[(j * w + i) as usize].rgb, "({i}, {j})");
+            }
+            let hits = |i: u32| truth[(j * w + i) as usize].surface.is_hit();
+            whole += (0..w / lanes).filter(|g| (g * lanes..(g + 1) * lanes).all(hits)).count();
+        }
+        assert!(whole > 100, "{whole} groups of lanes that hit in every lane");
     }
 
     #[test]

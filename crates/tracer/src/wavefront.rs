@@ -28,7 +28,7 @@ use crate::tracer::Tracer;
 mod lanes;
 mod marks;
 
-pub(crate) use lanes::{one_object, per_object};
+pub(crate) use lanes::per_object;
 
 /// Structure-of-arrays columns of three.
 type Column3 = [Vec<f32>; 3];
@@ -196,7 +196,8 @@ impl Wavefront {
 
     /// Adds a whole vector of samples whose primary rays from `origin` along `d` all meet a
     /// sphere (at `t`, sphere `objects`): those of the pixels `column + l` of a row, lane by
-    /// lane, tagged with their columns, with their light bits if `known`; what
+    /// lane, tagged with their columns, with light bits where `known` has them (`(bits,
+    /// lanes)`: lane l's bits, known where bit l of `lanes` is set); what
     /// [`Wavefront::push_hit`] would add for each, in vector stores.
     #[expect(
         clippy::inline_always,
@@ -209,7 +210,7 @@ impl Wavefront {
         origin: Vec3,
         (t, objects, d): (F<S>, U<S>, [F<S>; 3]),
         column: u32,
-        known: Option<U<S>>,
+        known: Option<(U<S>, u32)>,
     ) {
         let level = &mut self.levels[0];
         let (e, lanes) = (level.used, F::<S>::LEN);
@@ -221,11 +222,15 @@ impl Wavefront {
         t.store_slice(&mut level.t[entries.clone()]);
         objects.store_slice(&mut level.object[entries.clone()]);
         (U::<S>::splat(simd, column) + crate::simd::lane_index(simd)).store_slice(&mut level.parent[entries.clone()]);
-        match known {
-            Some(bits) => bits.store_slice(&mut level.lights[entries.clone()]),
-            None => level.lights[entries.clone()].fill(0),
+        if let Some((bits, which)) = known {
+            bits.store_slice(&mut level.lights[entries.clone()]);
+            for (l, known) in level.known[entries.clone()].iter_mut().enumerate() {
+                *known = which & (1 << l) != 0;
+            }
+        } else {
+            level.lights[entries.clone()].fill(0);
+            level.known[entries.clone()].fill(false);
         }
-        level.known[entries.clone()].fill(known.is_some());
         level.reflects[entries].fill(false);
         level.used = e + lanes;
     }
