@@ -76,15 +76,19 @@ fn batches(c: &mut Criterion) {
             });
         });
         c.bench_function(&format!("lanes{lanes}_exact_rows_{W}x{H}_{name}"), |b| {
-            let (mut rgb, mut plan, mut missed) = (vec![0u32; W as usize], Vec::new(), Vec::new());
-            let mut seen = (Vec::new(), Vec::new());
+            // Each pixel aimed at the sphere it sees, with its light bits: the plan is the
+            // film itself, in column order (as exact mode's reprojection hands it over).
+            let (mut rgb, mut missed) = (vec![0u32; W as usize], Vec::new());
+            let source: Vec<u32> = (0..W * H).collect();
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
                 for j in 0..H {
-                    // Each pixel aimed at the sphere it sees, with its light bits.
-                    plan.clear();
-                    plan.extend((0..W).map(|i| j * W + i));
-                    let plan = RowPlan::read(film, &plan, (&mut seen.0, &mut seen.1));
+                    let row = (j * W) as usize..((j + 1) * W) as usize;
+                    let plan = RowPlan {
+                        source: &source[row.clone()],
+                        object: &film.object[row.clone()],
+                        lights: &film.lights[row],
+                    };
                     second.shade_row(j, plan, (&mut rgb, None), &mut counts, &mut missed);
                     sum = rgb.iter().fold(sum, |s, &c| s.wrapping_add(c));
                 }
