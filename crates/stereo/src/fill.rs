@@ -255,10 +255,10 @@ impl Add for FusedExact {
 ///
 /// The result is [`reproject_and_classify`](crate::reproject::reproject_and_classify)
 /// followed by [`fill`], byte for byte: a band's rows depend only on the left film, and a
-/// row's fill only on its own row of the source map and classes. But the left film's rows
-/// that a band's fill reads (objects, light bits, colours) were read a moment before by its
-/// classification, and its rows of `src` and `mask` were just written: they are still in
-/// the core's cache, where two passes over the image read them back from memory.
+/// row's fill only on its own row of the source map and classes. But the fill takes each
+/// source's object and light bits from the keys the band's classification has just
+/// gathered, and its rows of `src` and `mask` were just written: all still in the core's
+/// cache, where two passes over the image read them back from memory.
 pub(crate) fn reproject_and_fill_exact(
     right: SecondView<'_>,
     left: &Film,
@@ -269,7 +269,7 @@ pub(crate) fn reproject_and_fill_exact(
 ) -> FusedExact {
     let (w, h) = (out.width as usize, out.height as usize);
     debug_assert!(
-        [src.len(), class.len(), mask.len(), left.z.len()].iter().all(|&n| n == out.rgb.len()) && w * h == n_of(out),
+        [src.len(), class.len(), mask.len(), left.z.len(), w * h].iter().all(|&n| n == out.rgb.len()),
         "the planes must have the image's size"
     );
     let band_pixels = (w * BAND).max(1);
@@ -300,11 +300,6 @@ pub(crate) fn reproject_and_fill_exact(
             FusedExact { filled, reproject_s, fill_s: t.elapsed().as_secs_f64() - reproject_s }
         })
         .reduce(FusedExact::default, FusedExact::add)
-}
-
-/// Pixels of `image`.
-fn n_of(image: &Image) -> usize {
-    image.width as usize * image.height as usize
 }
 
 /// A row's plan for [`SecondView::shade_row`], its buffers, and the list of missed
