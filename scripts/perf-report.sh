@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Writes docs/performance.md: `stereotrace bench --json` on each run's scene, as Markdown
 # tables stamped with the date, the commit, the CPU model, the thread count and the exact
-# command lines. The README's "Performance" section says how the numbers are measured and
-# what each column means; this script only produces the day's numbers.
+# command lines. docs/performance-notes.md says how the numbers are measured and what each
+# column means; this script only produces the day's numbers.
 #
 #   scripts/perf-report.sh [--frames N] [--out PATH] [--bin PATH] [--note TEXT] [RUN ...]
 #
@@ -124,7 +124,7 @@ export PR_LOAD="$load_before before the first bench, $load_after after the last"
 
 tmp_page=$(mktemp "$outdir/.perf-report.XXXXXX")
 python3 - "$work" "$i" > "$tmp_page" <<'PY'
-"""Markdown tables from the bench JSON reports (keys as in the README's "JSON report keys")."""
+"""Markdown tables from the bench JSON reports (keys as in docs/cli.md, "JSON report keys")."""
 import json
 import math
 import os
@@ -199,8 +199,8 @@ binary = f"`{env['PR_BIN']}`" + ("" if env["PR_BUILT"] == "yes" else " (given wi
 print("# Performance: one run")
 print()
 print("Written by `scripts/perf-report.sh`; do not edit by hand, run the script again. How the")
-print("numbers are measured and what each column means: the README's")
-print("[Performance](../README.md#performance) section.")
+print("numbers are measured and what each column means:")
+print("[performance-notes.md](performance-notes.md).")
 print()
 print(f"- date: {env['PR_DATE']}")
 print(f"- commit: `{env['PR_COMMIT']}`")
@@ -261,7 +261,7 @@ for k, (cmd, r) in enumerate(runs):
     if anim:
         frames = anim[0][1]["frames"]
         print(f"Animation, {frames} frames 1/60 s apart with the head still: stereo ms per frame traced")
-        print("fresh against reusing the last frame (medians; README, \"Temporal reuse\"):")
+        print("fresh against reusing the last frame (medians; [temporal reuse](design/reuse-exactness.md)):")
         print()
         print("| mode | fresh ms | reused ms | reused / fresh | pixels retraced |")
         print("|------|----------|-----------|----------------|-----------------|")
