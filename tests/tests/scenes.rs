@@ -2,7 +2,7 @@
 
 use stereo::{Mode, Options, Quality, StereoFrame};
 use stereotrace_tests::scene_files;
-use tracer::{Eye, Renderer, Scene, Tracer};
+use tracer::{Eye, Pixels, Renderer, Scene, Target, Tracer};
 
 #[test]
 fn exact_mode_equals_the_full_trace_on_every_scene() {
@@ -16,7 +16,7 @@ fn exact_mode_equals_the_full_trace_on_every_scene() {
         let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
         for t in [0.0, 2.7] {
             let tracer = Tracer::new(&scene, t);
-            renderer.render_rgb(&tracer, &scene.camera.view(Eye::Right, w, h), &mut reference);
+            renderer.render(&tracer, &scene.camera.view(Eye::Right, w, h), Pixels::All, Target::colour(&mut reference));
             let stats = frame.render(&tracer, &scene.camera, w, h, Options { mode: Mode::Exact, retrace_edges: false });
             let q = Quality::compare(&frame.right().rgb, &reference);
             assert!(
@@ -42,7 +42,7 @@ fn exact_mode_equals_the_full_trace_when_supersampled() {
     for path in scene_files() {
         let scene = Scene::load(&path).unwrap_or_else(|e| panic!("{e}"));
         let tracer = Tracer::new(&scene, 1.3);
-        renderer.render_rgb(&tracer, &scene.camera.view(Eye::Right, sw, sh), &mut reference);
+        renderer.render(&tracer, &scene.camera.view(Eye::Right, sw, sh), Pixels::All, Target::colour(&mut reference));
         let stats = frame.render(&tracer, &scene.camera, sw, sh, Options { mode: Mode::Exact, retrace_edges: false });
         assert_eq!(stats.pixels.total(), u64::from(sw * sh), "{}: the classes count samples", path.display());
         let q = Quality::compare(&frame.right().rgb, &reference);

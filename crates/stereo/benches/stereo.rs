@@ -6,7 +6,7 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use stereo::{reproject_row, Mode, Options, StereoFrame};
-use tracer::{Disparity, Eye, Film, Renderer, Scene, Tracer};
+use tracer::{Disparity, Eye, Film, Pixels, Record, Renderer, Scene, Target, Tracer};
 
 const W: u32 = 1280;
 const H: u32 = 720;
@@ -20,7 +20,12 @@ fn seed() -> (Scene, Tracer) {
 fn reprojection(c: &mut Criterion) {
     let (scene, tracer) = seed();
     let mut left = Film::new(W, H);
-    Renderer::new().render(&tracer, &scene.camera.view(Eye::Left, W, H), &mut left);
+    Renderer::new().render(
+        &tracer,
+        &scene.camera.view(Eye::Left, W, H),
+        Pixels::All,
+        Target::film(&mut left, Record::Full),
+    );
     let disparity = Disparity::in_pixels(&scene.camera, &scene.camera.view(Eye::Right, W, H));
     let mut src = vec![0u32; (W * H) as usize];
     let mut targets = Vec::new();

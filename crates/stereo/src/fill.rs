@@ -10,7 +10,7 @@
 //! A reprojected miss keeps the left eye's background colour either way. Copy mode fills
 //! its reprojected pixels in stage 4's pass (`retrace.rs`), so it has no stage 5. Exact
 //! mode does stage 4 in stage 5's pass instead: each row is one batch of the tracer's
-//! wavefront ([`SecondView::shade_row`]), its retraced pixels beside its reprojected ones,
+//! wavefront ([`PixelBatch::shade_row`]), its retraced pixels beside its reprojected ones,
 //! so the batch fills whole vectors of lanes and the row is read once. On a fresh frame it
 //! goes further and does stages 2 to 5 in one pass over bands of rows
 //! ([`reproject_and_fill_exact`]): a band is reprojected and classified, then made at once,
@@ -21,7 +21,8 @@ use std::ops::Add;
 use std::time::Instant;
 
 use rayon::prelude::*;
-use tracer::{EyeView, Film, Marks, MarksRow, RayCounts, Rewrite, RowPlan, SecondView, KEEP, NO_OBJECT, TRACE};
+use tracer::reuse::{Marks, MarksRow, Rewrite};
+use tracer::{EyeView, Film, PixelBatch, RayCounts, RowPlan, KEEP, NO_OBJECT, TRACE};
 
 use crate::image::Image;
 use crate::mode::Mode;
@@ -89,7 +90,7 @@ struct Row<'a> {
 /// `redo`'s pixels, and this sets those of the pixels it shades; [`Fill::Exact`] does
 /// stage 4's part itself (see the module doc).
 pub(crate) fn fill(
-    right: SecondView<'_>,
+    right: PixelBatch<'_>,
     (lv, left): (&EyeView, &Film),
     how: Fill,
     (mask, src): (&mut [PixelClass], &[u32]),
@@ -169,7 +170,7 @@ fn list_row(
 }
 
 /// One row of [`Fill::Reshade`]: the surfaces seen, re-shaded as one list.
-fn reshade_row(right: SecondView<'_>, (lv, left): (&EyeView, &Film), row: Row<'_>) -> Filled {
+fn reshade_row(right: PixelBatch<'_>, (lv, left): (&EyeView, &Film), row: Row<'_>) -> Filled {
     let Row { j, rgb, mask, src, only, mut marks } = row;
     let mut rays = RayCounts::default();
     with_list(|list| {
@@ -189,7 +190,7 @@ fn reshade_row(right: SecondView<'_>, (lv, left): (&EyeView, &Film), row: Row<'_
 /// edges), every other pixel of the row traced afresh. A pixel whose source saw background
 /// takes its colour. `seen` holds, per column, the object and light bits of the pixel's
 /// source, where the caller has them at hand (`None`: they are read from the film here).
-fn exact_row(right: SecondView<'_>, left: &Film, row: Row<'_>, seen: Option<(&[u32], &[u32])>) -> Filled {
+fn exact_row(right: PixelBatch<'_>, left: &Film, row: Row<'_>, seen: Option<(&[u32], &[u32])>) -> Filled {
     let Row { j, rgb, mask, src, only, mut marks } = row;
     if let Some(marks) = marks.as_mut() {
         marks.clear_only(only);
@@ -260,7 +261,7 @@ impl Add for FusedExact {
 /// gathered, and its rows of `src` and `mask` were just written: all still in the core's
 /// cache, where two passes over the image read them back from memory.
 pub(crate) fn reproject_and_fill_exact(
-    right: SecondView<'_>,
+    right: PixelBatch<'_>,
     left: &Film,
     p: Reprojection,
     (src, class, mask): (&mut [u32], &mut [PixelClass], &mut [PixelClass]),
@@ -302,7 +303,7 @@ pub(crate) fn reproject_and_fill_exact(
         .reduce(FusedExact::default, FusedExact::add)
 }
 
-/// A row's plan for [`SecondView::shade_row`], its buffers, and the list of missed
+/// A row's plan for [`PixelBatch::shade_row`], its buffers, and the list of missed
 /// silhouettes.
 #[derive(Default)]
 struct Plan {
@@ -332,7 +333,8 @@ fn with_plan<R>(f: impl FnOnce(&mut Plan) -> R) -> R {
 
 #[cfg(test)]
 mod tests {
-    use tracer::{Eye, Record, Renderer, Scene, Tracer};
+    use tracer::reuse::Swept;
+    use tracer::{Eye, Pixels, Record, Renderer, Scene, Target, Tracer};
 
     use super::*;
     use crate::mode::Options;
@@ -349,13 +351,14 @@ mod tests {
             // Rows that end in a short band, and a short group of lanes.
             let (w, h) = (101, 3 * BAND as u32 + 5);
             let (lv, rv) = (scene.camera.view(Eye::Left, w, h), scene.camera.view(Eye::Right, w, h));
-            let mut left = Film::new(1, 1);
-            Renderer::new().render_marking(&tracer, &lv, &mut left, Record::Keys);
+            let (mut left, mut left_marks, swept) = (Film::new(1, 1), Marks::default(), Swept::of(&scene));
+            let target = Target::film(&mut left, Record::Keys).marking(&mut left_marks, &swept);
+            Renderer::new().render(&tracer, &lv, Pixels::All, target);
             let p = Reprojection::new(&tracer, &scene.camera, &rv, Options { mode: Mode::Exact, retrace_edges: false });
             let n = (w * h) as usize;
             for mark in [false, true] {
                 let mut renderer = Renderer::new();
-                let right = renderer.second_view(&tracer, &rv).marking(mark);
+                let right = renderer.batch(&tracer, &rv).marking(mark.then_some(&swept));
                 let frame = || (vec![7u32; n], vec![PixelClass::Traced; n], vec![PixelClass::Traced; n]);
                 let image = || Image { width: w, height: h, rgb: vec![0; n] };
 

@@ -18,7 +18,7 @@
 //! 3. classify (`classify.rs`, in the same banded pass as stage 2): reprojected pixels on
 //!    object edges or shadow boundaries are sent to retrace, as the mode asks;
 //! 4. retrace (`retrace.rs`) the gaps, border, edges and shadow boundaries with full
-//!    primary rays, through the tracer's [`SecondView`](tracer::SecondView);
+//!    primary rays, through the tracer's [`PixelBatch`](tracer::PixelBatch);
 //! 5. fill (`fill.rs`) the reprojected pixels, through the same view: reshade, or shade
 //!    exactly. Copy mode copies the left colour in stage 4's pass over the image instead,
 //!    so the right image is swept once; exact mode does stage 4 in stage 5's pass, each row

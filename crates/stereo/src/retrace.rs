@@ -7,7 +7,8 @@
 
 use rayon::prelude::*;
 use tracer::bits;
-use tracer::{Marks, MarksRow, PixelBits, RayCounts, Rewrite, SecondView};
+use tracer::reuse::{Marks, MarksRow, Rewrite};
+use tracer::{PixelBatch, PixelBits, RayCounts};
 
 use crate::image::Image;
 use crate::stats::PixelClass;
@@ -78,7 +79,7 @@ impl Iterator for Chosen<'_> {
 /// source in `src`, and without, keeps what `out` holds. Pixels outside `redo` are not
 /// touched. Returns the rays cast.
 pub(crate) fn retrace(
-    right: SecondView<'_>,
+    right: PixelBatch<'_>,
     mask: &[PixelClass],
     src: &[u32],
     copy_from: Option<&[u32]>,
@@ -128,7 +129,7 @@ pub(crate) fn retrace(
 
 #[cfg(test)]
 mod tests {
-    use tracer::{Eye, Renderer, Scene, Tracer};
+    use tracer::{Eye, Pixels, Renderer, Scene, Target, Tracer};
 
     use super::*;
 
@@ -143,9 +144,9 @@ mod tests {
         let n = (w * h) as usize;
         let rv = scene.camera.view(Eye::Right, w, h);
         let mut full = Vec::new();
-        let full_counts = Renderer::new().render_rgb(&tracer, &rv, &mut full);
+        let full_counts = Renderer::new().render(&tracer, &rv, Pixels::All, Target::colour(&mut full));
         let mut renderer = Renderer::new();
-        let right = renderer.second_view(&tracer, &rv);
+        let right = renderer.batch(&tracer, &rv);
         let image = || Image { width: w, height: h, rgb: vec![UNTOUCHED; n] };
 
         // Every pixel retraced: the full trace, ray for ray.

@@ -129,7 +129,7 @@ fn a_warm_reused_frame_allocates_nothing() {
     for mode in [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact] {
         let opts = Options { mode, retrace_edges: true };
         let mut frame = StereoFrame::new();
-        frame.set_reuse(true);
+        frame.set_reuse(Some(&scene));
         // Warm up: the first frame marks, the next ones reuse.
         for k in 0..6 {
             tracer.update(&scene, k as f32 / 60.0);

@@ -37,7 +37,7 @@ fn shown(frame: &StereoFrame, mode: Mode) -> Shown {
 /// returns the share of pixels retraced in each reused frame.
 fn check_reuse(scene: &Scene, times: &[f32], (w, h): (u32, u32), opts: Options) -> Vec<f64> {
     let mut reusing = StereoFrame::new();
-    reusing.set_reuse(true);
+    reusing.set_reuse(Some(scene));
     let mut fresh = StereoFrame::new();
     let mut tracer = Tracer::new(scene, times[0]);
     let mut shares = Vec::new();
@@ -89,7 +89,7 @@ fn anything_but_time_starts_afresh() {
     let tracer = Tracer::new(&scene, 0.0);
     let opts = Options { mode: Mode::Exact, retrace_edges: true };
     let mut frame = StereoFrame::new();
-    frame.set_reuse(true);
+    frame.set_reuse(Some(&scene));
     let first = frame.render(&tracer, &scene.camera, 64, 36, opts);
     assert!(!first.reuse.reused && first.reuse.retraced_share() == 1.0, "the first frame is fresh");
     assert!(frame.render(&tracer, &scene.camera, 64, 36, opts).reuse.reused, "same request: reused");
@@ -107,7 +107,7 @@ fn anything_but_time_starts_afresh() {
     deeper.set_max_depth(1);
     let stats = frame.render(&deeper, &moved, 64, 37, Options { mode: Mode::Copy, ..opts });
     assert!(!stats.reuse.reused, "reflection depth");
-    frame.set_reuse(false);
+    frame.set_reuse(None);
     assert!(!frame.render(&deeper, &moved, 64, 37, Options { mode: Mode::Copy, ..opts }).reuse.reused, "reuse off");
 }
 
@@ -185,7 +185,7 @@ fn reused_frames_are_the_same_for_one_and_two_threads() {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a thread pool");
         pool.install(|| {
             let mut frame = StereoFrame::new();
-            frame.set_reuse(true);
+            frame.set_reuse(Some(&scene));
             let mut tracer = Tracer::new(&scene, 0.0);
             let opts = Options { mode: Mode::Exact, retrace_edges: true };
             let mut shown = Vec::new();

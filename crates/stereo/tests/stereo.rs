@@ -4,7 +4,8 @@ use glam::Vec3;
 use proptest::prelude::*;
 use stereo::{reproject_row, Mode, Options, PixelClass, Quality, StereoFrame, NO_SOURCE};
 use tracer::{
-    Camera, Disparity, Eye, Film, Light, Material, Motion, RenderSettings, Renderer, Scene, SceneSphere, Tracer,
+    Camera, Disparity, Eye, Film, Light, Material, Motion, Pixels, Record, RenderSettings, Renderer, Scene,
+    SceneSphere, Target, Tracer,
 };
 
 #[expect(clippy::unwrap_used, reason = "a test helper: a bundled scene that does not load fails the test")]
@@ -14,7 +15,7 @@ fn seed() -> Scene {
 
 fn full_right(tracer: &Tracer, camera: &Camera, w: u32, h: u32) -> Vec<u32> {
     let mut rgb = Vec::new();
-    Renderer::new().render_rgb(tracer, &camera.view(Eye::Right, w, h), &mut rgb);
+    Renderer::new().render(tracer, &camera.view(Eye::Right, w, h), Pixels::All, Target::colour(&mut rgb));
     rgb
 }
 
@@ -90,7 +91,12 @@ fn a_hidden_far_surface_never_overwrites_the_near_one() {
     let tracer = Tracer::new(&scene, 0.0);
     let (w, h) = (200u32, 120u32);
     let mut truth = Film::new(w, h);
-    Renderer::new().render(&tracer, &scene.camera.view(Eye::Right, w, h), &mut truth);
+    Renderer::new().render(
+        &tracer,
+        &scene.camera.view(Eye::Right, w, h),
+        Pixels::All,
+        Target::film(&mut truth, Record::Full),
+    );
     let reference = truth.rgb.clone();
     let mut frame = StereoFrame::new();
     for mode in REPROJECTING {

@@ -16,7 +16,7 @@
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use tracer::{lane_width, Eye, Film, RayCounts, Record, Renderer, RowPlan, Scene, Shaded, Tracer};
+use tracer::{lane_width, Eye, Film, Pixels, RayCounts, Record, Renderer, RowPlan, Scene, Shaded, Target, Tracer};
 
 fn scene(name: &str) -> Scene {
     let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -41,10 +41,10 @@ fn batches(c: &mut Criterion) {
         let truth = &truth;
         let hit = move |j: u32| (0..W).filter(move |&i| truth[(j * W + i) as usize].surface.is_hit());
         let mut film = Film::new(1, 1);
-        Renderer::new().render_keeping(&tracer, &view, &mut film, Record::Keys);
+        Renderer::new().render(&tracer, &view, Pixels::All, Target::film(&mut film, Record::Keys));
         let film = &film;
         let mut renderer = Renderer::new();
-        let second = renderer.second_view(&tracer, &view);
+        let second = renderer.batch(&tracer, &view);
         c.bench_function(&format!("lanes{lanes}_trace_rows_{W}x{H}_{name}"), |b| {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
@@ -65,7 +65,8 @@ fn batches(c: &mut Criterion) {
                 black_box((sum, counts))
             });
         });
-        let marking = second.marking(true);
+        let swept = tracer::reuse::Swept::of(&s);
+        let marking = second.marking(Some(&swept));
         c.bench_function(&format!("lanes{lanes}_trace_rows_marking_{W}x{H}_{name}"), |b| {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
@@ -99,7 +100,7 @@ fn batches(c: &mut Criterion) {
         let mut flat = tracer.clone();
         flat.set_max_depth(0);
         let mut flat_renderer = Renderer::new();
-        let flat_view = flat_renderer.second_view(&flat, &view);
+        let flat_view = flat_renderer.batch(&flat, &view);
         c.bench_function(&format!("lanes{lanes}_shadow_batch_rows_{W}x{H}_{name}"), |b| {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
@@ -113,7 +114,7 @@ fn batches(c: &mut Criterion) {
         let mut one = tracer.clone();
         one.set_max_depth(1);
         let mut one_renderer = Renderer::new();
-        let one_view = one_renderer.second_view(&one, &view);
+        let one_view = one_renderer.batch(&one, &view);
         c.bench_function(&format!("lanes{lanes}_mirror_batch_rows_{W}x{H}_{name}"), |b| {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);

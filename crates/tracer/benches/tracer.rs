@@ -6,7 +6,10 @@ use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
-use tracer::{intersect_sphere, reflect, spawn_ray, Eye, Film, Hit, Ray, RayCounts, Renderer, Scene, Tracer};
+use tracer::{
+    intersect_sphere, reflect, spawn_ray, Eye, Film, Hit, Pixels, Ray, RayCounts, Record, Renderer, Scene, Target,
+    Tracer,
+};
 
 fn scene(name: &str) -> Scene {
     let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -61,10 +64,10 @@ fn traversal_and_shading(c: &mut Criterion) {
         let mut renderer = Renderer::new();
         c.bench_function(&format!("screen_bins_build_160x90_{name}"), |b| {
             b.iter(|| {
-                renderer.second_view(black_box(&tracer), &view);
+                renderer.batch(black_box(&tracer), &view);
             });
         });
-        let binned = renderer.second_view(&tracer, &view);
+        let binned = renderer.batch(&tracer, &view);
         c.bench_function(&format!("shade_binned_160x90_{name}"), |b| {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
@@ -100,7 +103,9 @@ fn eye(c: &mut Criterion) {
     let mut renderer = Renderer::new();
     let mut group = c.benchmark_group("render_eye");
     group.sample_size(10);
-    group.bench_function("seed_1280x720", |b| b.iter(|| renderer.render(&tracer, black_box(&view), &mut film)));
+    group.bench_function("seed_1280x720", |b| {
+        b.iter(|| renderer.render(&tracer, black_box(&view), Pixels::All, Target::film(&mut film, Record::Full)));
+    });
     group.finish();
 }
 

@@ -9,10 +9,11 @@
 
 use std::ops::{Add, Div};
 
+use fearless_simd::{dispatch, prelude::*, Simd};
 use glam::{Mat3, Vec2, Vec3};
-use wide::f32x4;
 
 use crate::ray::Ray;
+use crate::simd::{lane_index, F, U};
 
 /// Which eye.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -188,71 +189,52 @@ impl EyeView {
     /// The camera ray through the centre of pixel (i, j).
     ///
     /// The pixel centre lies on the window at x = ((i + ½)/W − ½)·width,
-    /// y = (½ − (j + ½)/H)·height. Lane 0 of `EyeView::primary_dirs4`, so a ray made one
-    /// at a time is bit-for-bit the one made four at a time.
-    #[inline]
+    /// y = (½ − (j + ½)/H)·height. Lane 0 of the primary-ray kernel (`EyeView::primary_dirs_rows`), so a ray made one
+    /// at a time is bit-for-bit the one made a vector at a time.
     #[must_use]
     pub fn primary_ray(&self, i: u32, j: u32) -> Ray {
-        let [x, y, z] = self.primary_dirs4(i, j);
-        Ray::new(self.origin, Vec3::new(x.as_array()[0], y.as_array()[0], z.as_array()[0]))
+        fn lane0<S: Simd>(simd: S, view: &EyeView, i: u32, j: u32) -> Vec3 {
+            let [x, y, z] = view.primary_dirs_at(simd, F::<S>::splat(simd, i as f32), j);
+            Vec3::new(x.as_slice()[0], y.as_slice()[0], z.as_slice()[0])
+        }
+        let dir = dispatch!(crate::simd::level(), simd => lane0(simd, self, i, j));
+        Ray::new(self.origin, dir)
     }
 
-    /// Unit world directions of the primary rays through pixels (i + k, j), k = 0..4, one
-    /// per lane.
-    ///
-    /// The head-space direction (x − eye_x, y, d) is turned to world space and normalised
-    /// with the operations, in the order, of glam's `Mat3 * Vec3` and `Vec3::normalize`.
-    #[inline]
-    #[must_use]
-    pub(crate) fn primary_dirs4(&self, i: u32, j: u32) -> [f32x4; 3] {
-        let lane = f32x4::new([i as f32, (i + 1) as f32, (i + 2) as f32, (i + 3) as f32]);
-        let x = ((lane + 0.5) * self.inv_width - 0.5) * self.window_width;
-        let y = (0.5 - (j as f32 + 0.5) * self.inv_height) * self.window_height;
-        let (hx, hy, hz) = (x - self.eye_x, f32x4::splat(y), f32x4::splat(self.distance));
-        let (a, b, c) = (self.world_from_head.x_axis, self.world_from_head.y_axis, self.world_from_head.z_axis);
-        let wx = (hx * a.x + hy * b.x) + hz * c.x;
-        let wy = (hx * a.y + hy * b.y) + hz * c.y;
-        let wz = (hx * a.z + hy * b.z) + hz * c.z;
-        let recip = f32x4::splat(1.0) / ((wx * wx + wy * wy) + wz * wz).sqrt();
-        [wx * recip, wy * recip, wz * recip]
-    }
-
-    /// [`EyeView::primary_dirs4`] over the lanes of `simd`: pixels (i + l, j), l = 0..LEN,
-    /// the same operations lane by lane, so bit-for-bit the same directions.
+    /// The primary ray directions of pixels (i + l, j), l = 0..LEN, one per lane
+    /// ([`EyeView::primary_dirs_rows`]).
+    #[expect(
+        clippy::inline_always,
+        reason = "inlined into the dispatched lane kernels, whose target features it needs"
+    )]
     #[inline(always)]
-    pub(crate) fn primary_dirs_lanes<S: fearless_simd::Simd>(&self, simd: S, i: u32, j: u32) -> [crate::simd::F<S>; 3] {
-        use crate::simd::F;
-        use fearless_simd::prelude::*;
+    pub(crate) fn primary_dirs_lanes<S: Simd>(&self, simd: S, i: u32, j: u32) -> [F<S>; 3] {
         // (i + l) as f32, from whole lanes.
-        let columns = F::<S>::float_from(crate::simd::U::<S>::splat(simd, i) + crate::simd::lane_index(simd));
+        let columns = F::<S>::float_from(U::<S>::splat(simd, i) + lane_index(simd));
         self.primary_dirs_at(simd, columns, j)
     }
 
     /// The primary ray directions of pixels (`columns[l]`, j), one per lane (each column a
-    /// whole number, as f32), by [`EyeView::primary_dirs4`]'s operations lane by lane.
+    /// whole number, as f32).
+    #[expect(
+        clippy::inline_always,
+        reason = "inlined into the dispatched lane kernels, whose target features it needs"
+    )]
     #[inline(always)]
-    pub(crate) fn primary_dirs_at<S: fearless_simd::Simd>(
-        &self,
-        simd: S,
-        columns: crate::simd::F<S>,
-        j: u32,
-    ) -> [crate::simd::F<S>; 3] {
-        use crate::simd::F;
-        use fearless_simd::prelude::*;
+    pub(crate) fn primary_dirs_at<S: Simd>(&self, simd: S, columns: F<S>, j: u32) -> [F<S>; 3] {
         self.primary_dirs_rows(simd, columns, F::<S>::splat(simd, j as f32))
     }
 
     /// The primary ray directions of pixels (`columns[l]`, `rows[l]`), one per lane (each a
-    /// whole number, as f32), by [`EyeView::primary_dirs4`]'s operations lane by lane.
+    /// whole number, as f32): **the primary-ray kernel**. The head-space direction
+    /// (x − eye_x, y, d) is turned to world space and normalised with the operations, in the
+    /// order, of glam's `Mat3 * Vec3` and `Vec3::normalize`.
+    #[expect(
+        clippy::inline_always,
+        reason = "inlined into the dispatched lane kernels, whose target features it needs"
+    )]
     #[inline(always)]
-    pub(crate) fn primary_dirs_rows<S: fearless_simd::Simd>(
-        &self,
-        simd: S,
-        columns: crate::simd::F<S>,
-        rows: crate::simd::F<S>,
-    ) -> [crate::simd::F<S>; 3] {
-        use crate::simd::F;
-        use fearless_simd::prelude::*;
+    pub(crate) fn primary_dirs_rows<S: Simd>(&self, simd: S, columns: F<S>, rows: F<S>) -> [F<S>; 3] {
         let splat = |x: f32| F::<S>::splat(simd, x);
         let x = ((columns + splat(0.5)) * splat(self.inv_width) - splat(0.5)) * splat(self.window_width);
         let y = (splat(0.5) - (rows + splat(0.5)) * splat(self.inv_height)) * splat(self.window_height);
@@ -337,7 +319,12 @@ mod tests {
     }
 
     #[test]
-    fn four_rays_at_a_time_are_glams_rays() {
+    fn rays_in_lanes_are_glams_rays() {
+        fn lane<S: Simd>(simd: S, v: &EyeView, i: u32, j: u32) -> Vec3 {
+            let [dx, dy, dz] = v.primary_dirs_lanes(simd, i - i % 4, j);
+            let k = (i % 4) as usize;
+            Vec3::new(dx.as_slice()[k], dy.as_slice()[k], dz.as_slice()[k])
+        }
         // The lanes reproduce glam's Mat3 * Vec3 and normalize bit for bit.
         let c = Camera { yaw_deg: 33.0, pitch_deg: -12.0, position: Vec3::new(1.0, 2.0, -3.0), ..camera() };
         let v = c.view(Eye::Right, 1280, 720);
@@ -346,9 +333,7 @@ mod tests {
             let y = (0.5 - (j as f32 + 0.5) * v.inv_height) * v.window_height;
             let want = (v.world_from_head * Vec3::new(x - v.eye_x, y, v.distance)).normalize();
             assert_eq!(v.primary_ray(i, j).dir, want, "({i}, {j})");
-            let [dx, dy, dz] = v.primary_dirs4(i - i % 4, j);
-            let k = (i % 4) as usize;
-            assert_eq!(Vec3::new(dx.as_array()[k], dy.as_array()[k], dz.as_array()[k]), want);
+            assert_eq!(dispatch!(crate::simd::level(), simd => lane(simd, &v, i, j)), want, "({i}, {j}) in lanes");
         }
     }
 

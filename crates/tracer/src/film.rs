@@ -1,7 +1,6 @@
 //! The film: one eye's colour plus the visible-surface record of every pixel (pbrt's film
 //! with its visible-surface buffer, kept apart from the camera).
 
-use crate::marks::Marks;
 use crate::surface::{Shading, Surface, NO_OBJECT};
 
 /// Which parts of a [`Film`]'s visible-surface record a render keeps.
@@ -43,10 +42,6 @@ pub struct Film {
     /// Hit point, normal and view-independent light of each pixel that hit a sphere;
     /// unspecified where `object` is [`NO_OBJECT`].
     pub shading: Vec<Shading>,
-    /// Per pixel, where its ray tree meets the moving spheres' swept volumes: what decides
-    /// which pixels may change while only time moves. Kept by
-    /// [`crate::Renderer::render_marking`]; stale after other renders.
-    pub dynamic: Marks,
 }
 
 impl Film {
@@ -69,9 +64,6 @@ impl Film {
         self.object.resize(n, NO_OBJECT);
         self.lights.resize(n, 0);
         self.shading.resize(n, Shading::MISS);
-        if (self.dynamic.width(), self.dynamic.height()) != (width, height) {
-            self.dynamic.resize(width, height);
-        }
     }
 
     /// What the last render kept of the record ([`Record::Full`] for a new film).

@@ -3,103 +3,103 @@
 //! This crate owns everything about making one eye's image: the scene (plain data loaded
 //! from TOML), the off-axis stereo camera, ray–sphere intersection, Whitted shading
 //! (ambient + Lambert diffuse with hard shadows + Blinn–Phong highlights + mirror
-//! reflection; Whitted 1980), and the parallel renderer that fills a [`Film`].
+//! reflection; Whitted 1980), and the parallel renderer that fills a [`Film`]. It is shaped
+//! like pbrt-v4 and Embree: plain scene data, one aggregate with two queries, one render
+//! call, a wavefront of SIMD lanes.
+//!
+//! A [`Scene`] (loaded from TOML) becomes a [`Tracer`] at one instant: a [`Snapshot`] (the
+//! spheres, lights and settings as columns) and the aggregate over it (`accel/`), which
+//! answers the closest-hit and any-hit queries, each for one ray or a vector of them; where
+//! a ray starts (an eye, a sphere's surface, towards a light) picks the structure that
+//! answers it (screen bins, direction cones, light cube maps, an 8-wide BVH), and every
+//! structure answers bit-for-bit what the BVH would. A [`Camera`] gives each eye an
+//! [`EyeView`]; a [`Renderer`] traces a view's [`Pixels`] (all, or these) into a [`Target`]
+//! (a film with the record its caller names, or colour only), and hands a [`PixelBatch`]
+//! to whoever makes an eye's chosen pixels in batches of their own: a second eye by
+//! reprojection (the `stereo` crate), or what a reused frame traces again.
 //!
 //! Shading runs as a wavefront (pbrt-v4's wavefront integrator): a row's hits, then their
 //! mirror rays' hits, each reflection depth a queue shaded in SIMD lanes (8 with AVX2, 4
-//! otherwise, chosen at run time; [`lane_width`]), bit-for-bit the recursive path of
-//! [`Tracer::trace_pixel`]. Rays are answered by the cheapest structure that is exact for
-//! them: primary rays by screen-space tile bins (a vector of rays per SIMD test), shadow and
-//! mirror rays of small scenes by every sphere in lanes, otherwise shadow rays by a cube map
-//! of sphere lists around each light, mirror rays by direction cones between spheres, and
-//! anything else by an 8-wide BVH (eight child boxes per SIMD slab test) with SIMD leaves. Each
-//! gives bit-for-bit the BVH's answer (tests compare them on every scene).
+//! otherwise, chosen at run time: [`lane_width`]), bit-for-bit the recursive path of
+//! [`Tracer::trace_pixel`]. There is one lane layer (`fearless_simd`), one ray–sphere kernel
+//! and one primary-ray kernel, which every query and the scalar forms run.
 //!
-//! Besides colour, the film keeps a per-pixel *visible-surface record*
-//! ([`Surface`]): hit point, normal, depth, object id, per-light visibility and the
-//! view-independent part of the light. The `stereo` crate reads that record to build the
-//! second eye by reprojection, through the services of [`SecondView`]; this crate knows
-//! nothing about stereo pairs beyond the camera geometry.
+//! Besides colour, the film keeps a per-pixel *visible-surface record* ([`Surface`]): hit
+//! point, normal, depth, object id, per-light visibility and the view-independent part of
+//! the light. The `stereo` crate reads that record to build the second eye; this crate
+//! knows nothing about stereo pairs beyond the camera geometry.
 //!
-//! The public surface: a [`Scene`] (loaded from TOML) becomes a [`Tracer`] at one instant; a
-//! [`Camera`] gives each eye an [`EyeView`]; a [`Renderer`] traces a view into a [`Film`]
-//! (or colour only), and hands a [`SecondView`] to whoever fills an eye pixel by pixel.
+//! Temporal reuse ([`reuse`]) is one layer on top: the swept volumes of the moving spheres,
+//! the per-pixel marks of where each pixel's ray tree meets them, and the hook the
+//! wavefront calls to make them. A render marks only when asked ([`Target::marking`]).
 //!
 //! ## Modules, in dependency order
 //!
 //! Each uses only modules above it, so the graph has no cycle (test modules may also use
 //! modules below, to build scenes and oracles):
-//! - `ray`, `color`, `stats`, `error`, `surface`, `material`, `simd`, `bits`: leaves (rays
+//! - `ray`, `color`, `stats`, `error`, `surface`, `material`, `bits`, `simd`: leaves (rays
 //!   and spawning, sRGB, ray counters, the scene error, the hit and visible-surface records,
-//!   materials and their highlight exponents, the SIMD level and lane helpers, a bit per
-//!   pixel);
-//! - `sphere` (ray): the ray–sphere test and its SIMD packets;
+//!   materials, a bit per pixel, the SIMD level with the lane kernels of rays and spheres);
+//! - `sphere` (ray, simd): a sphere and the ray–sphere test one ray at a time;
 //! - `camera` (ray, simd): the stereo camera, each eye's view, the disparity law;
-//! - `scene` (camera, material, sphere), then `scene_file` (scene, material, camera, error);
-//! - `swept` (scene): where moving spheres can ever be (the washer about each orbit), the
-//!   arcs of it a ray crosses, and the argument that makes temporal reuse exact; `marks`
-//!   (bits, swept): per pixel, where its ray tree meets those volumes;
-//! - `bvh` (its child `bvh::build` makes the tree), `cones`, `shadow` (ray, sphere, surface,
-//!   scene): the acceleration structures;
-//! - `tracer` (the structures, scene, camera, material, color, ray, surface): the scene at one
-//!   instant and its queries, `intersect` and `occluded`;
-//! - `shade` (tracer, camera, ray, color, stats, surface): Whitted shading, recursively,
-//!   pixel by pixel: the plain path every fast one is tested against;
-//! - `wavefront` (its child `wavefront::lanes` has the SIMD stages, `wavefront::marks` the
-//!   SIMD marking of temporal reuse; tracer, material, ray, simd, stats, surface, swept,
-//!   color): the same shading as a stream of queues;
-//! - `primary` (tracer, camera, simd, sphere, ray, surface): screen bins for primary rays;
-//! - `film` (surface, marks): the image and its visible-surface record;
-//! - `second_view` (primary, wavefront, tracer, sphere, ray, stats, surface): services for a
-//!   second view;
-//! - `render` (film, primary, second_view, wavefront, simd, camera, ray, stats, surface,
-//!   tracer, bits, marks): the parallel renderer, which also retraces only chosen pixels.
+//! - `scene`, `scene_file` (camera, material, sphere, error): the scene as described;
+//! - `snapshot` (scene, material, color): the scene at one instant, as columns;
+//! - `accel` (ray, simd, sphere, camera, scene, surface): the aggregate and its structures:
+//!   `bvh` (and `bvh/build`), `lights` (cube maps around the lights), `cones`, `screen`
+//!   (screen bins of an eye's primary rays), `flat` (every sphere in lanes), `packet`;
+//! - `tracer` (snapshot, accel): the scene at one instant, ready to trace;
+//! - `shade` (tracer, camera): Whitted shading, recursively, pixel by pixel: the plain path
+//!   every fast one is tested against;
+//! - `reuse` (bits, scene, camera, accel's screen bound, tracer): the temporal reuse layer;
+//!   its `tree` and `lanes` mark a shaded batch (reading the wavefront's levels);
+//! - `wavefront` (its child `lanes` has the SIMD stages; tracer, accel, reuse's hook): the
+//!   same shading as a stream of queues;
+//! - `film` (surface): the image and its visible-surface record;
+//! - `batch` (wavefront, accel, reuse): batches of an eye's chosen pixels, a file per job:
+//!   `trace`, `reshade`, `plan`;
+//! - `render` (batch, film, wavefront, reuse): the parallel renderer.
 //!
 //! Conventions (see the README): left-handed, +x right, +y up, +z into the scene; world
 //! units are arbitrary but shared by positions and radii; light is linear inside and
 //! encoded to 8-bit sRGB only when a pixel is written; pixel (i, j) has its centre at
 //! (i + 0.5, j + 0.5), with j growing downwards.
 
+mod accel;
+mod batch;
 pub mod bits;
-mod bvh;
 mod camera;
 mod color;
-mod cones;
 mod error;
 mod film;
-mod marks;
 mod material;
-mod primary;
 mod ray;
 mod render;
+pub mod reuse;
 mod scene;
 mod scene_file;
-mod second_view;
 mod shade;
-mod shadow;
 mod simd;
+mod snapshot;
 mod sphere;
 mod stats;
 mod surface;
-mod swept;
 mod tracer;
 mod wavefront;
 
+pub use batch::{PixelBatch, RowPlan, KEEP, TRACE};
 pub use bits::PixelBits;
 pub use camera::{Camera, Disparity, Eye, EyeView};
 pub use color::{linear_to_srgb8, pack_rgb, srgb8_to_linear, unpack_rgb};
 pub use error::SceneError;
 pub use film::{Film, Record};
-pub use marks::{Marks, MarksBand, MarksRow, Rewrite};
 pub use material::Material;
 pub use ray::{reflect, spawn_ray, Ray};
-pub use render::Renderer;
+pub use render::{Pixels, Renderer, Target};
 pub use scene::{Light, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
-pub use second_view::{RowPlan, SecondView, KEEP, TRACE};
 pub use shade::Shaded;
 pub use simd::{lane_width, LANES_VAR};
+pub use snapshot::Snapshot;
 pub use sphere::{intersect_sphere, Sphere};
 pub use stats::RayCounts;
 pub use surface::{Hit, Shading, Surface, NO_OBJECT};
-pub use swept::{Arc, SweptRing, Touch};
 pub use tracer::Tracer;

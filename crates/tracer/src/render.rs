@@ -1,24 +1,26 @@
-//! The parallel renderer: one eye, every pixel, rows spread over rayon's pool.
+//! The parallel renderer: one eye, rows spread over rayon's pool, through one call.
 //!
-//! A [`Renderer`] owns the buffers an eye needs besides its image (the screen bins of its
-//! primary rays, `primary.rs`), so a warm renderer allocates nothing. One row loop serves
-//! every output: the full visible-surface record ([`Renderer::render`]), colour only
-//! ([`Renderer::render_rgb`]); and [`Renderer::second_view`] hands the same bins to a
-//! second view that traces its pixels one by one.
+//! [`Renderer::render`] is given a pixel set ([`Pixels`]: all, or these pixels) and a target
+//! ([`Target`]: a film keeping the record its caller names, or colour only, optionally
+//! marked for temporal reuse). One row loop serves them all. A [`Renderer`] owns the
+//! buffers an eye needs besides its image (the screen bins of its primary rays,
+//! `accel/screen.rs`), so a warm renderer allocates nothing; [`Renderer::batch`] hands the
+//! same bins to whoever makes an eye's pixels in batches of its own (`batch/`).
 
 use std::ops::Range;
 
 use fearless_simd::{dispatch, prelude::*, Simd};
 use glam::Vec3;
+use rayon::iter::Either;
 use rayon::prelude::*;
 
+use crate::accel::screen::{ScreenBins, TILE};
+use crate::batch::{by_lanes, BinnedView, PixelBatch};
 use crate::bits::{self, PixelBits};
 use crate::camera::EyeView;
 use crate::film::{Film, Record};
-use crate::marks::{Marks, MarksRow, Rewrite};
-use crate::primary::{BinnedView, PrimaryBins, TILE};
 use crate::ray::Ray;
-use crate::second_view::{by_lanes, SecondView};
+use crate::reuse::{Marker, Marks, MarksRow, Rewrite, Swept};
 use crate::simd::F;
 use crate::stats::RayCounts;
 use crate::surface::{Hit, Shading, NO_OBJECT};
@@ -28,7 +30,57 @@ use crate::wavefront::{with_wavefront, Wavefront};
 /// Renders one eye's views, keeping its screen bins from frame to frame.
 #[derive(Clone, Debug, Default)]
 pub struct Renderer {
-    bins: PrimaryBins,
+    bins: ScreenBins,
+}
+
+/// Which pixels of a view a render traces.
+#[derive(Clone, Copy, Debug)]
+pub enum Pixels<'a> {
+    /// Every pixel.
+    All,
+    /// Only the pixels the bits name, in place: the target holds a render of the same view
+    /// (the same record, and the marks when marking), at another instant of the same scene.
+    /// Given every pixel that can differ between the two instants ([`Marks::select`]), the
+    /// target ends as a render of every pixel would leave it, byte for byte.
+    Only(&'a PixelBits),
+}
+
+/// Where a render's pixels go.
+#[derive(Debug)]
+pub struct Target<'a> {
+    image: Image<'a>,
+    /// The reuse layer: marks to keep, and the volumes to mark against.
+    marking: Option<(&'a mut Marks, &'a Swept)>,
+}
+
+/// The image of a [`Target`].
+#[derive(Debug)]
+enum Image<'a> {
+    Film(&'a mut Film, Record),
+    Colour(&'a mut Vec<u32>),
+}
+
+impl<'a> Target<'a> {
+    /// `film` (resized to the view), keeping the parts of its visible-surface record that
+    /// `record` names; the other planes are left as they were.
+    #[must_use]
+    pub fn film(film: &'a mut Film, record: Record) -> Self {
+        Self { image: Image::Film(film, record), marking: None }
+    }
+
+    /// Colour only, into `rgb` (resized to the view), for images whose record nobody reads.
+    #[must_use]
+    pub fn colour(rgb: &'a mut Vec<u32>) -> Self {
+        Self { image: Image::Colour(rgb), marking: None }
+    }
+
+    /// Also marks in `marks` (resized to the view) where each traced pixel's ray tree —
+    /// primary, shadow and mirror rays, at any depth — meets `swept`'s volumes: what temporal
+    /// reuse reads (`reuse/`).
+    #[must_use]
+    pub fn marking(self, marks: &'a mut Marks, swept: &'a Swept) -> Self {
+        Self { marking: Some((marks, swept)), ..self }
+    }
 }
 
 /// What a hit pixel's record keys are: depth, hit parameter, object, light bits.
@@ -116,30 +168,12 @@ impl RowSink for RgbRow<'_> {
     }
 }
 
-/// Whether and where a pass over a film marks its pixels.
-#[derive(Clone, Copy, Debug)]
-enum Marking<'a> {
-    /// Not at all.
-    Off,
-    /// Every pixel.
-    All,
-    /// Only the pixels it traces, those the bits name.
-    Only(&'a PixelBits),
-}
-
-/// Which pixels of a row a pass traces.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Pass<'a> {
-    /// Every pixel.
-    All,
-    /// Only the pixels this row of a [`PixelBits`] names (those that may have changed since
-    /// the marks were made; see `marks.rs`).
-    Only(&'a [u64]),
-}
+/// A row's marks to keep, and the hook that makes them.
+type Marking<'a, 'm> = (MarksRow<'a>, &'m Marker<'m>);
 
 /// Traces row `j` of `eye`, `w` pixels wide, into `sink`; the rays cast. With `marks`, each
-/// traced pixel is marked with where its ray tree meets the moving spheres' swept volumes;
-/// `pass` says which pixels are traced.
+/// traced pixel is marked with where its ray tree meets the moving spheres' swept volumes.
+/// `only` (a row of [`PixelBits`]) says which pixels are traced, `None` all.
 ///
 /// A whole row goes tile by tile: a tile whose bin is empty is background without a sphere
 /// test, the others find their first hits a vector of pixels at a time. The hits are then
@@ -150,12 +184,12 @@ fn trace_row(
     j: u32,
     w: usize,
     sink: &mut impl RowSink,
-    marks: Option<MarksRow<'_>>,
-    pass: Pass<'_>,
+    marks: Option<Marking<'_, '_>>,
+    only: Option<&[u64]>,
 ) -> RayCounts {
-    with_wavefront(|wavefront| match pass {
-        Pass::All => dispatch!(crate::simd::level(), simd => trace_row_in(simd, wavefront, eye, j, w, sink, marks)),
-        Pass::Only(only) => trace_only(wavefront, eye, j, sink, marks, only),
+    with_wavefront(|wavefront| match only {
+        None => dispatch!(crate::simd::level(), simd => trace_row_in(simd, wavefront, eye, j, w, sink, marks)),
+        Some(only) => trace_only(wavefront, eye, j, sink, marks, only),
     })
 }
 
@@ -167,27 +201,27 @@ fn trace_row_in<S: Simd>(
     j: u32,
     w: usize,
     sink: &mut impl RowSink,
-    mut marks: Option<MarksRow<'_>>,
+    mut marks: Option<Marking<'_, '_>>,
 ) -> RayCounts {
     let mut counts = RayCounts { primary: w as u64, ..RayCounts::default() };
     let (tile, lanes) = (TILE as usize, F::<S>::LEN);
     let (tracer, view) = (eye.tracer, eye.view);
-    if let Some(marks) = marks.as_mut() {
+    if let Some((marks, _)) = marks.as_mut() {
         marks.clear();
     }
     // A pixel that sees only background is marked where its ray meets a swept volume,
     // together with the others in `emit`.
-    let marking = marks.is_some();
+    let marker = marks.as_ref().map(|(_, marker)| *marker);
     let background = |wavefront: &mut Wavefront, i: usize| {
-        if marking && eye.bins.may_meet_moving(i as u32, j) {
-            wavefront.push_background(i as u32);
+        if marker.is_some_and(|m| m.may_meet(i as u32, j)) {
+            wavefront.marks.push_background(i as u32);
         }
     };
     let (mut t, mut ids, mut d) = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
     for span in (0..w.div_ceil(tile)).map(|t| t * tile..((t + 1) * tile).min(w)) {
         if eye.bins.is_empty_at(span.start as u32, j) {
-            sink.background(span.clone(), tracer.background_rgb);
-            if marking {
+            sink.background(span.clone(), tracer.scene.background_rgb);
+            if marker.is_some() {
                 for i in span {
                     background(wavefront, i);
                 }
@@ -225,7 +259,7 @@ fn trace_row_in<S: Simd>(
                         (i0 + l) as u32,
                     );
                 } else {
-                    sink.background(i0 + l..i0 + l + 1, tracer.background_rgb);
+                    sink.background(i0 + l..i0 + l + 1, tracer.scene.background_rgb);
                     background(wavefront, i0 + l);
                 }
             }
@@ -236,29 +270,29 @@ fn trace_row_in<S: Simd>(
     counts
 }
 
-/// [`trace_row`] of the pixels `only` names: full primary rays a lane group at a time (the rays
-/// and hits of every other pass, bit for bit), shaded as one batch.
+/// [`trace_row`] of the pixels `only` names: full primary rays a lane group at a time (the
+/// rays and hits of every other pass, bit for bit), shaded as one batch.
 fn trace_only(
     wavefront: &mut Wavefront,
     eye: &BinnedView<'_>,
     j: u32,
     sink: &mut impl RowSink,
-    mut marks: Option<MarksRow<'_>>,
+    mut marks: Option<Marking<'_, '_>>,
     only: &[u64],
 ) -> RayCounts {
     let mut counts = RayCounts::default();
     if only.iter().all(|&word| word == 0) {
         return counts;
     }
-    let second = SecondView::new(*eye).marking(marks.is_some());
-    if let Some(marks) = marks.as_mut() {
+    let batch = PixelBatch::new(*eye, marks.as_ref().map(|(_, marker)| **marker));
+    if let Some((marks, _)) = marks.as_mut() {
         marks.clear_only(Some(only));
     }
-    by_lanes(bits::ones(only), SecondView::lanes(), |base, mask| {
+    by_lanes(bits::ones(only), PixelBatch::lanes(), |base, mask| {
         counts.primary += u64::from(mask.count_ones());
-        second.push_traced(wavefront, base, j, mask, &mut |i, rgb, touch| {
+        batch.push_traced(wavefront, base, j, mask, &mut |i, rgb, touch| {
             sink.background(i as usize..i as usize + 1, rgb);
-            if let Some(marks) = marks.as_mut() {
+            if let Some((marks, _)) = marks.as_mut() {
                 marks.set(i, touch);
             }
         });
@@ -274,18 +308,18 @@ fn emit(
     wavefront: &mut Wavefront,
     (eye, j): (&BinnedView<'_>, u32),
     sink: &mut impl RowSink,
-    marks: Option<MarksRow<'_>>,
+    marks: Option<Marking<'_, '_>>,
 ) {
     let view = eye.view;
-    if let Some(mut marks) = marks {
-        wavefront.mark_dynamic(eye.tracer, |i| eye.bins.may_meet_moving(i, j));
+    if let Some((mut marks, marker)) = marks {
+        wavefront.mark(marker, &eye.tracer.scene.lights, |i| marker.may_meet(i, j));
         for e in 0..wavefront.len() {
-            let touch = wavefront.touch(e);
+            let touch = wavefront.marks.touch(e);
             if touch.is_some() {
                 marks.set(wavefront.tag(e), touch);
             }
         }
-        wavefront.mark_background(eye.tracer, view, (j, u32::MAX), &mut |i, touch| marks.set(i, touch));
+        wavefront.marks.mark_background(marker, view, j, &mut |i, touch| marks.set(i, touch));
     }
     for e in 0..wavefront.len() {
         let keys = || {
@@ -300,6 +334,18 @@ fn emit(
     }
 }
 
+/// The rows of `marks` for a pass, or none per row when the pass does not mark.
+fn marks_rows(
+    marks: Option<&mut Marks>,
+    rows: usize,
+    rewrite: Rewrite,
+) -> impl IndexedParallelIterator<Item = Option<MarksRow<'_>>> {
+    match marks {
+        Some(marks) => Either::Left(marks.rows_mut(rewrite).map(Some)),
+        None => Either::Right(rayon::iter::repeat_n((), rows).map(|()| None)),
+    }
+}
+
 impl Renderer {
     /// A renderer with empty buffers; the first frame sizes them.
     #[must_use]
@@ -307,174 +353,110 @@ impl Renderer {
         Self::default()
     }
 
-    /// Traces every pixel of `view` into `film` (resized to the view if needed), keeping its
-    /// whole visible-surface record, and returns the rays cast.
+    /// Traces `pixels` of `view` into `target`, and returns the rays cast.
     ///
     /// First hits are found through screen-space bins, rebuilt for `view`, the rest through
-    /// the BVH. Rows are independent work items; each row counts its own rays and the
-    /// counts are summed afterwards, so the result — pixels and counts — is the same for
-    /// any thread count. Nothing is allocated per pixel or per ray, nor per frame once the
-    /// film has its size.
-    pub fn render(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film) -> RayCounts {
-        self.render_keeping(tracer, view, film, Record::Full)
-    }
-
-    /// [`Renderer::render`], keeping only the parts of the record that `record` names (the
-    /// rest of the film is left as it was): the same pixels and rays, without writing what
-    /// nobody will read.
-    pub fn render_keeping(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film, record: Record) -> RayCounts {
-        self.film_pass(tracer, view, film, record, Marking::Off)
-    }
-
-    /// [`Renderer::render_keeping`], also marking in `film.dynamic` where each pixel's ray
-    /// tree — primary, shadow and mirror rays, at any depth — meets the moving spheres'
-    /// swept volumes (`marks.rs`, `swept.rs`).
-    pub fn render_marking(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film, record: Record) -> RayCounts {
-        self.film_pass(tracer, view, film, record, Marking::All)
-    }
-
-    /// Retraces only the pixels `only` names, in place, and marks them anew; the rays cast.
-    /// The film must come from [`Renderer::render_marking`] (or this) for the same view and
-    /// record, with a tracer of the same scene at another instant, and `only` must hold
-    /// every pixel that can differ between the two instants ([`crate::Marks::select`]):
-    /// then the film ends as `render_marking` at `tracer`'s instant would leave it, byte for
-    /// byte.
-    pub fn retrace_only(&mut self, tracer: &Tracer, view: &EyeView, film: &mut Film, only: &PixelBits) -> RayCounts {
-        debug_assert_eq!((film.width(), film.height()), (view.width, view.height), "a film of another size");
-        debug_assert_eq!((only.width(), only.height()), (view.width, view.height), "a selection of another size");
-        let record = film.record();
-        self.film_pass(tracer, view, film, record, Marking::Only(only))
-    }
-
-    /// One pass over the rows of `film`; `marking`, when given, keeps the marks, over every
-    /// pixel or only the chosen ones.
-    fn film_pass(
-        &mut self,
-        tracer: &Tracer,
-        view: &EyeView,
-        film: &mut Film,
-        record: Record,
-        marking: Marking<'_>,
-    ) -> RayCounts {
-        film.resize(view.width, view.height);
-        film.set_record(record);
-        let w = view.width as usize;
-        if w == 0 || view.height == 0 {
-            return RayCounts::default();
-        }
-        self.bins.build(tracer, view);
-        let eye = BinnedView { tracer, view, bins: &self.bins };
-        let pass = |j: usize| match marking {
-            Marking::Only(bits) => Pass::Only(bits.row(j as u32)),
-            Marking::Off | Marking::All => Pass::All,
+    /// the aggregate. Rows are independent work items; each row counts its own rays and the
+    /// counts are summed afterwards, so the result — pixels, record, marks and counts — is
+    /// the same for any thread count. Nothing is allocated per pixel or per ray, nor per
+    /// frame once the target has its size.
+    pub fn render(&mut self, tracer: &Tracer, view: &EyeView, pixels: Pixels<'_>, target: Target<'_>) -> RayCounts {
+        let Target { image, marking } = target;
+        let (w, h) = (view.width as usize, view.height as usize);
+        let (marks, marker) = match marking {
+            Some((marks, swept)) => {
+                if (marks.width(), marks.height()) != (view.width, view.height) {
+                    debug_assert!(matches!(pixels, Pixels::All), "marks of another size");
+                    marks.resize(view.width, view.height);
+                }
+                (Some(marks), Some(Marker::new(swept, view)))
+            }
+            None => (None, None),
         };
-        let marks = |m| (!matches!(marking, Marking::Off)).then_some(m);
-        let rewrite = if matches!(marking, Marking::Only(_)) { Rewrite::Few } else { Rewrite::All };
-        match record {
-            Record::Colour => (film.rgb.par_chunks_mut(w), film.dynamic.rows_mut(rewrite))
-                .into_par_iter()
-                .enumerate()
-                .map(|(j, (rgb, m))| trace_row(&eye, j as u32, w, &mut RgbRow(rgb), marks(m), pass(j)))
-                .sum(),
-            Record::Keys => (
-                (film.rgb.par_chunks_mut(w), film.z.par_chunks_mut(w), film.t.par_chunks_mut(w)),
-                film.object.par_chunks_mut(w),
-                film.lights.par_chunks_mut(w),
-                film.dynamic.rows_mut(rewrite),
-            )
-                .into_par_iter()
-                .enumerate()
-                .map(|(j, ((rgb, z, t), object, lights, m))| {
-                    trace_row(&eye, j as u32, w, &mut KeysRow { rgb, z, t, object, lights }, marks(m), pass(j))
-                })
-                .sum(),
-            Record::Full => (
-                (film.rgb.par_chunks_mut(w), film.z.par_chunks_mut(w), film.t.par_chunks_mut(w)),
-                (film.object.par_chunks_mut(w), film.lights.par_chunks_mut(w)),
-                film.shading.par_chunks_mut(w),
-                film.dynamic.rows_mut(rewrite),
-            )
-                .into_par_iter()
-                .enumerate()
-                .map(|(j, ((rgb, z, t), (object, lights), shading, m))| {
-                    let sink = &mut FilmRow { keys: KeysRow { rgb, z, t, object, lights }, shading };
-                    trace_row(&eye, j as u32, w, sink, marks(m), pass(j))
-                })
-                .sum(),
-        }
-    }
-
-    /// Traces every pixel of `view` for colour only into `rgb` (resized to the view), for
-    /// images whose visible-surface record nobody reads. Returns the rays cast; pixels and
-    /// counts are those of [`Renderer::render`].
-    pub fn render_rgb(&mut self, tracer: &Tracer, view: &EyeView, rgb: &mut Vec<u32>) -> RayCounts {
-        self.rgb_pass(tracer, view, rgb, None)
-    }
-
-    /// [`Renderer::render_rgb`], also marking in `marks` (resized to the view) where each
-    /// pixel's ray tree meets the moving spheres' swept volumes, as
-    /// [`Renderer::render_marking`] does.
-    pub fn render_rgb_marking(
-        &mut self,
-        tracer: &Tracer,
-        view: &EyeView,
-        rgb: &mut Vec<u32>,
-        marks: &mut Marks,
-    ) -> RayCounts {
-        if (marks.width(), marks.height()) != (view.width, view.height) {
-            marks.resize(view.width, view.height);
-        }
-        self.rgb_pass(tracer, view, rgb, Some((marks, None)))
-    }
-
-    /// Retraces only the pixels `only` names, in place, and marks them anew, as
-    /// [`Renderer::retrace_only`] does for a film.
-    pub fn retrace_rgb_only(
-        &mut self,
-        tracer: &Tracer,
-        view: &EyeView,
-        rgb: &mut Vec<u32>,
-        (marks, only): (&mut Marks, &PixelBits),
-    ) -> RayCounts {
-        debug_assert_eq!((marks.width(), marks.height()), (view.width, view.height), "marks of another size");
-        self.rgb_pass(tracer, view, rgb, Some((marks, Some(only))))
-    }
-
-    fn rgb_pass(
-        &mut self,
-        tracer: &Tracer,
-        view: &EyeView,
-        rgb: &mut Vec<u32>,
-        marking: Option<(&mut Marks, Option<&PixelBits>)>,
-    ) -> RayCounts {
-        let w = view.width as usize;
-        rgb.resize(w * view.height as usize, 0);
-        if w == 0 || view.height == 0 {
-            return RayCounts::default();
-        }
-        self.bins.build(tracer, view);
-        let eye = BinnedView { tracer, view, bins: &self.bins };
-        let Some((marks, only)) = marking else {
-            return rgb
-                .par_chunks_mut(w)
-                .enumerate()
-                .map(|(j, row)| trace_row(&eye, j as u32, w, &mut RgbRow(row), None, Pass::All))
-                .sum();
+        let rewrite = if matches!(pixels, Pixels::Only(_)) { Rewrite::Few } else { Rewrite::All };
+        let only = |j: usize| match pixels {
+            Pixels::All => None,
+            Pixels::Only(bits) => Some(bits.row(j as u32)),
         };
-        let pass = |j: usize| only.map_or(Pass::All, |bits| Pass::Only(bits.row(j as u32)));
-        let rewrite = if only.is_some() { Rewrite::Few } else { Rewrite::All };
-        (rgb.par_chunks_mut(w), marks.rows_mut(rewrite))
-            .into_par_iter()
-            .enumerate()
-            .map(|(j, (row, m))| trace_row(&eye, j as u32, w, &mut RgbRow(row), Some(m), pass(j)))
-            .sum()
+        if let Pixels::Only(bits) = pixels {
+            debug_assert_eq!((bits.width(), bits.height()), (view.width, view.height), "a selection of another size");
+        }
+        match image {
+            Image::Colour(rgb) => {
+                rgb.resize(w * h, 0);
+                if w == 0 || h == 0 {
+                    return RayCounts::default();
+                }
+                self.bins.build((&tracer.scene.centers, &tracer.scene.radii), view);
+                let eye = BinnedView { tracer, view, bins: &self.bins };
+                (rgb.par_chunks_mut(w), marks_rows(marks, h, rewrite))
+                    .into_par_iter()
+                    .enumerate()
+                    .map(|(j, (rgb, m))| {
+                        trace_row(&eye, j as u32, w, &mut RgbRow(rgb), m.zip(marker.as_ref()), only(j))
+                    })
+                    .sum()
+            }
+            Image::Film(film, record) => {
+                if let Pixels::Only(_) = pixels {
+                    debug_assert_eq!(
+                        (film.width(), film.height()),
+                        (view.width, view.height),
+                        "a film of another size"
+                    );
+                    debug_assert_eq!(film.record(), record, "a film rendered with another record");
+                }
+                film.resize(view.width, view.height);
+                film.set_record(record);
+                if w == 0 || h == 0 {
+                    return RayCounts::default();
+                }
+                self.bins.build((&tracer.scene.centers, &tracer.scene.radii), view);
+                let eye = BinnedView { tracer, view, bins: &self.bins };
+                match record {
+                    Record::Colour => (film.rgb.par_chunks_mut(w), marks_rows(marks, h, rewrite))
+                        .into_par_iter()
+                        .enumerate()
+                        .map(|(j, (rgb, m))| {
+                            trace_row(&eye, j as u32, w, &mut RgbRow(rgb), m.zip(marker.as_ref()), only(j))
+                        })
+                        .sum(),
+                    Record::Keys => (
+                        (film.rgb.par_chunks_mut(w), film.z.par_chunks_mut(w), film.t.par_chunks_mut(w)),
+                        film.object.par_chunks_mut(w),
+                        film.lights.par_chunks_mut(w),
+                        marks_rows(marks, h, rewrite),
+                    )
+                        .into_par_iter()
+                        .enumerate()
+                        .map(|(j, ((rgb, z, t), object, lights, m))| {
+                            let sink = &mut KeysRow { rgb, z, t, object, lights };
+                            trace_row(&eye, j as u32, w, sink, m.zip(marker.as_ref()), only(j))
+                        })
+                        .sum(),
+                    Record::Full => (
+                        (film.rgb.par_chunks_mut(w), film.z.par_chunks_mut(w), film.t.par_chunks_mut(w)),
+                        (film.object.par_chunks_mut(w), film.lights.par_chunks_mut(w)),
+                        film.shading.par_chunks_mut(w),
+                        marks_rows(marks, h, rewrite),
+                    )
+                        .into_par_iter()
+                        .enumerate()
+                        .map(|(j, ((rgb, z, t), (object, lights), shading, m))| {
+                            let sink = &mut FilmRow { keys: KeysRow { rgb, z, t, object, lights }, shading };
+                            trace_row(&eye, j as u32, w, sink, m.zip(marker.as_ref()), only(j))
+                        })
+                        .sum(),
+                }
+            }
+        }
     }
 
-    /// The services of `view` as a second view (see `second_view.rs`), with the screen bins
-    /// rebuilt for it.
-    pub fn second_view<'a>(&'a mut self, tracer: &'a Tracer, view: &'a EyeView) -> SecondView<'a> {
-        self.bins.build(tracer, view);
-        SecondView::new(BinnedView { tracer, view, bins: &self.bins })
+    /// `view`'s pixels, to make in batches of a row's chosen pixels (`batch/`), with the
+    /// screen bins rebuilt for it.
+    pub fn batch<'a>(&'a mut self, tracer: &'a Tracer, view: &'a EyeView) -> PixelBatch<'a> {
+        self.bins.build((&tracer.scene.centers, &tracer.scene.radii), view);
+        PixelBatch::new(BinnedView { tracer, view, bins: &self.bins }, None)
     }
 }
 
@@ -514,7 +496,7 @@ mod tests {
         let (w, h) = (64, 48);
         let view = scene.camera.view(Eye::Left, w, h);
         let mut film = Film::new(w, h);
-        let counts = Renderer::new().render(&tracer, &view, &mut film);
+        let counts = Renderer::new().render(&tracer, &view, Pixels::All, Target::film(&mut film, Record::Full));
         let hits: Vec<_> = (0..(w * h) as usize).map(|k| film.surface(k)).filter(Surface::is_hit).collect();
         let faced = hits
             .iter()
@@ -536,7 +518,7 @@ mod tests {
             let view = scene.camera.view(Eye::Right, w, h);
             let mut renderer = Renderer::new();
             let mut film = Film::new(1, 1);
-            let counts = renderer.render(&tracer, &view, &mut film);
+            let counts = renderer.render(&tracer, &view, Pixels::All, Target::film(&mut film, Record::Full));
             let mut plain = RayCounts::default();
             for j in 0..h {
                 for i in 0..w {
@@ -548,7 +530,7 @@ mod tests {
             }
             assert_eq!(counts, plain, "{name}");
             let mut rgb = Vec::new();
-            assert_eq!(renderer.render_rgb(&tracer, &view, &mut rgb), counts, "{name}");
+            assert_eq!(renderer.render(&tracer, &view, Pixels::All, Target::colour(&mut rgb)), counts, "{name}");
             assert_eq!(rgb, film.rgb, "{name}: colour only is the film's colour");
         }
     }
@@ -563,8 +545,8 @@ mod tests {
             let tracer = Tracer::new(&scene, t);
             let (w, h) = (83, 45);
             let view = scene.camera.view(Eye::Left, w, h);
-            let mut bins = PrimaryBins::default();
-            bins.build(&tracer, &view);
+            let mut bins = ScreenBins::default();
+            bins.build((&tracer.scene.centers, &tracer.scene.radii), &view);
             let eye = BinnedView { tracer: &tracer, view: &view, bins: &bins };
             let mut rgb = vec![0; w as usize];
             let mut hits = 0;
@@ -592,14 +574,23 @@ mod tests {
         let view = scene.camera.view(Eye::Left, 97, 55);
         let mut renderer = Renderer::new();
         let mut full = Film::new(1, 1);
-        let counts = renderer.render(&tracer, &view, &mut full);
+        let counts = renderer.render(&tracer, &view, Pixels::All, Target::film(&mut full, Record::Full));
         assert_eq!(full.record(), Record::Full, "render keeps everything");
         for record in [Record::Colour, Record::Keys] {
             // A film last filled by another view: what is not kept stays as it was.
             let mut film = Film::new(1, 1);
-            renderer.render(&tracer, &scene.camera.view(Eye::Right, 97, 55), &mut film);
+            renderer.render(
+                &tracer,
+                &scene.camera.view(Eye::Right, 97, 55),
+                Pixels::All,
+                Target::film(&mut film, Record::Full),
+            );
             let stale = film.z.clone();
-            assert_eq!(renderer.render_keeping(&tracer, &view, &mut film, record), counts, "{record:?}: the same rays");
+            assert_eq!(
+                renderer.render(&tracer, &view, Pixels::All, Target::film(&mut film, record)),
+                counts,
+                "{record:?}: the same rays"
+            );
             assert_eq!((film.record(), &film.rgb), (record, &full.rgb), "{record:?}: the same colours");
             if record == Record::Keys {
                 let bits = |z: &[f32]| z.iter().map(|z| z.to_bits()).collect::<Vec<_>>();
@@ -624,7 +615,7 @@ mod tests {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("thread pool");
             pool.install(|| {
                 let mut film = Film::new(1, 1);
-                let counts = Renderer::new().render(&tracer, &view, &mut film);
+                let counts = Renderer::new().render(&tracer, &view, Pixels::All, Target::film(&mut film, Record::Full));
                 let z: Vec<u32> = film.z.iter().map(|z| z.to_bits()).collect();
                 (film.rgb, z, film.object, film.lights, counts)
             })
@@ -639,11 +630,11 @@ mod tests {
         let tracer = Tracer::new(&scene, 0.0);
         let (mut l, mut r) = (Vec::new(), Vec::new());
         let mut renderer = Renderer::new();
-        renderer.render_rgb(&tracer, &scene.camera.view(Eye::Left, 96, 54), &mut l);
-        renderer.render_rgb(&tracer, &scene.camera.view(Eye::Right, 96, 54), &mut r);
+        renderer.render(&tracer, &scene.camera.view(Eye::Left, 96, 54), Pixels::All, Target::colour(&mut l));
+        renderer.render(&tracer, &scene.camera.view(Eye::Right, 96, 54), Pixels::All, Target::colour(&mut r));
         assert_eq!(l, r, "one eye position, one image");
         scene.camera.ipd = 0.65;
-        renderer.render_rgb(&tracer, &scene.camera.view(Eye::Right, 96, 54), &mut r);
+        renderer.render(&tracer, &scene.camera.view(Eye::Right, 96, 54), Pixels::All, Target::colour(&mut r));
         assert_ne!(l, r, "a real IPD changes the right eye");
     }
 }

@@ -20,6 +20,7 @@
 
 use glam::Vec3;
 
+use crate::accel::Origin;
 use crate::camera::EyeView;
 use crate::color::pack_rgb;
 use crate::ray::{reflect, spawn_ray, Ray};
@@ -42,9 +43,9 @@ impl Tracer {
     /// Radiance arriving along `ray`, a mirror ray spawned from sphere `from` (normal `n`
     /// there), at depth `depth`.
     fn trace_reflection(&self, from: u32, n: Vec3, ray: &Ray, depth: u32, counts: &mut RayCounts) -> Vec3 {
-        match self.intersect_from(from, n, ray) {
+        match self.accel.intersect(ray, f32::INFINITY, Origin::Surface { sphere: from, normal: n }) {
             Some(Hit { t, object }) => self.shade_hit(ray, t, object, depth, counts).0,
-            None => self.settings.background,
+            None => self.scene.settings.background,
         }
     }
 
@@ -78,7 +79,7 @@ impl Tracer {
     #[cfg(test)]
     pub(crate) fn reshaded_rgb(&self, ray: &Ray, (t, object, lights): (f32, u32, u32), d: Vec3) -> u32 {
         let p = ray.at(t);
-        let n = (p - self.centers[object as usize]).normalize();
+        let n = (p - self.scene.centers[object as usize]).normalize();
         let (diffuse, lights) = self.diffuse_light(object, p, n, |k, _, _| lights & (1 << k) != 0);
         let surface = Surface { point: p, normal: n, diffuse, object, lights };
         pack_rgb(diffuse + self.view_dependent(&surface, d, 0, &mut RayCounts::default()))
@@ -100,7 +101,7 @@ impl Tracer {
     /// The sample of a pixel whose primary ray missed.
     #[must_use]
     pub(crate) fn miss_sample(&self) -> Shaded {
-        Shaded { rgb: self.background_rgb, z: f32::INFINITY, surface: Surface::MISS }
+        Shaded { rgb: self.scene.background_rgb, z: f32::INFINITY, surface: Surface::MISS }
     }
 
     fn shaded_sample(&self, view: &EyeView, ray: &Ray, t: f32, object: u32, counts: &mut RayCounts) -> Shaded {
@@ -112,17 +113,25 @@ impl Tracer {
         let k = object as usize;
         let p = ray.at(t);
         // Normalised rather than divided by r: the hit lies on the sphere only to rounding.
-        let n = (p - self.centers[k]).normalize();
+        let n = (p - self.scene.centers[k]).normalize();
         let (diffuse, lights) = self.view_independent(object, p, n, counts);
         let surface = Surface { point: p, normal: n, diffuse, object, lights };
         (diffuse + self.view_dependent(&surface, ray.dir, depth, counts), surface)
+    }
+
+    /// The shadow query of one ray: whether anything blocks `ray`, spawned (by
+    /// [`crate::spawn_ray`]) from the point `p` of sphere `from` (outward normal `n`)
+    /// towards light `k`, before `t_max`, the distance to it.
+    pub(crate) fn shadowed(&self, k: usize, from: u32, p: Vec3, n: Vec3, ray: &Ray, t_max: f32) -> bool {
+        let light = (k, self.scene.lights[k].position);
+        self.accel.occluded(ray, t_max, Origin::Light(self.accel.towards_light(light, from, (p, n, ray.dir))))
     }
 
     /// Unit direction and distance from `p` to light `k`: the one formula every shading
     /// path uses, so that a direction kept from one step equals one recomputed in another.
     #[inline]
     pub(crate) fn to_light(&self, p: Vec3, k: usize) -> (Vec3, f32) {
-        let v = self.lights[k].position - p;
+        let v = self.scene.lights[k].position - p;
         let dist = v.length();
         (v * dist.recip(), dist)
     }
@@ -148,7 +157,7 @@ impl Tracer {
     ) -> (Vec3, u32) {
         let mut sum = Vec3::ZERO;
         let mut bits = 0u32;
-        for (k, light) in self.lights.iter().enumerate() {
+        for (k, light) in self.scene.lights.iter().enumerate() {
             let (l, dist) = self.to_light(p, k);
             let ndl = n.dot(l);
             if ndl > 0.0 && visible(k, l, dist) {
@@ -156,18 +165,18 @@ impl Tracer {
                 sum += ndl * light.color;
             }
         }
-        let m = &self.materials[object as usize];
-        (m.color * (self.settings.ambient + m.diffuse * sum), bits)
+        let m = &self.scene.materials[object as usize];
+        (m.color * (self.scene.settings.ambient + m.diffuse * sum), bits)
     }
 
     /// Blinn–Phong highlights at `p` (normal `n`) on sphere `object`, seen along `d`, from
     /// the lights the bits `lights` name: the one scalar formula, for the plain path and for
     /// the wavefront's leftover entries.
     pub(crate) fn highlight(&self, object: u32, p: Vec3, n: Vec3, d: Vec3, lights: u32) -> Vec3 {
-        let (m, exponent) = (&self.materials[object as usize], self.exponents[object as usize]);
+        let (m, exponent) = (&self.scene.materials[object as usize], self.scene.exponents[object as usize]);
         let mut out = Vec3::ZERO;
         if m.specular > 0.0 {
-            for (k, light) in self.lights.iter().enumerate() {
+            for (k, light) in self.scene.lights.iter().enumerate() {
                 if lights & (1 << k) == 0 {
                     continue;
                 }
@@ -185,9 +194,9 @@ impl Tracer {
     /// reflection, seen along `d`, at reflection depth `depth`.
     fn view_dependent(&self, surface: &Surface, d: Vec3, depth: u32, counts: &mut RayCounts) -> Vec3 {
         let &Surface { point: p, normal: n, object, lights, .. } = surface;
-        let m = &self.materials[object as usize];
+        let m = &self.scene.materials[object as usize];
         let mut out = self.highlight(object, p, n, d, lights);
-        if m.reflectivity > 0.0 && depth < self.settings.max_depth {
+        if m.reflectivity > 0.0 && depth < self.scene.settings.max_depth {
             counts.reflection += 1;
             // d and n are unit, so r is too, to rounding: no normalisation needed.
             let reflected = spawn_ray(p, n, reflect(d, n));

@@ -20,7 +20,7 @@
 
 use std::sync::OnceLock;
 
-use fearless_simd::{prelude::*, Level, Simd};
+use fearless_simd::{prelude::*, Level, Simd, SimdFloat};
 use glam::Vec3;
 
 /// The environment variable that forces the 4-lane fallback when set to `4`.
@@ -108,6 +108,26 @@ pub(crate) fn to_light<S: Simd>(simd: S, light: Vec3, p: [F<S>; 3]) -> ([F<S>; 3
     (each3(|a| v[a] * recip), dist)
 }
 
+/// [`crate::spawn_ray`]'s origins for rays leaving the points `p` (normals `n`) along `dir`, lane
+/// by lane.
+#[inline(always)]
+pub(crate) fn spawn_origins<S: Simd>(simd: S, p: [F<S>; 3], n: [F<S>; 3], dir: [F<S>; 3]) -> [F<S>; 3] {
+    use crate::ray::{SPAWN_ULPS_IN, SPAWN_ULPS_OUT};
+    let zero = F::<S>::splat(simd, 0.0);
+    // The largest |pᵢ| (as the largest bit pattern, for finite p), its exponent field at
+    // least the smallest normal's, times 2⁻²³: ulp(‖p‖∞), as `ray::ulp_of_largest`.
+    let max = |a: F<S>, b: F<S>| a.simd_gt(b).select(a, b);
+    let abs = each3(|a| p[a].abs());
+    let largest: U<S> = max(abs[0], max(abs[1], abs[2])).bitcast();
+    let exponent = largest & 0x7f80_0000;
+    let floor = U::<S>::splat(simd, f32::MIN_POSITIVE.to_bits());
+    let ulp = exponent.simd_gt(floor).select(exponent, floor).bitcast::<F<S>>() * f32::EPSILON;
+    let outwards = dot::<S>(dir, n).simd_ge(zero);
+    let ulps = outwards.select(F::<S>::splat(simd, SPAWN_ULPS_OUT), F::<S>::splat(simd, -SPAWN_ULPS_IN));
+    let offset = ulps * ulp;
+    each3(|a| p[a] + offset * n[a])
+}
+
 /// Lane l holds 2^l (a constant to load, not lanes to write one by one: a vector written as
 /// scalars and read back whole stalls on the store-to-load forwarding).
 #[inline(always)]
@@ -131,30 +151,59 @@ pub(crate) fn mask_of<S: Simd>(simd: S, bits: u64) -> M<S> {
 }
 
 /// Each lane's ray (origin `o`, unit direction `d`) against the sphere (`center`, `radius`):
-/// its nearest `t` in `(0, t_max)`, +∞ where there is none. Lane by lane the operations of
-/// `sphere.rs`'s `SpherePacket::hits`, so bit-for-bit the `t` every other query reports.
+/// its nearest `t` in `(0, t_max)`, +∞ where there is none: [`spheres_t`] with one sphere.
 #[inline(always)]
 pub(crate) fn sphere_t<S: Simd>(simd: S, o: [F<S>; 3], d: [F<S>; 3], center: Vec3, radius: f32, t_max: F<S>) -> F<S> {
     spheres_t(simd, o, d, (splat3(simd, center), F::<S>::splat(simd, radius)), t_max)
 }
 
-/// [`sphere_t`] with a sphere per lane (`center`, `radius`).
+/// **The ray–sphere test**, with a ray and a sphere per lane: lane l's nearest `t` in
+/// `(0, t_max)` of the ray (origin `o`, unit direction `d`) against the sphere (`c`, `r`),
+/// +∞ where there is none. Generic over the vector: the native lanes `F<S>` (BVH leaves,
+/// screen tiles, every sphere of a small scene) or four lanes `f32x4<S>` (the packets of
+/// light cells and cones); [`crate::intersect_sphere`] is its lane 0. Every query that
+/// tests a sphere therefore reports bit-for-bit the same `t`.
 #[inline(always)]
-pub(crate) fn spheres_t<S: Simd>(simd: S, o: [F<S>; 3], d: [F<S>; 3], (c, r): ([F<S>; 3], F<S>), t_max: F<S>) -> F<S> {
+pub(crate) fn spheres_t<S: Simd, V: SimdFloat<S, Element = f32>>(
+    simd: S,
+    o: [V; 3],
+    d: [V; 3],
+    (c, r): ([V; 3], V),
+    t_max: V,
+) -> V {
     let oc = each3(|a| o[a] - c[a]);
     let r2 = r * r;
-    let cc = dot::<S>(oc, oc) - r2;
+    let cc = dot3(oc, oc) - r2;
     nearest_root(simd, oc, d, r2, cc, t_max)
 }
 
-/// The lane-wise core of every ray–sphere test, `sphere.rs`'s `nearest_root` over these
-/// lanes: `oc` = origin − centre, `d` unit, `r2` = r², `cc` = |oc|² − r².
+/// glam's `Vec3::dot` over any lanes: `(x·x' + y·y') + z·z'`.
 #[inline(always)]
-pub(crate) fn nearest_root<S: Simd>(simd: S, oc: [F<S>; 3], d: [F<S>; 3], r2: F<S>, cc: F<S>, t_max: F<S>) -> F<S> {
-    let (zero, inf) = (F::<S>::splat(simd, 0.0), F::<S>::splat(simd, f32::INFINITY));
-    let b = dot::<S>(oc, d);
+fn dot3<V: Copy + std::ops::Add<Output = V> + std::ops::Mul<Output = V>>(a: [V; 3], b: [V; 3]) -> V {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+/// The core of [`spheres_t`], also run with a sphere's origin terms precomputed once for
+/// many rays from one origin (an eye's screen tiles): `oc` = origin − centre, `d` unit,
+/// `r2` = r², `cc` = |oc|² − r².
+///
+/// Numerically stable: the discriminant is r² − |oc − (oc·d)d|², which keeps its precision
+/// for distant, small spheres (Haines et al., "Precision Improvements for Ray/Sphere
+/// Intersection", Ray Tracing Gems ch. 7), and the roots come from q = −b − sign(b)·√Δ as
+/// cc/q and q, avoiding the cancellation of (−b ± √Δ).
+#[inline(always)]
+pub(crate) fn nearest_root<S: Simd, V: SimdFloat<S, Element = f32>>(
+    simd: S,
+    oc: [V; 3],
+    d: [V; 3],
+    r2: V,
+    cc: V,
+    t_max: V,
+) -> V {
+    let (zero, inf) = (V::splat(simd, 0.0), V::splat(simd, f32::INFINITY));
+    let b = dot3(oc, d);
     let p = each3(|a| oc[a] - b * d[a]);
-    let disc = r2 - dot::<S>(p, p);
+    let disc = r2 - dot3(p, p);
     let touched = disc.simd_ge(zero);
     if !touched.any_true() {
         return inf;

@@ -1,9 +1,14 @@
-//! Spheres and the ray–sphere test.
+//! A sphere, and the ray–sphere test one ray at a time.
+//!
+//! The test itself is written once, over SIMD lanes (`simd.rs`'s `spheres_t`): the scalar
+//! [`intersect_sphere`] is its lane 0, so every query reports bit-for-bit the same `t` for a
+//! sphere.
 
+use fearless_simd::{dispatch, f32x4, prelude::*, Simd};
 use glam::Vec3;
-use wide::f32x4;
 
 use crate::ray::Ray;
+use crate::simd::{each3, spheres_t};
 
 /// A sphere's geometry at one instant.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -14,153 +19,17 @@ pub struct Sphere {
     pub radius: f32,
 }
 
-/// Nearest root `t` in `(0, t_max)` of `ray` against the sphere, if any.
-///
-/// Numerically stable: the discriminant is computed as r² − |oc − (oc·d)d|², which keeps
-/// its precision for distant, small spheres (Haines et al., "Precision Improvements for
-/// Ray/Sphere Intersection", Ray Tracing Gems ch. 7), and the two roots come from
-/// q = −b − sign(b)·√Δ as c/q and q, avoiding the cancellation of (−b ± √Δ).
-#[inline]
+/// Nearest root `t` in `(0, t_max)` of `ray` against the sphere, if any: lane 0 of the lane
+/// test (`simd.rs`'s `spheres_t`, which has the numerics), at the lanes `simd.rs` chose.
 #[must_use]
 pub fn intersect_sphere(ray: &Ray, center: Vec3, radius: f32, t_max: f32) -> Option<f32> {
-    let oc = ray.origin - center;
-    let b = oc.dot(ray.dir);
-    let c = oc.length_squared() - radius * radius;
-    let perp = oc - b * ray.dir;
-    let disc = radius * radius - perp.length_squared();
-    if disc < 0.0 {
-        return None;
+    fn lane0<S: Simd>(simd: S, ray: &Ray, center: Vec3, radius: f32, t_max: f32) -> f32 {
+        let splat = |v: Vec3| each3(|a| f32x4::splat(simd, v[a]));
+        let r = f32x4::splat(simd, radius);
+        spheres_t(simd, splat(ray.origin), splat(ray.dir), (splat(center), r), f32x4::splat(simd, t_max))[0]
     }
-    let sq = disc.sqrt();
-    let q = if b > 0.0 { -b - sq } else { -b + sq };
-    // Roots of t² + 2bt + c = 0 (unit direction): t0 · t1 = c, one of them is q.
-    let (t0, t1) = if q == 0.0 { (0.0, 0.0) } else { (c / q, q) };
-    let (near, far) = if t0 <= t1 { (t0, t1) } else { (t1, t0) };
-    if near > 0.0 && near < t_max {
-        Some(near)
-    } else if far > 0.0 && far < t_max {
-        Some(far)
-    } else {
-        None
-    }
-}
-
-/// Spheres per SIMD packet.
-pub(crate) const LANES: usize = 4;
-
-/// Up to four spheres in structure-of-arrays lanes (`wide::f32x4`: SSE2 on x86-64, NEON on
-/// aarch64, scalar elsewhere), tested against one ray at once. Unused lanes have NaN
-/// centres, which never hit.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct SpherePacket {
-    cx: f32x4,
-    cy: f32x4,
-    cz: f32x4,
-    r: f32x4,
-    /// Sphere id of each lane.
-    pub(crate) ids: [u32; LANES],
-}
-
-/// Sets one lane of `v` to `x` (for building packets, not for hot loops).
-pub(crate) fn set_lane(v: &mut f32x4, lane: usize, x: f32) {
-    let mut a = v.to_array();
-    a[lane] = x;
-    *v = f32x4::from(a);
-}
-
-/// A vector splatted across four lanes, one `f32x4` per component.
-#[inline]
-pub(crate) fn splat3(v: Vec3) -> [f32x4; 3] {
-    [f32x4::splat(v.x), f32x4::splat(v.y), f32x4::splat(v.z)]
-}
-
-impl SpherePacket {
-    /// A packet with every lane empty.
-    pub(crate) const EMPTY: Self = Self {
-        cx: f32x4::splat(f32::NAN),
-        cy: f32x4::splat(f32::NAN),
-        cz: f32x4::splat(f32::NAN),
-        r: f32x4::splat(0.0),
-        ids: [u32::MAX; LANES],
-    };
-
-    /// Puts sphere `id` in `lane`.
-    pub(crate) fn set(&mut self, lane: usize, id: u32, center: Vec3, radius: f32) {
-        set_lane(&mut self.cx, lane, center.x);
-        set_lane(&mut self.cy, lane, center.y);
-        set_lane(&mut self.cz, lane, center.z);
-        set_lane(&mut self.r, lane, radius);
-        self.ids[lane] = id;
-    }
-
-    /// The ray's parameter against each lane (ray origin `o` and unit direction `d`
-    /// splatted), +∞ where it misses or the hit is outside `(0, t_max)`.
-    ///
-    /// The same operations in the same order as [`intersect_sphere`], lane by lane, so a
-    /// sphere's `t` is bit-for-bit the scalar one whichever packet and lane it sits in:
-    /// every query that tests spheres (BVH leaves, screen tiles, single-sphere tests) agrees.
-    #[inline]
-    pub(crate) fn hits(&self, o: [f32x4; 3], d: [f32x4; 3], t_max: f32) -> [f32; LANES] {
-        let (ox, oy, oz) = (o[0] - self.cx, o[1] - self.cy, o[2] - self.cz);
-        let r2 = self.r * self.r;
-        let c = (ox * ox + oy * oy + oz * oz) - r2;
-        nearest_root([ox, oy, oz], d, r2, c, f32x4::splat(t_max)).to_array()
-    }
-
-    /// Whether the ray (splatted as for [`SpherePacket::hits`]) meets one of the packet's
-    /// spheres other than `skip` in `(0, t_max)`.
-    #[inline]
-    pub(crate) fn blocks(&self, o: [f32x4; 3], d: [f32x4; 3], t_max: f32, skip: u32) -> bool {
-        self.hits(o, d, t_max).iter().zip(self.ids).any(|(t, id)| t.is_finite() && id != skip)
-    }
-}
-
-/// One sphere seen from a fixed ray origin, ready to test four rays from there at once:
-/// the primary rays of an eye.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct SphereFromOrigin {
-    /// origin − centre.
-    pub(crate) oc: [f32; 3],
-    /// radius².
-    pub(crate) r2: f32,
-    /// |oc|² − radius².
-    pub(crate) c: f32,
-    /// The sphere's id.
-    pub(crate) id: u32,
-}
-
-impl SphereFromOrigin {
-    /// The sphere (`center`, `radius`) as seen from `origin`.
-    pub(crate) fn new(origin: Vec3, center: Vec3, radius: f32, id: u32) -> Self {
-        let oc = [origin.x - center.x, origin.y - center.y, origin.z - center.z];
-        let r2 = radius * radius;
-        let c = (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2]) - r2;
-        Self { oc, r2, c, id }
-    }
-}
-
-/// The lane-wise core of the ray–sphere test shared by every SIMD query, in the order of
-/// [`intersect_sphere`]: `oc` = origin − centre, `d` unit, `r2` = r², `c` = |oc|² − r².
-#[inline]
-fn nearest_root(oc: [f32x4; 3], d: [f32x4; 3], r2: f32x4, c: f32x4, t_max: f32x4) -> f32x4 {
-    let [ox, oy, oz] = oc;
-    let b = ox * d[0] + oy * d[1] + oz * d[2];
-    let (px, py, pz) = (ox - b * d[0], oy - b * d[1], oz - b * d[2]);
-    let disc = r2 - (px * px + py * py + pz * pz);
-    let zero = f32x4::splat(0.0);
-    let touched = disc.simd_ge(zero);
-    let inf = f32x4::splat(f32::INFINITY);
-    if touched.to_bitmask() == 0 {
-        return inf;
-    }
-    let sq = disc.sqrt();
-    let q = b.simd_gt(zero).bitselect(-b - sq, -b + sq);
-    let t0 = c / q;
-    let (near, far) = (t0.min(q), t0.max(q));
-    let near_ok = near.simd_gt(zero) & near.simd_lt(t_max);
-    let far_ok = far.simd_gt(zero) & far.simd_lt(t_max);
-    let t = near_ok.bitselect(near, far_ok.bitselect(far, inf));
-    touched.bitselect(t, inf)
+    let t = dispatch!(crate::simd::level(), simd => lane0(simd, ray, center, radius, t_max));
+    t.is_finite().then_some(t)
 }
 
 impl Sphere {

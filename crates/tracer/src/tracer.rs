@@ -1,42 +1,24 @@
-//! The scene frozen at one instant, ready to trace, and its ray queries: the closest hit
-//! ([`Tracer::intersect`]) and any hit ([`Tracer::occluded`]), as pbrt's `Intersect` and
-//! `IntersectP`, each answered by the cheapest structure that is exact for the ray.
+//! The scene at one instant, ready to trace: its plain data ([`Snapshot`]) and the
+//! aggregate built over it (`accel/`), which answers its ray queries.
 //!
-//! Shading is in `shade.rs`, primary rays through screen bins in `primary.rs`, and the
-//! services a second view uses in `second_view.rs`: all are `impl` blocks on this type's
-//! data, which only this crate sees.
+//! Shading is in `shade.rs` (the plain path) and `wavefront.rs` (the batched one), both
+//! `impl` blocks and functions over this type's data, which only this crate sees.
 
-use glam::Vec3;
-
-use crate::bvh::Bvh;
+use crate::accel::{Aggregate, Origin};
 use crate::camera::Eye;
-use crate::color::pack_rgb;
-use crate::cones::Cones;
-use crate::material::{Exponent, Material};
-use crate::ray::{leaves_outwards, spawn_bound, Ray};
-use crate::scene::{Light, RenderSettings, Scene};
-use crate::shadow::{Cell, ShadowBins};
-use crate::surface::{Hit, NO_OBJECT};
-use crate::swept::{Arc, SweptRing, Touch};
+use crate::ray::{spawn_bound, Ray};
+use crate::scene::{RenderSettings, Scene};
+use crate::snapshot::Snapshot;
+use crate::surface::Hit;
 
 /// A scene at one instant, laid out for tracing. Build it once and [`Tracer::update`] it each
 /// frame: the buffers are reused, so a warm viewer does not allocate per frame.
 #[derive(Clone, Debug, Default)]
 pub struct Tracer {
-    pub(crate) centers: Vec<Vec3>,
-    pub(crate) radii: Vec<f32>,
-    pub(crate) materials: Vec<Material>,
-    /// How each material's highlight exponent is evaluated.
-    pub(crate) exponents: Vec<Exponent>,
-    pub(crate) lights: Vec<Light>,
-    pub(crate) settings: RenderSettings,
-    /// The background, encoded once per update.
-    pub(crate) background_rgb: u32,
-    bvh: Bvh,
-    shadows: ShadowBins,
-    pub(crate) cones: Cones,
-    /// The swept volume of each moving sphere (`swept.rs`): where it can be at any time.
-    rings: Vec<SweptRing>,
+    /// Where every sphere is now, and what it is made of.
+    pub(crate) scene: Snapshot,
+    /// The acceleration structures over `scene`.
+    pub(crate) accel: Aggregate,
 }
 
 impl Tracer {
@@ -50,254 +32,57 @@ impl Tracer {
 
     /// Re-resolves the scene at time `t`, reusing this tracer's buffers.
     pub fn update(&mut self, scene: &Scene, t: f32) {
-        self.centers.clear();
-        self.radii.clear();
-        self.materials.clear();
-        self.exponents.clear();
-        for (k, s) in scene.spheres.iter().enumerate() {
-            let g = scene.sphere_at(k, t);
-            self.centers.push(g.center);
-            self.radii.push(g.radius);
-            self.materials.push(s.material);
-            self.exponents.push(Exponent::of(s.material.shininess));
-        }
-        self.rings.clear();
-        for (k, s) in scene.spheres.iter().enumerate() {
-            if let Some(ring) = SweptRing::of(k as u32, s.radius, &s.motion) {
-                // The invariant temporal reuse rests on: a moving sphere never leaves its
-                // bound. (Checked here in debug builds, and by the tests of `swept.rs`.)
-                debug_assert!(
-                    ring.holds(self.centers[k], self.radii[k]),
-                    "sphere {k} at {} lies outside its swept volume {ring:?}",
-                    self.centers[k]
-                );
-                self.rings.push(ring);
-            }
-        }
-        self.lights.clear();
-        self.lights.extend_from_slice(&scene.lights);
-        self.settings = scene.render;
-        self.background_rgb = pack_rgb(self.settings.background);
-        self.bvh.build(&self.centers, &self.radii);
+        self.scene.update(scene, t);
         // How far a spawned ray's origin can lie off its sphere: sphere points and the eyes
         // lie within `reach` of the origin in every coordinate.
-        let spheres = self.centers.iter().zip(&self.radii).map(|(c, r)| c.abs().max_element() + r);
+        let s = &self.scene;
+        let spheres = s.centers.iter().zip(&s.radii).map(|(c, r)| c.abs().max_element() + r);
         let eyes = [Eye::Left, Eye::Right].map(|eye| scene.camera.eye_position(eye).abs().max_element());
         let spawn_offset = spawn_bound(spheres.chain(eyes).fold(0.0, f32::max));
-        self.shadows.build(&self.centers, &self.radii, &self.lights, spawn_offset);
-        self.cones.build(&self.centers, &self.radii, spawn_offset);
+        self.accel.build((&s.centers, &s.radii), &s.lights, spawn_offset);
+    }
+
+    /// The scene at this instant.
+    #[must_use]
+    pub fn snapshot(&self) -> &Snapshot {
+        &self.scene
     }
 
     /// The render settings in force (reflection depth, background, ambient).
     #[must_use]
     pub fn settings(&self) -> &RenderSettings {
-        &self.settings
+        &self.scene.settings
     }
 
     /// Overrides the reflection depth (the viewer's slider).
     pub fn set_max_depth(&mut self, depth: u32) {
-        self.settings.max_depth = depth;
-    }
-
-    /// The swept volumes of the moving spheres (none for a still scene).
-    #[must_use]
-    pub fn swept(&self) -> &[SweptRing] {
-        &self.rings
-    }
-
-    /// Where the segment `o + s·d`, 0 ≤ s ≤ `s_max`, meets the swept volumes of the moving
-    /// spheres ([`Touch::NONE`] if nowhere: then it meets the same spheres at every
-    /// instant; see `swept.rs`).
-    #[inline]
-    #[must_use]
-    pub fn touch_moving(&self, o: Vec3, d: Vec3, s_max: f32) -> Touch {
-        let mut touch = Touch::NONE;
-        for (k, ring) in self.rings.iter().enumerate() {
-            if let Some(arc) = ring.touch(o, d, s_max) {
-                touch = touch.union(Touch { ring: k as u32, arc });
-            }
-        }
-        touch
-    }
-
-    /// The wedge of its ring that each moving sphere fills now, in the order of
-    /// [`Tracer::swept`], into `out` (cleared first).
-    pub fn wedges(&self, out: &mut Vec<Arc>) {
-        out.clear();
-        out.extend(self.rings.iter().map(|ring| {
-            let k = ring.object as usize;
-            ring.wedge(self.centers[k], self.radii[k])
-        }));
-    }
-
-    /// Writes into `out` (cleared first) everything of this tracer that a frame depends on
-    /// except where the moving spheres are: the still spheres' centres, every radius,
-    /// material and swept volume, the lights and the render settings, as bits. Two tracers
-    /// of one scene at two instants give the same words; change anything else and they
-    /// differ. Nothing is allocated once `out` has grown to size.
-    pub fn fingerprint(&self, out: &mut Vec<u32>) {
-        out.clear();
-        let v3 = |out: &mut Vec<u32>, v: Vec3| out.extend(v.to_array().map(f32::to_bits));
-        out.push(self.centers.len() as u32);
-        let mut rings = self.rings.iter().peekable();
-        for (k, (&c, m)) in self.centers.iter().zip(&self.materials).enumerate() {
-            match rings.next_if(|ring| ring.object as usize == k) {
-                Some(ring) => {
-                    v3(out, ring.center);
-                    out.extend([ring.half_height, ring.inner, ring.outer].map(f32::to_bits));
-                }
-                None => v3(out, c),
-            }
-            out.push(self.radii[k].to_bits());
-            v3(out, m.color);
-            out.extend([m.diffuse, m.specular, m.shininess, m.reflectivity].map(f32::to_bits));
-        }
-        out.push(self.lights.len() as u32);
-        for light in &self.lights {
-            v3(out, light.position);
-            v3(out, light.color);
-        }
-        out.push(self.settings.max_depth);
-        v3(out, self.settings.background);
-        out.push(self.settings.ambient.to_bits());
+        self.scene.settings.max_depth = depth;
     }
 
     /// Number of spheres.
     #[must_use]
     pub fn sphere_count(&self) -> usize {
-        self.centers.len()
+        self.scene.centers.len()
     }
 
-    /// Closest hit in `(0, t_max)`, through the BVH.
-    #[inline]
+    /// The closest hit of `ray` in `(0, t_max)` (pbrt's `Intersect`), from anywhere.
     #[must_use]
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<Hit> {
-        self.bvh.intersect(ray, t_max, NO_OBJECT)
-    }
-
-    /// Whether anything blocks `ray` before `t_max` (any hit, early exit), through the BVH.
-    #[inline]
-    #[must_use]
-    pub fn occluded(&self, ray: &Ray, t_max: f32) -> bool {
-        self.bvh.occluded(ray, t_max, NO_OBJECT)
-    }
-
-    /// The sphere that the queries of a ray spawned (by [`crate::spawn_ray`]) from sphere
-    /// `from`, with outward normal `n` there, leave out: `from` itself when the ray leaves
-    /// outwards, as a sphere is convex and the ray cannot meet it again; none
-    /// ([`NO_OBJECT`]) when it goes in. The one rule for every structure (BVH, cones, cube
-    /// maps), so that the spawn offset never has to clear the ray's own sphere outwards.
-    #[inline]
-    #[must_use]
-    pub(crate) fn skipped(from: u32, n: Vec3, dir: Vec3) -> u32 {
-        if leaves_outwards(n, dir) {
-            from
-        } else {
-            NO_OBJECT
-        }
-    }
-
-    /// Closest hit in `(0, t_max)` among the spheres other than `skip`, through the BVH.
-    #[inline]
-    #[must_use]
-    pub(crate) fn intersect_skipping(&self, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
-        self.bvh.intersect(ray, t_max, skip)
-    }
-
-    /// Whether a sphere other than `skip` blocks `ray` before `t_max`, through the BVH.
-    #[inline]
-    #[must_use]
-    pub(crate) fn occluded_skipping(&self, ray: &Ray, t_max: f32, skip: u32) -> bool {
-        self.bvh.occluded(ray, t_max, skip)
-    }
-
-    /// Closest hit of `ray`, spawned (by [`crate::spawn_ray`]) from a point of sphere `from`
-    /// with outward normal `n`, leaving out the sphere [`Tracer::skipped`] names. A ray
-    /// leaving outwards is tested in small scenes against the direction cones to the other
-    /// spheres; one going inwards (an eye inside a sphere) or one in a large scene goes
-    /// through the BVH. The answer is the same either way.
-    #[inline]
-    #[must_use]
-    pub(crate) fn intersect_from(&self, from: u32, n: Vec3, ray: &Ray) -> Option<Hit> {
-        let skip = Self::skipped(from, n, ray.dir);
-        if skip != NO_OBJECT && self.cones.is_built() {
-            self.cones.intersect_from(from, ray, f32::INFINITY)
-        } else {
-            self.intersect_skipping(ray, f32::INFINITY, skip)
-        }
-    }
-
-    /// [`Tracer::intersect_from`] inside a lane kernel dispatched at `simd`'s level: the
-    /// BVH's traversal is inlined into it, with its target features.
-    #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
-    #[inline(always)]
-    #[must_use]
-    pub(crate) fn intersect_from_in<S: fearless_simd::Simd>(
-        &self,
-        simd: S,
-        from: u32,
-        n: Vec3,
-        ray: &Ray,
-    ) -> Option<Hit> {
-        let skip = Self::skipped(from, n, ray.dir);
-        if skip != NO_OBJECT && self.cones.is_built() {
-            self.cones.intersect_from(from, ray, f32::INFINITY)
-        } else {
-            self.bvh.intersect_in(simd, ray, f32::INFINITY, skip)
-        }
-    }
-
-    /// The shadow query: whether anything blocks `ray`, spawned (by [`crate::spawn_ray`])
-    /// from the point `p` of sphere `from` (outward normal `n`) towards light `k`, with
-    /// `t_max` the distance to it, leaving out the sphere [`Tracer::skipped`] names.
-    /// Answered from the light's cube map of sphere lists, exactly as the BVH would.
-    #[inline]
-    #[must_use]
-    pub(crate) fn shadowed(&self, k: usize, from: u32, p: Vec3, n: Vec3, ray: &Ray, t_max: f32) -> bool {
-        self.shadowed_in(self.shadow_cell(k, p), Self::skipped(from, n, ray.dir), ray, t_max)
-    }
-
-    /// The first half of [`Tracer::shadowed`]: the cell of light `k`'s cube map that the
-    /// shadow ray from `p` looks up (`None` if the bins cannot answer it). A batch of shadow
-    /// rays looks up all its cells first, so their cache misses overlap.
-    #[inline]
-    #[must_use]
-    pub(crate) fn shadow_cell(&self, k: usize, p: Vec3) -> Option<Cell> {
-        self.shadows.cell(k, self.lights[k].position, p)
-    }
-
-    /// Whether the shadow ray of `cell`, leaving the sphere `skip` ([`Tracer::skipped`]),
-    /// has nothing to test: no sphere in the cell but `skip` (see [`ShadowBins::clear`]).
-    #[inline]
-    #[must_use]
-    pub(crate) fn shadow_clear(&self, cell: Cell, skip: u32) -> bool {
-        self.shadows.clear(cell, skip)
-    }
-
-    /// The second half of [`Tracer::shadowed`], given its `cell` and the sphere `skip` the
-    /// ray leaves ([`Tracer::skipped`]).
-    #[inline]
-    #[must_use]
-    pub(crate) fn shadowed_in(&self, cell: Option<Cell>, skip: u32, ray: &Ray, t_max: f32) -> bool {
-        match cell {
-            Some(cell) => self.shadows.blocks(cell, ray, t_max, skip),
-            None => self.occluded_skipping(ray, t_max, skip),
-        }
-    }
-
-    /// Hit parameter of `ray` against the one sphere `object`, ignoring all others: one
-    /// sphere test, not a scene ray: the oracle of [`crate::SecondView::shade_row`].
-    #[cfg(test)]
-    #[must_use]
-    pub(crate) fn intersect_object(&self, ray: &Ray, object: u32) -> Option<f32> {
-        self.bvh.intersect_one(ray, object)
+        self.accel.intersect(ray, t_max, Origin::Anywhere)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use glam::DVec3;
+    use glam::{DVec3, Vec3};
+
+    use crate::ray::leaves_outwards;
+
+    use crate::accel::Origin;
+    use crate::material::Material;
+    use crate::scene::Light;
+    use crate::surface::Hit;
 
     use crate::camera::Camera;
     use crate::ray::{reflect, spawn_ray};
@@ -336,7 +121,7 @@ mod tests {
     /// Hits on sphere 0 of `tracer` (centre c, radius r) of rays from `o` aimed at the
     /// lattice points, as shading finds them: p = o + t·d and n = normalize(p − c).
     fn hits_from(tracer: &Tracer, o: Vec3) -> impl Iterator<Item = (Vec3, Vec3, Vec3)> + '_ {
-        let (c, r) = (tracer.centers[0], tracer.radii[0]);
+        let (c, r) = (tracer.scene.centers[0], tracer.scene.radii[0]);
         lattice().filter_map(move |m| {
             let ray = Ray::new(o, (c + r * m - o).normalize());
             let hit = tracer.intersect(&ray, f32::INFINITY)?;
@@ -362,7 +147,7 @@ mod tests {
             // Through the cones and the BVH (a small scene), and through the BVH alone.
             for fillers in [3, 70] {
                 let tracer = Tracer::new(&lone_sphere(c, r, fillers), 0.0);
-                assert_eq!(tracer.cones.is_built(), fillers < 64);
+                assert_eq!(tracer.accel.has_cones(), fillers < 64);
                 // Hits seen from outside, near and from far away (a far origin leaves p
                 // far more than the spawn offset off the surface: only the skip holds).
                 let eyes = [c + Vec3::new(0.0, 0.6, -0.8) * (3.0 * r), c + Vec3::new(-0.8, 0.0, 0.6) * 1e5];
@@ -376,17 +161,19 @@ mod tests {
                                 continue;
                             }
                             let ray = spawn_ray(p, n, dir);
-                            let hit = tracer.intersect_from(0, n, &ray);
+                            let from = Origin::Surface { sphere: 0, normal: n };
+                            let hit = tracer.accel.intersect(&ray, f32::INFINITY, from);
                             assert_ne!(hit.map(|h| h.object), Some(0), "{c} {r}: self-hit at {p} along {dir}");
-                            assert!(!tracer.occluded_skipping(&ray, f32::INFINITY, Tracer::skipped(0, n, dir)));
+                            assert!(!tracer.accel.occluded(&ray, f32::INFINITY, from));
                             outward += 1;
                         }
-                        for (k, light) in tracer.lights.iter().enumerate() {
+                        for (k, light) in tracer.scene.lights.iter().enumerate() {
                             let (l, dist) = ((light.position - p).normalize(), light.position.distance(p));
                             if n.dot(l) > 0.0 {
                                 let ray = spawn_ray(p, n, l);
                                 assert!(!tracer.shadowed(k, 0, p, n, &ray, dist), "{c} {r}: shadowed at {p}");
-                                assert!(!tracer.occluded_skipping(&ray, dist, 0), "{c} {r}: occluded at {p}");
+                                let from = Origin::Surface { sphere: 0, normal: n };
+                                assert!(!tracer.accel.occluded(&ray, dist, from), "{c} {r}: occluded at {p}");
                             }
                         }
                     }
@@ -401,7 +188,7 @@ mod tests {
                         let ray = spawn_ray(p, n, dir);
                         let far = intersect_sphere(&ray, c, r, f32::INFINITY).filter(|&t| t > 0.5 * r * dir.dot(-n));
                         assert!(far.is_some(), "{c} {r}: the far side is at least r·|d·n| away");
-                        let hit = tracer.intersect_from(0, n, &ray);
+                        let hit = tracer.accel.intersect(&ray, f32::INFINITY, Origin::Surface { sphere: 0, normal: n });
                         assert_eq!(hit, far.map(|t| Hit { t, object: 0 }), "{c} {r}: from {p} along {dir}");
                         inward += 1;
                     }
@@ -471,7 +258,8 @@ mod tests {
                     assert!(n.dot(ray.dir) > 0.2, "the receiver faces the light at {p}");
                     let at = format!("scene {k}, azimuth {phi:.2}, {p} (edge at {})", step(0.0));
                     assert_eq!(tracer.shadowed(0, 0, p, n, &ray, dist), shadowed, "{at}");
-                    assert_eq!(tracer.occluded_skipping(&ray, dist, 0), shadowed, "{at}");
+                    let from = Origin::Surface { sphere: 0, normal: n };
+                    assert_eq!(tracer.accel.occluded(&ray, dist, from), shadowed, "{at}");
                     checked += 1;
                 }
             }

@@ -16,17 +16,18 @@
 use fearless_simd::{dispatch, prelude::*, Simd};
 use glam::Vec3;
 
+use crate::accel::Origin;
 use crate::camera::EyeView;
 use crate::color::pack_rgb;
 use crate::ray::{reflect, spawn_ray, Ray};
+use crate::reuse::{LevelRays, Marker, TreeMarks};
+use crate::scene::Light;
 use crate::simd::{F, U};
 use crate::stats::RayCounts;
 use crate::surface::{Hit, Surface};
-use crate::swept::Touch;
 use crate::tracer::Tracer;
 
 mod lanes;
-mod marks;
 
 pub(crate) use lanes::per_object;
 
@@ -70,7 +71,7 @@ struct Level {
     p: Column3,
     /// Unit outward normal.
     n: Column3,
-    /// Light bits: given (level 0 of `Known` and `Surface` batches) or found.
+    /// Light bits: given (at level 0, for a pixel whose bits another view found) or found.
     lights: Vec<u32>,
     /// View-independent light D.
     diffuse: Column3,
@@ -82,13 +83,6 @@ struct Level {
     reflects: Vec<bool>,
     /// The entry's radiance, once folded.
     radiance: Column3,
-    /// Where the entry's ray tree meets the moving spheres' swept volumes, once marked
-    /// ([`Wavefront::mark_dynamic`]).
-    touch: Vec<Touch>,
-    /// Scratch of the marking: whether the entry's mirror ray hit a sphere.
-    mirror_hit: Vec<bool>,
-    /// Scratch of the marking: whether the entry's own ray is to be tested.
-    own: Vec<bool>,
     /// Level 0 of a re-shaded batch, until aimed ([`Wavefront::aim_seen`]): the pixel of
     /// the other view whose ray found the entry, as column and row.
     source: [Vec<u32>; 2],
@@ -101,6 +95,23 @@ impl Level {
 
     fn len(&self) -> usize {
         self.used
+    }
+
+    /// The level's rays, as the reuse layer's marking reads them.
+    fn rays(&self) -> LevelRays<'_> {
+        LevelRays {
+            len: self.used,
+            capacity: self.t.len(),
+            o: &self.o,
+            d: &self.d,
+            t: &self.t,
+            v: &self.v,
+            p: &self.p,
+            n: &self.n,
+            parent: &self.parent,
+            known: &self.known,
+            reflects: &self.reflects,
+        }
     }
 
     /// Makes every column at least `n` entries long (doubling, so growth is rare).
@@ -129,9 +140,6 @@ impl Level {
         self.lights.resize(n, 0);
         self.known.resize(n, false);
         self.reflects.resize(n, false);
-        self.touch.resize(n, Touch::NONE);
-        self.mirror_hit.resize(n, false);
-        self.own.resize(n, false);
         for c in &mut self.source {
             c.resize(n, 0);
         }
@@ -166,15 +174,15 @@ pub(crate) struct Wavefront {
     levels: Vec<Level>,
     /// Levels in use.
     depth: usize,
-    /// Tags of pixels whose primary rays met nothing, to be marked together
-    /// ([`Wavefront::mark_background`]).
-    background: Vec<u32>,
+    /// The reuse layer's marks of the batch (`reuse/tree.rs`): written only when a caller
+    /// marks ([`Wavefront::mark`]).
+    pub(crate) marks: TreeMarks,
 }
 
 impl Wavefront {
     /// Empties the batch.
     pub(crate) fn clear(&mut self) {
-        self.background.clear();
+        self.marks.clear();
         if self.levels.is_empty() {
             self.levels.push(Level::default());
         }
@@ -233,27 +241,6 @@ impl Wavefront {
         }
         level.reflects[entries].fill(false);
         level.used = e + lanes;
-    }
-
-    /// Notes that the pixel `tag` (its column, and flags above `column_mask`) saw only
-    /// background, for [`Wavefront::mark_background`].
-    pub(crate) fn push_background(&mut self, tag: u32) {
-        self.background.push(tag);
-    }
-
-    /// Marks the pixels [`Wavefront::push_background`] noted, of row `j` of `view`, in lanes:
-    /// `out(tag, touch)` for each whose primary ray meets a swept volume; then forgets them.
-    pub(crate) fn mark_background(
-        &mut self,
-        tracer: &Tracer,
-        view: &EyeView,
-        (j, column_mask): (u32, u32),
-        out: &mut impl FnMut(u32, Touch),
-    ) {
-        if !self.background.is_empty() {
-            marks::mark_background(tracer, view, (j, &self.background, column_mask), out);
-            self.background.clear();
-        }
     }
 
     /// Adds a sample of pixel `column` of a row of this view: what the ray of pixel `source`
@@ -317,7 +304,7 @@ impl Wavefront {
     /// a function of its own with `simd`'s target features), then the scalar stage takes the
     /// entries left over.
     pub(crate) fn shade_in<S: Simd>(&mut self, simd: S, tracer: &Tracer, counts: &mut RayCounts) {
-        let max_depth = tracer.settings.max_depth as usize;
+        let max_depth = tracer.scene.settings.max_depth as usize;
         self.depth = 0;
         for k in 0.. {
             if self.levels.len() < k + 2 {
@@ -363,50 +350,17 @@ impl Wavefront {
         }
     }
 
-    /// Marks, after [`Wavefront::shade`], where each sample's ray tree meets the swept
-    /// volumes of the moving spheres (`swept.rs`): its ray, its shadow rays, its mirror ray
-    /// and, at every depth, theirs. A sample whose tree meets none of the spheres' wedges at
-    /// two instants has the same tree, colour and record at both (`swept.rs` has the
-    /// argument). Read the marks with [`Wavefront::touch`].
-    ///
-    /// `incoming(tag)` says whether a sample's own ray (the first segment of its tree) can
-    /// meet a swept volume at all: `false` for a primary ray outside the screen bound of the
-    /// volumes, or for a ray another view cast (whose pixel carries that ray's marks).
-    pub(crate) fn mark_dynamic(&mut self, tracer: &Tracer, incoming: impl Fn(u32) -> bool) {
-        let still = tracer.swept().is_empty();
-        for k in (0..self.depth).rev() {
-            let (upper, lower) = self.levels.split_at_mut(k + 1);
-            let level = &mut upper[k];
-            let n = level.len();
-            level.touch[..n].fill(Touch::NONE);
-            if still {
-                continue;
-            }
-            // The mirror rays that hit are those an entry of the level below names; a
-            // subtree's meetings are its root's.
-            level.mirror_hit[..n].fill(false);
-            let below = &lower[0];
-            for c in 0..below.len() {
-                let parent = below.parent[c] as usize;
-                level.mirror_hit[parent] = true;
-                level.touch[parent] = level.touch[parent].union(below.touch[c]);
-            }
-            for e in 0..n {
-                level.own[e] = k > 0 || incoming(level.parent[e]);
-            }
-            let done = dispatch!(crate::simd::level(), simd => simd.vectorize(
-                #[inline(always)]
-                || marks::mark(simd, tracer, level, k == 0),
-            ));
-            for e in done..n {
-                level.touch[e] = level.touch[e].union(touch_moving(tracer, level, e, (k == 0, level.own[e])));
-            }
+    /// The reuse layer's hook: marks, after [`Wavefront::shade`], where each sample's ray
+    /// tree meets `marker`'s swept volumes (`reuse/tree.rs`; `incoming` as there). Read the
+    /// marks with `self.marks.touch(e)`.
+    pub(crate) fn mark(&mut self, marker: &Marker<'_>, lights: &[Light], incoming: impl Fn(u32) -> bool) {
+        // The marking reads whole vectors of lanes.
+        let lanes = crate::simd::lane_width();
+        for level in &mut self.levels[..self.depth] {
+            level.reserve(level.len().div_ceil(lanes) * lanes);
         }
-    }
-
-    /// Where sample `e`'s ray tree meets the moving spheres' swept volumes, once marked.
-    pub(crate) fn touch(&self, e: usize) -> Touch {
-        self.levels[0].touch[e]
+        let levels = &self.levels;
+        self.marks.mark((marker, lights), (self.depth, |k| levels[k].rays()), incoming);
     }
 
     /// Sample `e`'s tag.
@@ -462,7 +416,7 @@ fn surfaces(tracer: &Tracer, level: &mut Level, from: usize) {
     for e in from..level.len() {
         let p = get3(&level.o, e) + level.t[e] * get3(&level.d, e);
         // Normalised rather than divided by r: the hit lies on the sphere only to rounding.
-        let n = (p - tracer.centers[level.object[e] as usize]).normalize();
+        let n = (p - tracer.scene.centers[level.object[e] as usize]).normalize();
         set3(&mut level.p, e, p);
         set3(&mut level.n, e, n);
     }
@@ -501,44 +455,19 @@ fn highlights(tracer: &Tracer, level: &mut Level, from: usize) {
 fn mirrors(tracer: &Tracer, level: &mut Level, next: &mut Level, counts: &mut RayCounts, from: usize) {
     for e in from..level.len() {
         let object = level.object[e];
-        if tracer.materials[object as usize].reflectivity <= 0.0 {
+        if tracer.scene.materials[object as usize].reflectivity <= 0.0 {
             continue;
         }
         counts.reflection += 1;
         level.reflects[e] = true;
-        set3(&mut level.mirror, e, tracer.settings.background);
+        set3(&mut level.mirror, e, tracer.scene.settings.background);
         let (p, n, d) = (get3(&level.p, e), get3(&level.n, e), get3(&level.v, e));
         // d and n are unit, so r is too, to rounding: no normalisation needed.
         let ray = spawn_ray(p, n, reflect(d, n));
-        if let Some(hit) = tracer.intersect_from(object, n, &ray) {
+        if let Some(hit) = tracer.accel.intersect(&ray, f32::INFINITY, Origin::Surface { sphere: object, normal: n }) {
             next.push(ray.origin, ray.dir, hit.t, hit.object, e as u32, None);
         }
     }
-}
-
-/// Where the rays entry `e` itself casts meet the moving spheres' swept volumes: the ray
-/// that found it, up to the hit; its shadow rays (those it traced, towards the lights it
-/// faces), up to the light; its mirror ray, if that met nothing, to infinity. (A mirror ray
-/// that hit is the ray of an entry one level down.) The tests are conservative
-/// (`swept.rs`), so the spawn offsets and the rounding of these rays do not matter.
-/// `own` says whether to test the ray that found the entry.
-fn touch_moving(tracer: &Tracer, level: &Level, e: usize, (first, own): (bool, bool)) -> Touch {
-    let (p, n) = (get3(&level.p, e), get3(&level.n, e));
-    let mut touch =
-        if own { tracer.touch_moving(get3(&level.o, e), get3(&level.d, e), level.t[e]) } else { Touch::NONE };
-    if !(first && level.known[e]) {
-        for light in &tracer.lights {
-            // The segment to the light, as p + s·(light − p), 0 ≤ s ≤ 1.
-            let to = light.position - p;
-            if n.dot(to) > 0.0 {
-                touch = touch.union(tracer.touch_moving(p, to, 1.0));
-            }
-        }
-    }
-    if level.reflects[e] && !level.mirror_hit[e] {
-        touch = touch.union(tracer.touch_moving(p, reflect(get3(&level.v, e), n), f32::INFINITY));
-    }
-    touch
 }
 
 thread_local! {
@@ -566,7 +495,7 @@ fn radiance(tracer: &Tracer, level: &mut Level, from: usize) {
     for e in from..level.len() {
         let (d, s) = (get3(&level.diffuse, e), get3(&level.spec, e));
         let radiance = if level.reflects[e] {
-            let kr = tracer.materials[level.object[e] as usize].reflectivity;
+            let kr = tracer.scene.materials[level.object[e] as usize].reflectivity;
             d + (s + kr * get3(&level.mirror, e))
         } else {
             d + s

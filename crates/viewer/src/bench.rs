@@ -63,7 +63,7 @@ pub(crate) struct Animation {
 fn animate(setup: &FrameSetup, start: f32, (w, h): (u32, u32), opts: Options, frames: u32) -> Animation {
     let mut tracer = Tracer::new(&setup.scene, start);
     let (mut fresh, mut reusing) = (StereoFrame::new(), StereoFrame::new());
-    reusing.set_reuse(true);
+    reusing.set_reuse(Some(&setup.scene));
     reusing.render(&tracer, &setup.camera, w, h, opts);
     fresh.render(&tracer, &setup.camera, w, h, opts);
     let (mut fresh_ms, mut reused_ms, mut shares) = (Vec::new(), Vec::new(), Vec::new());

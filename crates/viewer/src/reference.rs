@@ -4,7 +4,7 @@
 //! tracer's [`Renderer`].
 
 use stereo::{downsample, Quality};
-use tracer::{Camera, Eye, Renderer, Tracer};
+use tracer::{Camera, Eye, Pixels, Renderer, Target, Tracer};
 
 /// The reference image and its renderer, reused from frame to frame.
 #[derive(Debug, Default)]
@@ -18,7 +18,12 @@ pub struct Reference {
 impl Reference {
     /// Traces the right eye of `camera` at `width` × `height` in full (colour only).
     pub fn trace(&mut self, tracer: &Tracer, camera: &Camera, width: u32, height: u32) {
-        self.renderer.render_rgb(tracer, &camera.view(Eye::Right, width, height), &mut self.rgb);
+        self.renderer.render(
+            tracer,
+            &camera.view(Eye::Right, width, height),
+            Pixels::All,
+            Target::colour(&mut self.rgb),
+        );
     }
 
     /// Measures `right`, a stereo frame's right image of the same view, against the last

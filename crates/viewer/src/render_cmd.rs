@@ -191,7 +191,7 @@ fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
     let mut frame = StereoFrame::new();
     // Only the scene time moves: each frame retraces what can have changed (`--no-reuse`:
     // everything), the same bytes either way.
-    frame.set_reuse(!args.no_reuse);
+    frame.set_reuse((!args.no_reuse).then_some(&setup.scene));
     let mut filtered = Filtered::default();
     let mut pair = Vec::new();
     let (mut left_rays, mut right_rays) = (RayCounts::default(), RayCounts::default());

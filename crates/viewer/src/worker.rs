@@ -324,7 +324,7 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
         } else {
             eye
         };
-        frame.set_reuse(request.reuse);
+        frame.set_reuse(request.reuse.then_some(&scene));
         let stats = frame.render(&tracer, &request.camera, samples.0, samples.1, request.opts);
         back.fill_from(&frame, samples, &request);
         let quality = request.psnr.then(|| {

@@ -3,7 +3,7 @@
 //! random left films built to have runs, stretches, overlaps, points in front of the window
 //! and clipped rows, and on every scene at several IPDs.
 
-use tracer::{Disparity, Eye, Film, Renderer, Scene, Tracer, NO_OBJECT};
+use tracer::{Disparity, Eye, Film, Pixels, Record, Renderer, Scene, Target, Tracer, NO_OBJECT};
 
 use super::{reproject_and_classify, reproject_row, right_border_strip, Reprojection, NO_SOURCE};
 use crate::mode::{Mode, Options};
@@ -238,7 +238,12 @@ fn the_fast_pass_equals_the_reference_on_every_scene() {
             for t in [0.0, 2.7] {
                 let camera = tracer::Camera { ipd, ..scene.camera };
                 let tracer = Tracer::new(&scene, t);
-                renderer.render(&tracer, &camera.view(Eye::Left, w, h), &mut left);
+                renderer.render(
+                    &tracer,
+                    &camera.view(Eye::Left, w, h),
+                    Pixels::All,
+                    Target::film(&mut left, Record::Full),
+                );
                 let rv = camera.view(Eye::Right, w, h);
                 let disparity = Disparity::in_pixels(&camera, &rv);
                 let strip = right_border_strip(&tracer, &camera, disparity, w as usize);

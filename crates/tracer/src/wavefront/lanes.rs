@@ -18,11 +18,10 @@
 use fearless_simd::{prelude::*, Simd};
 
 use super::Level;
+use crate::accel::ShadowLanes;
 use crate::material::{Exponent, TINY};
-use crate::ray::{spawn_ray, Ray};
-use crate::simd::{dot, each3, lane3, load, load3, mask_of, sphere_t, splat3, store3, to_light, F, M, U};
+use crate::simd::{dot, each3, lane3, load, load3, mask_of, spawn_origins, splat3, store3, to_light, F, U};
 use crate::stats::RayCounts;
-use crate::surface::Hit;
 use crate::tracer::Tracer;
 
 /// The sphere all of a vector's entries hit, if they hit one (the common case: pixels side by
@@ -47,65 +46,7 @@ pub(crate) fn per_object<S: Simd>(simd: S, (objects, one): (&[u32], Option<u32>)
 /// A per-entry value of the material of each lane's sphere.
 #[inline(always)]
 fn material<S: Simd>(simd: S, tracer: &Tracer, objects: &[u32], f: impl Fn(&crate::material::Material) -> f32) -> F<S> {
-    per_object(simd, (objects, one_object(objects)), |o| f(&tracer.materials[o]))
-}
-
-/// Scenes of up to this many spheres answer shadow and mirror rays by testing every sphere
-/// against a vector of rays at once, instead of one ray at a time through the cube maps
-/// and cones. Either way the answer is the same: each sphere's `t` is the same operations
-/// on the same values (`sphere.rs`'s `nearest_root`).
-pub(super) const ALL_SPHERES_MAX: usize = 16;
-
-/// The lanes whose object is sphere `s`.
-#[inline(always)]
-fn is_object<S: Simd>(simd: S, objects: U<S>, s: usize) -> M<S> {
-    objects.simd_eq(U::<S>::splat(simd, s as u32))
-}
-
-/// Which lanes' shadow rays (from `origin` along `l`, to `dist`) some sphere blocks, of
-/// the lanes in `need`; a ray is not tested against its own sphere (`objects`), which it
-/// leaves outwards.
-#[inline(always)]
-fn blocked_all<S: Simd>(
-    simd: S,
-    tracer: &Tracer,
-    (origin, l, dist): ([F<S>; 3], [F<S>; 3], F<S>),
-    objects: U<S>,
-    need: M<S>,
-) -> u64 {
-    let inf = F::<S>::splat(simd, f32::INFINITY);
-    let mut blocked = M::<S>::splat(simd, false);
-    for (s, (&center, &radius)) in tracer.centers.iter().zip(&tracer.radii).enumerate() {
-        let t = sphere_t(simd, origin, l, center, radius, dist);
-        blocked |= t.simd_lt(inf) & !is_object(simd, objects, s);
-        if (need & !blocked).all_false() {
-            break;
-        }
-    }
-    (need & blocked).to_bitmask()
-}
-
-/// Each lane's closest hit of the ray from `origin` along `dir`, among every sphere but
-/// its own where it leaves that sphere outwards (as `Tracer::intersect_from` answers): the
-/// hit parameter (+∞ for none) and the sphere.
-#[inline(always)]
-fn closest_all<S: Simd>(
-    simd: S,
-    tracer: &Tracer,
-    origin: [F<S>; 3],
-    dir: [F<S>; 3],
-    objects: U<S>,
-    outwards: M<S>,
-) -> (F<S>, U<S>) {
-    let mut t_best = F::<S>::splat(simd, f32::INFINITY);
-    let mut best = U::<S>::splat(simd, crate::surface::NO_OBJECT);
-    for (s, (&center, &radius)) in tracer.centers.iter().zip(&tracer.radii).enumerate() {
-        let t = sphere_t(simd, origin, dir, center, radius, t_best);
-        let nearer = t.simd_lt(t_best) & !(is_object(simd, objects, s) & outwards);
-        t_best = nearer.select(t, t_best);
-        best = nearer.select(U::<S>::splat(simd, s as u32), best);
-    }
-    (t_best, best)
+    per_object(simd, (objects, one_object(objects)), |o| f(&tracer.scene.materials[o]))
 }
 
 /// The per-lane values of a vector's spheres and materials, gathered once.
@@ -126,11 +67,11 @@ impl<S: Simd> Gathered<S> {
     #[inline(always)]
     fn of(simd: S, tracer: &Tracer, objects: &[u32]) -> Self {
         let at = (objects, one_object(objects));
-        let whole = |o: usize| match tracer.exponents[o] {
+        let whole = |o: usize| match tracer.scene.exponents[o] {
             Exponent::Whole(e) => e,
             Exponent::Real => 0,
         };
-        let is_real = |o: usize| matches!(tracer.exponents[o], Exponent::Real);
+        let is_real = |o: usize| matches!(tracer.scene.exponents[o], Exponent::Real);
         let (exponent, exponent_bits, real) = if let Some(o) = at.1 {
             let real = if is_real(o as usize) { (1u64 << objects.len()) - 1 } else { 0 };
             (U::<S>::splat(simd, whole(o as usize)), whole(o as usize), real)
@@ -140,9 +81,9 @@ impl<S: Simd> Gathered<S> {
             let real = objects.iter().enumerate().fold(0u64, |r, (l, &o)| r | u64::from(is_real(o as usize)) << l);
             (exponent, bits, real)
         };
-        let m = |o: usize| &tracer.materials[o];
+        let m = |o: usize| &tracer.scene.materials[o];
         Self {
-            center: each3(|a| per_object(simd, at, |o| tracer.centers[o][a])),
+            center: each3(|a| per_object(simd, at, |o| tracer.scene.centers[o][a])),
             color: each3(|a| per_object(simd, at, |o| m(o).color[a])),
             diffuse: per_object(simd, at, |o| m(o).diffuse),
             specular: per_object(simd, at, |o| m(o).specular),
@@ -205,9 +146,8 @@ fn light_vector<S: Simd>(
     let lanes = F::<S>::LEN;
     let zero = F::<S>::splat(simd, 0.0);
     let u0 = U::<S>::splat(simd, 0);
-    let all_spheres = tracer.centers.len() <= ALL_SPHERES_MAX;
+    let scene = &tracer.scene;
     let objects = &level.object[j..j + lanes];
-    let objects_u = U::<S>::from_slice(simd, objects);
     // Level 0's entries may come with their bits known (found by another view): which
     // lanes, and their bits, once for every light.
     let (known, given) = if first {
@@ -218,43 +158,19 @@ fn light_vector<S: Simd>(
     };
     let mut bits = u0;
     let mut sum = [zero; 3];
-    for (k, light) in tracer.lights.iter().enumerate() {
+    for (k, light) in scene.lights.iter().enumerate() {
         let (l, dist) = to_light(simd, light.position, p);
         let ndl = dot::<S>(n, l);
         let faces = ndl.simd_gt(zero).to_bitmask();
         let bit = U::<S>::splat(simd, 1 << k);
         // Lanes whose bits are known take them; the others cast a shadow ray.
         let mut visible = if known == 0 { 0 } else { known & faces & (given & bit).simd_ne(u0).to_bitmask() };
-        let mut need = faces & !known;
+        let need = faces & !known;
         counts.shadow += u64::from(need.count_ones());
-        if need != 0 && all_spheres {
-            let origin = spawn_origins(simd, p, n, l);
-            visible |= need & !blocked_all(simd, tracer, (origin, l, dist), objects_u, mask_of(simd, need));
-            need = 0;
-        }
-        // Every lane's cell first, then the tests: the cells lie scattered through the cube
-        // map, and looking them all up before testing any lets their cache misses overlap.
-        // A cell that lists only the lane's own sphere (most lit points) answers at once.
-        let (mut cells, mut skips) = ([None; 16], [0u32; 16]);
-        let mut lookup = need;
-        while lookup != 0 {
-            let lane = lookup.trailing_zeros() as usize;
-            lookup &= lookup - 1;
-            let cell = tracer.shadow_cell(k, lane3::<S>(&p, lane));
-            let skip = Tracer::skipped(objects[lane], lane3::<S>(&n, lane), lane3::<S>(&l, lane));
-            if cell.is_some_and(|cell| tracer.shadow_clear(cell, skip)) {
-                visible |= 1 << lane;
-                need &= !(1 << lane);
-            }
-            (cells[lane], skips[lane]) = (cell, skip);
-        }
-        while need != 0 {
-            let lane = need.trailing_zeros() as usize;
-            need &= need - 1;
-            let ray = spawn_ray(lane3::<S>(&p, lane), lane3::<S>(&n, lane), lane3::<S>(&l, lane));
-            if !tracer.shadowed_in(cells[lane], skips[lane], &ray, dist.as_slice()[lane]) {
-                visible |= 1 << lane;
-            }
+        if need != 0 {
+            let rays = ShadowLanes { light: k, p, n, l, dist, objects };
+            let spheres = (&scene.centers[..], &scene.radii[..], light.position);
+            visible |= need & !tracer.accel.occluded_lanes(simd, spheres, &rays, need);
         }
         if visible != 0 {
             let visible = mask_of(simd, visible);
@@ -263,7 +179,7 @@ fn light_vector<S: Simd>(
             sum = each3(|a| visible.select(sum[a] + ndl * color[a], sum[a]));
         }
     }
-    let ambient = F::<S>::splat(simd, tracer.settings.ambient);
+    let ambient = F::<S>::splat(simd, tracer.scene.settings.ambient);
     let (kd, c) = (g.diffuse, g.color);
     store3::<S>(each3(|a| c[a] * (ambient + kd * sum[a])), &mut level.diffuse, j);
     bits.store_slice(&mut level.lights[j..j + lanes]);
@@ -292,7 +208,7 @@ fn highlight_vector<S: Simd>(
     }
     let steps = 32 - g.exponent_bits.leading_zeros();
     let e = g.exponent;
-    for (k, light) in tracer.lights.iter().enumerate() {
+    for (k, light) in tracer.scene.lights.iter().enumerate() {
         let bit = U::<S>::splat(simd, 1 << k);
         let lit = shiny & (bits & bit).simd_ne(u0);
         if !lit.any_true() {
@@ -323,7 +239,7 @@ fn highlight_vector<S: Simd>(
             while lanes_real != 0 {
                 let lane = lanes_real.trailing_zeros() as usize;
                 lanes_real &= lanes_real - 1;
-                let shininess = tracer.materials[objects[lane] as usize].shininess;
+                let shininess = tracer.scene.materials[objects[lane] as usize].shininess;
                 powers[lane] = ndh.as_slice()[lane].powf(shininess);
             }
             acc = F::<S>::from_slice(simd, &powers[..lanes]);
@@ -348,12 +264,12 @@ pub(super) fn mirrors<S: Simd>(
     let lanes = F::<S>::LEN;
     let whole = level.len() / lanes * lanes;
     let zero = F::<S>::splat(simd, 0.0);
-    let background = tracer.settings.background;
-    let all_spheres = tracer.centers.len() <= ALL_SPHERES_MAX;
+    let background = tracer.scene.settings.background;
+    let spheres = (&tracer.scene.centers[..], &tracer.scene.radii[..]);
     for j in (0..whole).step_by(lanes) {
         let objects = &level.object[j..j + lanes];
         let kr = material(simd, tracer, objects, |m| m.reflectivity);
-        let mut reflective = kr.simd_gt(zero).to_bitmask();
+        let reflective = kr.simd_gt(zero).to_bitmask();
         if reflective == 0 {
             continue;
         }
@@ -362,54 +278,17 @@ pub(super) fn mirrors<S: Simd>(
         let twice = F::<S>::splat(simd, 2.0) * dot::<S>(d, n);
         let r = each3(|a| d[a] - twice * n[a]);
         let origin = spawn_origins(simd, p, n, r);
-        let found = all_spheres.then(|| {
-            let outwards = dot::<S>(r, n).simd_ge(zero);
-            let (t, best) = closest_all(simd, tracer, origin, r, U::<S>::from_slice(simd, objects), outwards);
-            let mut hits = ([0f32; 16], [0u32; 16]);
-            t.store_slice(&mut hits.0[..lanes]);
-            best.store_slice(&mut hits.1[..lanes]);
-            hits
-        });
-        while reflective != 0 {
-            let lane = reflective.trailing_zeros() as usize;
-            reflective &= reflective - 1;
+        tracer.accel.intersect_lanes(simd, spheres, [origin, r, n], objects, reflective, |lane, hit| {
             let e = j + lane;
             counts.reflection += 1;
             level.reflects[e] = true;
             super::set3(&mut level.mirror, e, background);
-            let (o, dir) = (lane3::<S>(&origin, lane), lane3::<S>(&r, lane));
-            let hit = match &found {
-                Some((t, best)) => {
-                    (best[lane] != crate::surface::NO_OBJECT).then(|| Hit { t: t[lane], object: best[lane] })
-                }
-                None => tracer.intersect_from_in(simd, objects[lane], lane3::<S>(&n, lane), &Ray::new(o, dir)),
-            };
             if let Some(hit) = hit {
-                next.push(o, dir, hit.t, hit.object, e as u32, None);
+                next.push(lane3::<S>(&origin, lane), lane3::<S>(&r, lane), hit.t, hit.object, e as u32, None);
             }
-        }
+        });
     }
     whole
-}
-
-/// [`spawn_ray`]'s origins for rays leaving the points `p` (normals `n`) along `dir`, lane
-/// by lane.
-#[inline(always)]
-fn spawn_origins<S: Simd>(simd: S, p: [F<S>; 3], n: [F<S>; 3], dir: [F<S>; 3]) -> [F<S>; 3] {
-    use crate::ray::{SPAWN_ULPS_IN, SPAWN_ULPS_OUT};
-    let zero = F::<S>::splat(simd, 0.0);
-    // The largest |pᵢ| (as the largest bit pattern, for finite p), its exponent field at
-    // least the smallest normal's, times 2⁻²³: ulp(‖p‖∞), as `ray::ulp_of_largest`.
-    let max = |a: F<S>, b: F<S>| a.simd_gt(b).select(a, b);
-    let abs = each3(|a| p[a].abs());
-    let largest: U<S> = max(abs[0], max(abs[1], abs[2])).bitcast();
-    let exponent = largest & 0x7f80_0000;
-    let floor = U::<S>::splat(simd, f32::MIN_POSITIVE.to_bits());
-    let ulp = exponent.simd_gt(floor).select(exponent, floor).bitcast::<F<S>>() * f32::EPSILON;
-    let outwards = dot::<S>(dir, n).simd_ge(zero);
-    let ulps = outwards.select(F::<S>::splat(simd, SPAWN_ULPS_OUT), F::<S>::splat(simd, -SPAWN_ULPS_IN));
-    let offset = ulps * ulp;
-    each3(|a| p[a] + offset * n[a])
 }
 
 /// Stage "fold" over whole vectors: each entry's radiance `D + (S + kr·L_mirror)`, or

@@ -6,10 +6,10 @@
 //! from the light, covers it; a shadow ray from a surface point p then tests only the
 //! spheres of the cell in direction p − light (four at a time in the BVH's SIMD packets),
 //! instead of walking the BVH. This is the shadow-ray counterpart of
-//! [`crate::PrimaryBins`], close in spirit to Haines and Greenberg's light buffer (1986).
+//! the screen bins (`screen.rs`), close in spirit to Haines and Greenberg's light buffer (1986).
 //!
 //! **The bound.** A shadow ray leaves p + ε·n (see [`crate::spawn_ray`]; ε is at most the
-//! bound on spawn offsets the tracer hands to [`ShadowBins::build`]) along the exact direction to the light, so it stays within ε
+//! bound on spawn offsets the tracer hands to [`LightBins::build`]) along the exact direction to the light, so it stays within ε
 //! of the segment from p to the light, which lies on the ray from the light through p. A
 //! sphere it hits therefore meets that ray once grown by ε. For a cube face with major axis
 //! m and minor axis a, the ray's direction w has u = w_a / |w_m|; projecting onto the
@@ -23,8 +23,8 @@
 //!
 //! **Exactness.** As with the primary bins, cells only choose which spheres to test, the
 //! test is the BVH's, and the bound is padded (radius by 10⁻⁴ of the distance, angles by
-//! 10⁻⁴ rad), so testing a ray's cell ([`ShadowBins::cell`], then [`ShadowBins::blocks`])
-//! answers exactly as [`crate::Tracer::occluded`] would; a test compares the two.
+//! 10⁻⁴ rad), so testing a ray's cell ([`LightBins::cell`], then [`LightBins::blocks`])
+//! answers exactly as [`super::Aggregate::occluded`] would; a test compares the two.
 
 use std::f64::consts::FRAC_PI_4;
 
@@ -32,7 +32,9 @@ use glam::{DVec3, Vec3};
 
 use crate::ray::Ray;
 use crate::scene::Light;
-use crate::sphere::{splat3, SpherePacket, LANES};
+use fearless_simd::Simd;
+
+use super::packet::{packet_ray, SpherePacket, LANES};
 
 /// Cells along each edge of a cube face.
 const RES: u32 = 64;
@@ -45,7 +47,7 @@ const ANGLE_MARGIN: f64 = 1e-4;
 
 /// The cube maps of all lights, rebuilt each frame into reused buffers.
 #[derive(Clone, Debug, Default)]
-pub(crate) struct ShadowBins {
+pub(crate) struct LightBins {
     /// Cell c of light k holds `packets[first[k·CELLS + c]..first[k·CELLS + c + 1]]`.
     first: Vec<u32>,
     packets: Vec<SpherePacket>,
@@ -85,7 +87,7 @@ fn cell(u: f64) -> u32 {
     ((u + 1.0) * 0.5 * f64::from(RES)).clamp(0.0, f64::from(RES - 1)) as u32
 }
 
-impl ShadowBins {
+impl LightBins {
     /// Bins the spheres `(centers[k], radii[k])` around each light. `spawn_offset` bounds
     /// the offset of any shadow ray's origin from its surface point.
     pub(crate) fn build(&mut self, centers: &[Vec3], radii: &[f32], lights: &[Light], spawn_offset: f32) {
@@ -144,7 +146,7 @@ impl ShadowBins {
 
     /// The cell that a shadow ray spawned from surface point `p` towards light `k` looks up;
     /// `None` if the bins cannot answer (no bins for the light, or `p` at the light). Apart
-    /// from [`ShadowBins::blocks`] so that a batch of rays can look up all its cells before
+    /// from [`LightBins::blocks`] so that a batch of rays can look up all its cells before
     /// testing any: the lookups are independent loads, and their cache misses overlap.
     #[inline]
     pub(crate) fn cell(&self, k: usize, light: Vec3, p: Vec3) -> Option<Cell> {
@@ -173,11 +175,15 @@ impl ShadowBins {
     /// Whether a sphere of `cell` other than `skip` (the ray's own sphere when it leaves
     /// outwards; `NO_OBJECT` for none) blocks `ray`, the shadow ray the cell was looked up
     /// for, before `t_max`. A packet holding only `skip` is not tested at all.
-    #[inline]
-    pub(crate) fn blocks(&self, cell: Cell, ray: &Ray, t_max: f32, skip: u32) -> bool {
+    #[expect(
+        clippy::inline_always,
+        reason = "inlined into the dispatched lane kernels, whose target features it needs"
+    )]
+    #[inline(always)]
+    pub(crate) fn blocks<S: Simd>(&self, simd: S, cell: Cell, ray: &Ray, t_max: f32, skip: u32) -> bool {
         let packets = &self.packets[cell.first as usize..cell.end as usize];
-        let (o, d) = (splat3(ray.origin), splat3(ray.dir));
-        packets.iter().any(|p| !only(p, skip) && p.blocks(o, d, t_max, skip))
+        let ray = packet_ray(simd, ray);
+        packets.iter().any(|p| !only(p, skip) && p.blocks(simd, ray, t_max, skip))
     }
 
     /// Whether `cell` lists no sphere but `skip`, so that nothing in it can block a ray
@@ -214,6 +220,7 @@ fn cells(k: u32, face: u32, [u0, v0, u1, v1]: [u32; 4]) -> impl Iterator<Item = 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::skipped;
     use crate::camera::Camera;
     use crate::material::Material;
     use crate::ray::spawn_ray;
@@ -232,7 +239,7 @@ mod tests {
         let tracer = Tracer::new(scene, t);
         let mut blocked = 0;
         for s in 0..tracer.sphere_count() {
-            let (c, r) = (tracer.centers[s], tracer.radii[s]);
+            let (c, r) = (tracer.scene.centers[s], tracer.scene.radii[s]);
             for i in 0..points {
                 // Fibonacci points on the sphere.
                 let z = 1.0 - 2.0 * (i as f32 + 0.5) / points as f32;
@@ -243,7 +250,7 @@ mod tests {
                     let to_light = light.position - p;
                     let dist = to_light.length();
                     let ray = spawn_ray(p, n, to_light * dist.recip());
-                    let want = tracer.occluded_skipping(&ray, dist, Tracer::skipped(s as u32, n, ray.dir));
+                    let want = tracer.accel.bvh.occluded(&ray, dist, skipped(s as u32, n, ray.dir));
                     assert_eq!(
                         tracer.shadowed(k, s as u32, p, n, &ray, dist),
                         want,

@@ -1,6 +1,6 @@
-//! The marking of `Wavefront::mark_dynamic` over whole vectors of entries: each entry's own
-//! segments — the ray that found it, its shadow rays, its mirror ray if that met nothing —
-//! against each moving sphere's washer (`swept.rs`), in lanes. Where a segment meets a
+//! The marking of `tree.rs` over whole vectors of entries: each entry's own segments — the
+//! ray that found it, its shadow rays, its mirror ray if that met nothing — against each
+//! moving sphere's washer (`swept.rs`), in lanes. Where a segment meets a
 //! washer, the arc it crosses is finished in scalar code from the lanes' diamond angles
 //! (`SweptRing::arc_between`). The tests are the scalar `SweptRing::touch`'s, made
 //! branch-free; they are conservative, so their rounding does not matter.
@@ -12,10 +12,12 @@
 
 use fearless_simd::{prelude::*, Simd};
 
-use super::Level;
+use super::swept::{SweptRing, Touch};
+use super::tree::{LevelMarks, LevelRays};
+use super::Swept;
+use crate::camera::EyeView;
+use crate::scene::Light;
 use crate::simd::{dot, each3, load, load3, mask_of, splat3, F, M};
-use crate::swept::{SweptRing, Touch};
-use crate::tracer::Tracer;
 
 /// A stand-in for +∞ as a segment's end: far beyond any scene, small enough that products
 /// of it stay finite or +∞ rather than NaN.
@@ -88,13 +90,13 @@ fn diamond<S: Simd>(simd: S, y: F<S>, x: F<S>) -> F<S> {
     upper.select(right.select(r, splat(2.0) - r), right.select(splat(4.0) - r, splat(2.0) + r))
 }
 
-/// Unions into `level.touch` what the segments of one vector meet, lane by lane where
-/// `valid`.
+/// Unions into `marks.touch` what the segments of one vector (entries `k..`) meet, lane by
+/// lane where `valid`.
 #[inline(always)]
 fn add<S: Simd>(
     simd: S,
-    tracer: &Tracer,
-    level: &mut Level,
+    swept: &Swept,
+    marks: &mut LevelMarks,
     k: usize,
     segment: ([F<S>; 3], [F<S>; 3], F<S>),
     valid: M<S>,
@@ -103,7 +105,7 @@ fn add<S: Simd>(
         return;
     }
     let (o, d, s_max) = segment;
-    for (r, ring) in tracer.swept().iter().enumerate() {
+    for (r, ring) in swept.rings().iter().enumerate() {
         let (meets, full, fa, fb) = cross(simd, ring, o, d, s_max);
         let hit = meets & valid;
         if !hit.any_true() {
@@ -114,43 +116,43 @@ fn add<S: Simd>(
             if bits & (1 << l) != 0 {
                 let arc = SweptRing::arc_between(fa.as_slice()[l], fb.as_slice()[l], full & (1 << l) != 0);
                 let e = k + l;
-                level.touch[e] = level.touch[e].union(Touch { ring: r as u32, arc });
+                marks.touch[e] = marks.touch[e].union(Touch { ring: r as u32, arc });
             }
         }
     }
 }
 
-/// Where the primary rays of the pixels `tags` names (columns, with flag bits above
-/// `column_mask`) of row `j` of `view`, rays that meet no sphere, meet the moving spheres'
-/// swept volumes: `out(tag, touch)` for each that meets one. In lanes, as [`mark`].
-pub(crate) fn mark_background(
-    tracer: &Tracer,
-    view: &crate::camera::EyeView,
-    (j, tags, column_mask): (u32, &[u32], u32),
+/// Where the primary rays of the pixels `tags` names (columns) of row `j` of `view`, rays
+/// that meet no sphere, meet the volumes: `out(tag, touch)` for each that meets one. In
+/// lanes, as [`mark`].
+pub(super) fn mark_background(
+    swept: &Swept,
+    view: &EyeView,
+    (j, tags): (u32, &[u32]),
     out: &mut impl FnMut(u32, Touch),
 ) {
     fearless_simd::dispatch!(crate::simd::level(), simd => simd.vectorize(
         #[inline(always)]
-        || background_in(simd, tracer, view, (j, tags, column_mask), out),
+        || background_in(simd, swept, view, (j, tags), out),
     ));
 }
 
 #[inline(always)]
 fn background_in<S: Simd>(
     simd: S,
-    tracer: &Tracer,
-    view: &crate::camera::EyeView,
-    (j, tags, column_mask): (u32, &[u32], u32),
+    swept: &Swept,
+    view: &EyeView,
+    (j, tags): (u32, &[u32]),
     out: &mut impl FnMut(u32, Touch),
 ) {
     let lanes = F::<S>::LEN;
     let o = splat3(simd, view.origin);
     let inf = F::<S>::splat(simd, f32::INFINITY);
     for chunk in tags.chunks(lanes) {
-        let columns = F::<S>::from_fn(simd, |l| (chunk.get(l).copied().unwrap_or(chunk[0]) & column_mask) as f32);
+        let columns = F::<S>::from_fn(simd, |l| chunk.get(l).copied().unwrap_or(chunk[0]) as f32);
         let d = view.primary_dirs_at(simd, columns, j);
         let mut touches = [Touch::NONE; 16];
-        for (r, ring) in tracer.swept().iter().enumerate() {
+        for (r, ring) in swept.rings().iter().enumerate() {
             let (meets, full, fa, fb) = cross(simd, ring, o, d, inf);
             let (bits, full) = (meets.to_bitmask(), full.to_bitmask());
             for (l, touch) in touches.iter_mut().enumerate().take(chunk.len()) {
@@ -169,38 +171,43 @@ fn background_in<S: Simd>(
 }
 
 /// The marking over the whole vectors of `level`'s entries (whose subtrees are already in
-/// `level.touch`), every one of them; returns how many that is. `level.own[e]` says whether entry e's
-/// own ray is to be tested; `first` that this is level 0 (whose known light bits cast no
-/// shadow rays).
+/// `marks.touch`), every one of them; returns how many that is. The level's columns are
+/// padded to whole vectors: the lanes past its end read whatever they hold and are masked
+/// out. `marks.own[e]` says whether entry e's own ray is to be tested; `first` that this is
+/// level 0 (whose known light bits cast no shadow rays).
 #[inline(always)]
-pub(super) fn mark<S: Simd>(simd: S, tracer: &Tracer, level: &mut Level, first: bool) -> usize {
-    let (lanes, n) = (F::<S>::LEN, level.len());
-    // Whole vectors, the last one padded: its lanes past the end read whatever the columns
-    // hold there and are masked out.
+pub(super) fn mark<S: Simd>(
+    simd: S,
+    (swept, lights): (&Swept, &[Light]),
+    level: &LevelRays<'_>,
+    marks: &mut LevelMarks,
+    first: bool,
+) -> usize {
+    let (lanes, n) = (F::<S>::LEN, level.len);
     let whole = n.div_ceil(lanes) * lanes;
-    level.reserve(whole);
+    debug_assert!(level.capacity >= whole && marks.touch.len() >= whole, "the level is padded to whole vectors");
     let zero = F::<S>::splat(simd, 0.0);
     for k in (0..whole).step_by(lanes) {
         let bits =
             |f: &dyn Fn(usize) -> bool| (0..lanes).fold(0u64, |b, l| b | (u64::from(k + l < n && f(k + l)) << l));
         // The ray that found each entry.
-        let mine = mask_of(simd, bits(&|e| level.own[e]));
-        let incoming = (load3(simd, &level.o, k), load3(simd, &level.d, k), load(simd, &level.t, k));
-        add(simd, tracer, level, k, incoming, mine);
-        let (p, n) = (load3(simd, &level.p, k), load3(simd, &level.n, k));
+        let mine = mask_of(simd, bits(&|e| marks.own[e]));
+        let incoming = (load3(simd, level.o, k), load3(simd, level.d, k), load(simd, level.t, k));
+        add(simd, swept, marks, k, incoming, mine);
+        let (p, n) = (load3(simd, level.p, k), load3(simd, level.n, k));
         // The shadow rays: towards each light the surface faces, unless the bits are known.
         let traced = mask_of(simd, bits(&|e| !(first && level.known[e])));
-        for light in &tracer.lights {
+        for light in lights {
             let to = each3(|a| splat3(simd, light.position)[a] - p[a]);
             let faces = dot::<S>(n, to).simd_gt(zero);
-            add(simd, tracer, level, k, (p, to, F::<S>::splat(simd, 1.0)), traced & faces);
+            add(simd, swept, marks, k, (p, to, F::<S>::splat(simd, 1.0)), traced & faces);
         }
         // The mirror rays that met nothing, to infinity.
-        let lost = mask_of(simd, bits(&|e| level.reflects[e] && !level.mirror_hit[e]));
-        let v = load3(simd, &level.v, k);
+        let lost = mask_of(simd, bits(&|e| level.reflects[e] && !marks.mirror_hit[e]));
+        let v = load3(simd, level.v, k);
         let vn = dot::<S>(v, n);
         let r = each3(|a| v[a] - F::<S>::splat(simd, 2.0) * vn * n[a]);
-        add(simd, tracer, level, k, (p, r, F::<S>::splat(simd, f32::INFINITY)), lost);
+        add(simd, swept, marks, k, (p, r, F::<S>::splat(simd, f32::INFINITY)), lost);
     }
     whole
 }
@@ -214,7 +221,7 @@ mod tests {
     use crate::scene::Motion;
 
     /// Lane 0 of [`cross`] with the segment in every lane, as an arc.
-    fn lane0<S: Simd>(simd: S, ring: &SweptRing, (o, d, s_max): (Vec3, Vec3, f32)) -> Option<crate::swept::Arc> {
+    fn lane0<S: Simd>(simd: S, ring: &SweptRing, (o, d, s_max): (Vec3, Vec3, f32)) -> Option<super::super::Arc> {
         let (meets, full, fa, fb) = cross(simd, ring, splat3(simd, o), splat3(simd, d), F::<S>::splat(simd, s_max));
         (meets.to_bitmask() & 1 != 0)
             .then(|| SweptRing::arc_between(fa.as_slice()[0], fb.as_slice()[0], full.to_bitmask() & 1 != 0))

@@ -17,11 +17,11 @@
 //! The lists grow as the square of the sphere count, so they are built only up to
 //! [`MAX_SPHERES`]; larger scenes use the BVH.
 
+use fearless_simd::{f32x4, prelude::*, Simd};
 use glam::Vec3;
-use wide::f32x4;
 
+use super::packet::{packet_ray, SpherePacket, LANES};
 use crate::ray::Ray;
-use crate::sphere::{set_lane, splat3, SpherePacket, LANES};
 use crate::surface::Hit;
 
 /// Largest scene for which the cones are built.
@@ -31,11 +31,12 @@ const ANGLE_MARGIN: f32 = 1e-4;
 
 /// Four other spheres and the cones of directions towards them from one sphere.
 #[derive(Clone, Copy, Debug)]
+#[repr(C, align(16))]
 struct ConePacket {
     spheres: SpherePacket,
-    axis: [f32x4; 3],
+    axis: [[f32; LANES]; 3],
     /// Cosine of each cone's half-angle; −2 (always in) for a sphere that touches.
-    cos: f32x4,
+    cos: [f32; LANES],
 }
 
 /// For each sphere, the others behind their cones. Empty for scenes above [`MAX_SPHERES`].
@@ -55,8 +56,7 @@ impl Cones {
         if centers.len() > MAX_SPHERES {
             return;
         }
-        let empty =
-            ConePacket { spheres: SpherePacket::EMPTY, axis: [f32x4::splat(0.0); 3], cos: f32x4::splat(f32::INFINITY) };
+        let empty = ConePacket { spheres: SpherePacket::EMPTY, axis: [[0.0; LANES]; 3], cos: [f32::INFINITY; LANES] };
         for (k, (&ck, &rk)) in centers.iter().zip(radii).enumerate() {
             self.first.push(self.packets.len() as u32);
             let others = (0..centers.len()).filter(|&j| j != k);
@@ -78,10 +78,10 @@ impl Cones {
                 let last = self.packets.len() - 1;
                 let p = &mut self.packets[last];
                 p.spheres.set(lane, j as u32, cj, rj);
-                set_lane(&mut p.axis[0], lane, axis.x);
-                set_lane(&mut p.axis[1], lane, axis.y);
-                set_lane(&mut p.axis[2], lane, axis.z);
-                set_lane(&mut p.cos, lane, cos);
+                for a in 0..3 {
+                    p.axis[a][lane] = axis[a];
+                }
+                p.cos[lane] = cos;
                 lane += 1;
             }
         }
@@ -98,17 +98,24 @@ impl Cones {
     ///
     /// # Panics
     /// If the cones were not built ([`Cones::is_built`]).
-    #[inline]
-    pub(crate) fn intersect_from(&self, from: u32, ray: &Ray, t_max: f32) -> Option<Hit> {
+    #[expect(
+        clippy::inline_always,
+        reason = "inlined into the dispatched lane kernels, whose target features it needs"
+    )]
+    #[inline(always)]
+    pub(crate) fn intersect_from<S: Simd>(&self, simd: S, from: u32, ray: &Ray, t_max: f32) -> Option<Hit> {
         let k = from as usize;
-        let (o, d) = (splat3(ray.origin), splat3(ray.dir));
+        let lanes = packet_ray(simd, ray);
+        let d = lanes.1;
         let (mut t_best, mut best) = (t_max, None);
         for p in &self.packets[self.first[k] as usize..self.first[k + 1] as usize] {
-            let along = d[0] * p.axis[0] + d[1] * p.axis[1] + d[2] * p.axis[2];
-            if along.simd_ge(p.cos).none() {
+            let axis = |a: usize| f32x4::from_slice(simd, &p.axis[a]);
+            let along = d[0] * axis(0) + d[1] * axis(1) + d[2] * axis(2);
+            if !along.simd_ge(f32x4::from_slice(simd, &p.cos)).any_true() {
                 continue;
             }
-            for (lane, t) in p.spheres.hits(o, d, t_best).into_iter().enumerate() {
+            let t = p.spheres.hits(simd, lanes, t_best);
+            for (lane, &t) in t.as_slice().iter().enumerate() {
                 if t < t_best {
                     (t_best, best) = (t, Some(p.spheres.ids[lane]));
                 }
@@ -121,6 +128,7 @@ impl Cones {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::accel::{skipped, Origin};
     use crate::ray::{reflect, spawn_ray};
     use crate::scene::Scene;
     use crate::tracer::Tracer;
@@ -137,7 +145,7 @@ mod tests {
         let tracer = Tracer::new(scene, 0.4);
         let mut hits = 0;
         for k in 0..tracer.sphere_count() {
-            let (c, r) = (tracer.centers[k], tracer.radii[k]);
+            let (c, r) = (tracer.scene.centers[k], tracer.scene.radii[k]);
             for i in 0..60 {
                 let z = 1.0 - 2.0 * (i as f32 + 0.5) / 60.0;
                 let a = i as f32 * 2.399_963;
@@ -147,8 +155,9 @@ mod tests {
                     [Vec3::Z, Vec3::new(0.3, -0.2, 1.0).normalize(), -n, (-n + n.any_orthonormal_vector()).normalize()]
                 {
                     let ray = spawn_ray(p, n, reflect(incoming, n));
-                    let want = tracer.intersect_skipping(&ray, f32::INFINITY, Tracer::skipped(k as u32, n, ray.dir));
-                    let got = tracer.intersect_from(k as u32, n, &ray);
+                    let want = tracer.accel.bvh.intersect(&ray, f32::INFINITY, skipped(k as u32, n, ray.dir));
+                    let got =
+                        tracer.accel.intersect(&ray, f32::INFINITY, Origin::Surface { sphere: k as u32, normal: n });
                     assert_eq!(
                         got.map(|h| (h.t.to_bits(), h.object)),
                         want.map(|h| (h.t.to_bits(), h.object)),
@@ -179,7 +188,11 @@ mod tests {
         let tracer = Tracer::new(&scene("many.toml"), 0.0);
         assert!(tracer.sphere_count() > MAX_SPHERES);
         let ray = Ray::new(Vec3::ZERO, Vec3::Z);
-        assert!(!tracer.cones.is_built());
-        assert_eq!(tracer.intersect_from(0, Vec3::Z, &ray), tracer.intersect_skipping(&ray, f32::INFINITY, 0));
+        assert!(!tracer.accel.has_cones());
+        let from = Origin::Surface { sphere: 0, normal: Vec3::Z };
+        assert_eq!(
+            tracer.accel.intersect(&ray, f32::INFINITY, from),
+            tracer.accel.bvh.intersect(&ray, f32::INFINITY, 0)
+        );
     }
 }

@@ -26,7 +26,7 @@
 //! **Exactness.** Binning only decides which spheres to *test*; the test itself is the
 //! BVH's lane arithmetic on the same values, so a listed sphere yields bit-for-bit the `t`
 //! it would in the BVH (`simd.rs`'s `nearest_root`), and the rays are bit-for-bit
-//! [`EyeView::primary_ray`]'s. For the result to equal [`Tracer::trace_pixel`]'s, the
+//! [`EyeView::primary_ray`]'s. For the result to equal `Tracer::trace_pixel`'s, the
 //! bound must never miss a sphere the f32 test would report. It is computed in f64 with
 //! the radius grown by 10⁻⁴ of the distance (the f32 test's perpendicular distance is good
 //! to a few 10⁻⁷ of it) and then widened by one pixel on each side; a test compares the
@@ -37,9 +37,31 @@ use glam::{DVec3, Vec3};
 
 use crate::camera::EyeView;
 use crate::simd::{each3, nearest_root, F, U};
-use crate::sphere::SphereFromOrigin;
 use crate::surface::NO_OBJECT;
-use crate::tracer::Tracer;
+
+/// One sphere seen from a fixed ray origin, ready to test many rays from there at once:
+/// the primary rays of an eye.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SphereFromOrigin {
+    /// origin − centre.
+    pub(crate) oc: [f32; 3],
+    /// radius².
+    pub(crate) r2: f32,
+    /// |oc|² − radius².
+    pub(crate) c: f32,
+    /// The sphere's id.
+    pub(crate) id: u32,
+}
+
+impl SphereFromOrigin {
+    /// The sphere (`center`, `radius`) as seen from `origin`, with `spheres_t`'s operations.
+    pub(crate) fn new(origin: Vec3, center: Vec3, radius: f32, id: u32) -> Self {
+        let oc = [origin.x - center.x, origin.y - center.y, origin.z - center.z];
+        let r2 = radius * radius;
+        let c = (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2]) - r2;
+        Self { oc, r2, c, id }
+    }
+}
 
 /// Tile edge in pixels.
 pub(crate) const TILE: u32 = 8;
@@ -49,10 +71,10 @@ const RADIUS_MARGIN: f64 = 1e-4;
 
 /// Screen tiles of one eye's view, each with the packets of spheres its pixels can hit.
 ///
-/// Built by [`PrimaryBins::build`] into buffers reused from frame to frame; traced through
+/// Built by [`ScreenBins::build`] into buffers reused from frame to frame; traced through
 /// by [`BinnedView`].
 #[derive(Clone, Debug, Default)]
-pub(crate) struct PrimaryBins {
+pub(crate) struct ScreenBins {
     tiles_x: u32,
     /// Tile t's spheres are `spheres[first[t]..first[t + 1]]`, in id order.
     first: Vec<u32>,
@@ -62,9 +84,6 @@ pub(crate) struct PrimaryBins {
     rects: Vec<Option<[u32; 4]>>,
     /// Scratch: spheres placed so far in each tile.
     fill: Vec<u32>,
-    /// The inclusive pixel rectangle `[i0, j0, i1, j1]` outside which no primary ray can
-    /// meet a moving sphere's swept volume (`swept.rs`), or `None` if none can.
-    moving: Option<[u32; 4]>,
 }
 
 /// Inclusive range of slopes u = x/z of the lines from the origin that meet the disc of
@@ -114,7 +133,7 @@ fn screen_bound(view: &EyeView, center: Vec3, radius: f32, margin: f64) -> Bound
 
 /// The inclusive pixel rectangle `[i0, j0, i1, j1]` a sphere's primary hits can fall in,
 /// if any.
-fn pixel_rect(view: &EyeView, center: Vec3, radius: f32) -> Option<[u32; 4]> {
+pub(crate) fn pixel_rect(view: &EyeView, center: Vec3, radius: f32) -> Option<[u32; 4]> {
     let (w, h) = (view.width, view.height);
     if w == 0 || h == 0 {
         return None;
@@ -138,14 +157,15 @@ fn tile_rect(view: &EyeView, center: Vec3, radius: f32) -> Option<[u32; 4]> {
     pixel_rect(view, center, radius).map(|r| r.map(|x| x / TILE))
 }
 
-impl PrimaryBins {
-    /// Bins the spheres of `tracer` for the primary rays of `view`, reusing the buffers.
-    pub(crate) fn build(&mut self, tracer: &Tracer, view: &EyeView) {
+impl ScreenBins {
+    /// Bins the spheres `(centers[k], radii[k])` for the primary rays of `view`, reusing the
+    /// buffers.
+    pub(crate) fn build(&mut self, (centers, radii): (&[Vec3], &[f32]), view: &EyeView) {
         self.tiles_x = view.width.div_ceil(TILE);
         let tiles_y = view.height.div_ceil(TILE);
         let tiles = (self.tiles_x * tiles_y) as usize;
         self.rects.clear();
-        self.rects.extend(tracer.centers.iter().zip(&tracer.radii).map(|(&c, &r)| tile_rect(view, c, r)));
+        self.rects.extend(centers.iter().zip(radii).map(|(&c, &r)| tile_rect(view, c, r)));
         // Counting sort of the spheres into tiles.
         self.fill.clear();
         self.fill.resize(tiles, 0);
@@ -168,15 +188,10 @@ impl PrimaryBins {
         let empty = SphereFromOrigin::new(Vec3::ZERO, Vec3::ZERO, 0.0, 0);
         self.spheres.clear();
         self.spheres.resize(total as usize, empty);
-        self.moving = tracer
-            .swept()
-            .iter()
-            .filter_map(|ring| pixel_rect(view, ring.center, ring.bounding_radius()))
-            .reduce(|[a0, b0, a1, b1], [c0, d0, c1, d1]| [a0.min(c0), b0.min(d0), a1.max(c1), b1.max(d1)]);
         self.fill.fill(0);
         for (k, rect) in self.rects.iter().enumerate() {
             let Some([x0, y0, x1, y1]) = *rect else { continue };
-            let sphere = SphereFromOrigin::new(view.origin, tracer.centers[k], tracer.radii[k], k as u32);
+            let sphere = SphereFromOrigin::new(view.origin, centers[k], radii[k], k as u32);
             for ty in y0..=y1 {
                 for tx in x0..=x1 {
                     let t = (ty * self.tiles_x + tx) as usize;
@@ -194,49 +209,28 @@ impl PrimaryBins {
         &self.spheres[self.first[t] as usize..self.first[t + 1] as usize]
     }
 
-    /// Whether the primary ray of pixel (i, j) might meet a moving sphere's swept volume
-    /// (if `false`, it cannot).
-    #[inline]
-    #[must_use]
-    pub(crate) fn may_meet_moving(&self, i: u32, j: u32) -> bool {
-        self.moving.is_some_and(|[i0, j0, i1, j1]| (i0..=i1).contains(&i) && (j0..=j1).contains(&j))
-    }
-
     /// Whether pixel (i, j)'s tile lists no sphere: its primary ray sees only background.
     #[inline]
     #[must_use]
     pub(crate) fn is_empty_at(&self, i: u32, j: u32) -> bool {
         self.spheres_at(i, j).is_empty()
     }
-}
 
-/// One eye's view with its screen bins built: traces that view's primary rays.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct BinnedView<'a> {
-    /// The scene.
-    pub(crate) tracer: &'a Tracer,
-    /// The eye.
-    pub(crate) view: &'a EyeView,
-    /// `view`'s bins, built by [`PrimaryBins::build`] for `tracer` and `view`.
-    pub(crate) bins: &'a PrimaryBins,
-}
-
-impl BinnedView<'_> {
-    /// The first hits of the primary rays of pixels (i + l, j), l = 0..LEN, which lie in one
-    /// tile (and the image, where lanes are wanted): per lane the hit parameter (+∞ for
-    /// none), the sphere, and the ray's direction: [`EyeView::primary_ray`]'s rays and
-    /// [`Tracer::intersect`]'s hits, bit for bit (each sphere's `t` is the same operations
-    /// on the same values as the BVH's; a test compares the two).
+    /// The first hits of the primary rays of `view` (for which the bins were built) through
+    /// pixels (i + l, j), l = 0..LEN, which lie in one tile (and the image, where lanes are
+    /// wanted): per lane the hit parameter (+∞ for none), the sphere, and the ray's
+    /// direction: [`EyeView::primary_ray`]'s rays and the BVH's hits, bit for bit (each
+    /// sphere's `t` is the same kernel on the same values; a test compares the two).
     #[expect(
         clippy::inline_always,
         reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
     )]
     #[inline(always)]
-    pub(crate) fn hits_lanes<S: Simd>(&self, simd: S, i: u32, j: u32) -> (F<S>, U<S>, [F<S>; 3]) {
-        let d = self.view.primary_dirs_lanes(simd, i, j);
+    pub(crate) fn hits_lanes<S: Simd>(&self, simd: S, view: &EyeView, i: u32, j: u32) -> (F<S>, U<S>, [F<S>; 3]) {
+        let d = view.primary_dirs_lanes(simd, i, j);
         let mut t_best = F::<S>::splat(simd, f32::INFINITY);
         let mut best = U::<S>::splat(simd, NO_OBJECT);
-        for s in self.bins.spheres_at(i, j) {
+        for s in self.spheres_at(i, j) {
             let oc = each3(|a| F::<S>::splat(simd, s.oc[a]));
             let t = nearest_root(simd, oc, d, F::<S>::splat(simd, s.r2), F::<S>::splat(simd, s.c), t_best);
             let nearer = t.simd_lt(t_best);
@@ -253,6 +247,7 @@ mod tests {
     use crate::camera::{Camera, Eye};
     use crate::scene::Scene;
     use crate::surface::Hit;
+    use crate::tracer::Tracer;
 
     fn scene(name: &str) -> Scene {
         let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -267,14 +262,13 @@ mod tests {
         let lanes = crate::simd::lane_width() as u32;
         for eye in [Eye::Left, Eye::Right] {
             let view = camera.view(eye, w, h);
-            let mut bins = PrimaryBins::default();
-            bins.build(&tracer, &view);
-            let binned = BinnedView { tracer: &tracer, view: &view, bins: &bins };
+            let mut bins = ScreenBins::default();
+            bins.build((&tracer.scene.centers, &tracer.scene.radii), &view);
             let mut hits = 0;
             for j in 0..h {
                 for i in (0..w).step_by(lanes as usize) {
                     let (t, ids, d) = fearless_simd::dispatch!(crate::simd::level(), simd => simd.vectorize(|| {
-                        let (t, ids, d) = binned.hits_lanes(simd, i, j);
+                        let (t, ids, d) = bins.hits_lanes(simd, &view, i, j);
                         let mut out = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
                         let n = t.as_slice().len();
                         out.0[..n].copy_from_slice(t.as_slice());
@@ -331,13 +325,13 @@ mod tests {
         let mut checked = 0;
         for k in 0..tracer.sphere_count() as u32 {
             let Bound::Pixels([i0, j0, i1, j1]) =
-                screen_bound(&view, tracer.centers[k as usize], tracer.radii[k as usize], 0.0)
+                screen_bound(&view, tracer.scene.centers[k as usize], tracer.scene.radii[k as usize], 0.0)
             else {
                 continue;
             };
             for j in 0..view.height {
                 for i in 0..view.width {
-                    if tracer.intersect_object(&view.primary_ray(i, j), k).is_some() {
+                    if tracer.accel.intersect_one(&view.primary_ray(i, j), k).is_some() {
                         let (x, y) = (f64::from(i), f64::from(j));
                         assert!(
                             x >= i0 - 1e-3 && x <= i1 + 1e-3 && y >= j0 - 1e-3 && y <= j1 + 1e-3,
@@ -363,8 +357,8 @@ mod tests {
         let tracer = Tracer::new(&scene, 0.0);
         let (w, h) = (800, 800);
         let view = camera.view(Eye::Left, w, h);
-        let mut bins = PrimaryBins::default();
-        bins.build(&tracer, &view);
+        let mut bins = ScreenBins::default();
+        bins.build((&tracer.scene.centers, &tracer.scene.radii), &view);
         let half = (0.1f64.asin().tan() * 400.0) as u32; // ≈ 40 pixels
         let [x0, y0, x1, y1] = bins.rects[0].expect("visible");
         assert_eq!(screen_bound(&view, Vec3::new(0.0, 0.0, -10.0), 1.0, 0.0), Bound::Nowhere);

@@ -22,8 +22,8 @@
 
 use rayon::prelude::*;
 
+use super::swept::{Arc, Touch};
 use crate::bits::{self, PixelBits};
-use crate::swept::{Arc, Touch};
 
 /// The marks of a `width` × `height` image (see the module doc).
 #[derive(Clone, Debug, Default)]

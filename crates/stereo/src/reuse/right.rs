@@ -1,69 +1,14 @@
-//! Exact temporal reuse: while only the scene time moves, a frame retraces only the pixels
-//! that can have changed, and is byte for byte the frame a fresh trace would give.
-//!
-//! Adelson & Hodges carried reprojection across time ("Generating exact ray-traced
-//! animation frames by reprojection", IEEE CG&A 15(3), 1995); this is the exact half of
-//! that idea, for scenes whose only motion is the tracer's orbits.
-//!
-//! ## When a frame may reuse the last one
-//!
-//! Only when nothing but the time changed: the same head pose, IPD, distance, size, mode
-//! and edge options, and a tracer with the same [`tracer::Tracer::fingerprint`] (still
-//! spheres, radii, materials, swept volumes, lights, reflection depth). Anything else, and
-//! the first frame, starts fresh. Every frame, fresh or reused, marks as it traces.
-//!
-//! ## The left eye (and the right eye of `full` mode)
-//!
-//! While it traces, the tracer marks each pixel with where its ray tree — primary, shadow
-//! and mirror rays, at any depth — meets the swept volume of a moving sphere, the washer
-//! about its orbit: which ring, and the arc of the ring's angle it crosses
-//! ([`tracer::Marks`], [`tracer::Renderer::render_marking`]).
-//!
-//! *Lemma* (`tracer`'s `swept.rs`). A pixel whose tree at t₀ meets no moving sphere's
-//! wedge (the part of its washer the sphere fills) at t₀ or at t₁ has the same colour,
-//! record and marks at t₁. Sketch: the tree's segments meet no moving sphere at either
-//! instant, so, from the time-independent primary ray down, each meets the same still
-//! spheres at the same parameters, and spawns the same rays.
-//!
-//! So a reused eye retraces exactly the marked pixels whose arc meets a wedge of the last
-//! frame or of this one ([`tracer::Marks::select`], [`tracer::Renderer::retrace_only`]),
-//! marking them anew; the others keep their bytes and their marks, which stay true.
-//! Marking whole washers only (a bit per pixel) would retrace every pixel whose rays ever
-//! cross the ring: a fifth of the seed scene's pixels, the costly ones. The arcs narrow that
-//! to the sphere's old and new places, and their images, reflections and shadows.
-//!
-//! ## The right eye of `copy`, `reshade` and `exact`
-//!
-//! It is made from the current left eye, so it can change where no ray of its own moved.
-//! Stages 2 and 3 (reprojection and classification) give right row j from left rows j − 1
-//! to j + 1 alone: reprojection runs along scanlines, and a class reads its pixel's
-//! neighbours. So a reused frame redoes them only for the bands of rows that read a
-//! retraced left row (`reproject_and_classify_rows`); every other row's classes and
-//! sources are last frame's, as its inputs are. A right pixel p is then a function F of:
-//! its class c(p) and source s(p) from
-//! stage 3; the left pixel s(p)'s colour and record; and the rays the right eye casts for p
-//! itself (a retrace, exact mode's ray against one sphere, reshade's highlights and mirror
-//! rays), which stages 4 and 5 mark as above. F is the same code on the same values in
-//! every frame, and it reads no other pixel (stages 4 and 5 are pixel by pixel).
-//!
-//! *Rule.* Right pixel p is made again when
-//! 1. c(p) or s(p) differs from the last frame's, or
-//! 2. its source s(p) is a left pixel retraced this frame, or
-//! 3. its own rays, as marked last frame, meet a moving sphere's wedge last frame or now.
-//!
-//! *Conservative.* If none holds, c(p) and s(p) are as before; the left pixel s(p) was not
-//! retraced, so its colour and record are last frame's bytes; and by the lemma p's own rays
-//! give what they gave (the lemma of `tracer`'s `swept.rs`, which the marks' arcs
-//! narrow to the wedges of the two instants). So F gives last frame's colour, final class
-//! and mark: p may keep them. A retraced left pixel may well come out unchanged; rule 2
-//! does not ask.
-//!
-//! Kept pixels also keep their final class (exact mode turns a missed silhouette into an
-//! edge in stage 5), so the mask and pixel counts of a reused frame are the fresh frame's.
+//! The right eye's rule of temporal reuse: which right pixels of a `copy`, `reshade` or
+//! `exact` frame are made again. The right eye is made from the current left eye, so it can
+//! change where no ray of its own moved. A right pixel is made again when (1) its class or
+//! source differs from the last frame's, (2) its source is a left pixel retraced this frame,
+//! or (3) its own rays, as marked last frame, meet a moving sphere's wedge then or now; every
+//! other pixel keeps its bytes, class and marks. The argument: `docs/design/reuse-exactness.md`.
 
 use rayon::prelude::*;
 use tracer::bits;
-use tracer::{Arc, Marks, PixelBits};
+use tracer::reuse::{Arc, Marks};
+use tracer::PixelBits;
 
 use crate::reproject::NO_SOURCE;
 use crate::stats::PixelClass;

@@ -251,6 +251,7 @@ impl Bvh {
 
     /// Closest hit in `(0, t_max)` among the spheres other than `skip` (`NO_OBJECT`: none
     /// left out), at the lanes `simd.rs` chose.
+    #[cfg(test)]
     pub(crate) fn intersect(&self, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
         dispatch!(crate::simd::level(), simd => simd.vectorize(
             #[inline(always)]

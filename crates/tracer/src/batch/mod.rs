@@ -1,0 +1,231 @@
+//! Batches of an eye's chosen pixels: what a second view is made of (Adelson & Hodges 1993,
+//! "Stereoscopic ray-tracing"), and what a reused frame retraces in either eye.
+//!
+//! A [`PixelBatch`] is one eye's view with its screen bins built, made by
+//! [`crate::Renderer::batch`]. For a row's chosen pixels it makes, each job in a file:
+//! - `trace.rs`, [`PixelBatch::trace_pixels`]: full primary rays (the retrace of gaps,
+//!   borders, object edges and shadow boundaries, and of what changed since the last
+//!   frame), bit-for-bit the pixels [`crate::Renderer::render`] would make;
+//! - `reshade.rs`, [`PixelBatch::reshade`]: surfaces another view saw, re-lit for these
+//!   pixels' rays: their view-independent light and light visibility kept, highlights and
+//!   mirror rays recomputed (`reshade` mode);
+//! - `plan.rs`, [`PixelBatch::shade_row`]: a whole row by a plan, a pixel of the other view
+//!   per column (or none: trace afresh, or keep): each pixel's own ray against the one
+//!   sphere the other view saw there, shaded with that view's light visibility, and fully
+//!   traced where it misses that sphere or the plan says so (`exact` mode).
+//!
+//! Every row's pixels are shaded as one batch of the thread's wavefront (`wavefront.rs`), so
+//! they go through the very kernels a whole eye's do. Each job can also mark its pixels for
+//! temporal reuse ([`PixelBatch::marking`], `reuse/`).
+//!
+//! **Light bits.** Visibility travels as bits: bit k of [`crate::Surface::lights`] (and of
+//! the film's `lights` plane) is set when light k reaches the point. A point of a surface is
+//! the same point from either eye, so its bits hold for the second view as for the first;
+//! only what depends on the direction of view is recomputed.
+
+mod plan;
+mod reshade;
+mod trace;
+
+use fearless_simd::{dispatch, prelude::*, Simd};
+use glam::Vec3;
+
+use crate::accel::screen::ScreenBins;
+use crate::camera::EyeView;
+use crate::ray::Ray;
+use crate::reuse::{Marker, Swept, Touch};
+use crate::simd::{F, U};
+use crate::surface::Hit;
+use crate::tracer::Tracer;
+use crate::wavefront::Wavefront;
+
+pub use plan::{RowPlan, KEEP, TRACE};
+
+/// One eye's view with its screen bins built: traces that view's primary rays, and shades
+/// what they hit in the scene.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct BinnedView<'a> {
+    /// The scene.
+    pub(crate) tracer: &'a Tracer,
+    /// The eye.
+    pub(crate) view: &'a EyeView,
+    /// `view`'s bins, built by [`ScreenBins::build`] for `tracer` and `view`.
+    pub(crate) bins: &'a ScreenBins,
+}
+
+impl BinnedView<'_> {
+    /// The first hits of the primary rays of pixels (i + l, j), l = 0..LEN
+    /// ([`ScreenBins::hits_lanes`]).
+    #[expect(
+        clippy::inline_always,
+        reason = "inlined into the dispatched lane kernels, whose target features it needs"
+    )]
+    #[inline(always)]
+    pub(crate) fn hits_lanes<S: Simd>(&self, simd: S, i: u32, j: u32) -> (F<S>, U<S>, [F<S>; 3]) {
+        self.bins.hits_lanes(simd, self.view, i, j)
+    }
+}
+
+/// One eye's view, ready to make batches of its chosen pixels (see the module doc).
+#[derive(Clone, Copy, Debug)]
+pub struct PixelBatch<'a> {
+    eye: BinnedView<'a>,
+    /// The hook that marks the pixels made, when marking.
+    marker: Option<Marker<'a>>,
+}
+
+/// Groups ascending pixel columns by the aligned group of `lanes` (a power of two, at most
+/// 32) they fall in: calls `group(first column, lane mask)` once per group.
+pub(crate) fn by_lanes(cols: impl IntoIterator<Item = u32>, lanes: u32, mut group: impl FnMut(u32, u32)) {
+    debug_assert!(lanes.is_power_of_two() && lanes <= 32, "{lanes} lanes");
+    let mut current: Option<(u32, u32)> = None;
+    for i in cols {
+        let base = i & !(lanes - 1);
+        match &mut current {
+            Some((b, mask)) if *b == base => *mask |= 1 << (i - base),
+            _ => {
+                if let Some((b, mask)) = current.take() {
+                    group(b, mask);
+                }
+                current = Some((base, 1 << (i - base)));
+            }
+        }
+    }
+    if let Some((b, mask)) = current {
+        group(b, mask);
+    }
+}
+
+impl<'a> PixelBatch<'a> {
+    /// The batches of `eye`, whose bins are built, marked through `marker` if given.
+    pub(crate) fn new(eye: BinnedView<'a>, marker: Option<Marker<'a>>) -> Self {
+        Self { eye, marker }
+    }
+
+    /// These batches, telling with each pixel they hand out where that pixel's ray tree
+    /// meets `swept`'s volumes (the `touch` argument of the `out` callbacks); without
+    /// `swept`, or when marking, always [`Touch::NONE`].
+    #[must_use]
+    pub fn marking(self, swept: Option<&'a Swept>) -> Self {
+        Self { marker: swept.map(|swept| Marker::new(swept, self.eye.view)), ..self }
+    }
+
+    /// Hands `out(tag, background colour, touch)` again for each pixel of row `j` that
+    /// [`PixelBatch::push_traced`] found seeing only background and whose primary ray meets
+    /// a swept volume (when marking): the pixels' marks, found in lanes.
+    fn mark_background(&self, wavefront: &mut Wavefront, j: u32, out: &mut impl FnMut(u32, u32, Touch)) {
+        if let Some(marker) = &self.marker {
+            let rgb = self.eye.tracer.scene.background_rgb;
+            wavefront.marks.mark_background(marker, self.eye.view, j, &mut |tag, touch| out(tag, rgb, touch));
+        }
+    }
+
+    /// Marks the batch's samples of row `j`, when marking; `own` says whether their rays
+    /// are this view's (not another view's, whose pixels carry those rays' marks).
+    fn mark_batch(&self, wavefront: &mut Wavefront, j: u32, own: bool) {
+        if let Some(marker) = &self.marker {
+            wavefront.mark(marker, &self.eye.tracer.scene.lights, |tag| own && marker.may_meet(tag, j));
+        }
+    }
+
+    /// Sample `e`'s mark ([`Touch::NONE`] when not marking).
+    fn touch(&self, wavefront: &Wavefront, e: usize) -> Touch {
+        if self.marker.is_some() {
+            wavefront.marks.touch(e)
+        } else {
+            Touch::NONE
+        }
+    }
+
+    /// How many columns [`PixelBatch::push_traced`] takes at once: the lane width.
+    pub(crate) fn lanes() -> u32 {
+        crate::simd::lane_width() as u32
+    }
+
+    /// Pushes the pixels `mask` names of the group of [`PixelBatch::lanes`] columns from
+    /// `base` (a multiple of it) with full primary rays, in lanes; the ones that see only
+    /// background go straight to `out(column, colour, touch)`. Tags are columns.
+    pub(crate) fn push_traced(
+        &self,
+        wavefront: &mut Wavefront,
+        base: u32,
+        j: u32,
+        mask: u32,
+        out: &mut impl FnMut(u32, u32, Touch),
+    ) {
+        dispatch!(crate::simd::level(), simd => simd.vectorize(
+            #[inline(always)]
+            || self.push_traced_in(simd, wavefront, (base, j, mask), out),
+        ));
+    }
+
+    #[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
+    #[inline(always)]
+    fn push_traced_in<S: Simd>(
+        &self,
+        simd: S,
+        wavefront: &mut Wavefront,
+        (base, j, mask): (u32, u32, u32),
+        out: &mut impl FnMut(u32, u32, Touch),
+    ) {
+        let lanes = F::<S>::LEN;
+        debug_assert!(
+            (base as usize).is_multiple_of(lanes) && u64::from(mask) < 1 << lanes,
+            "group {base}, mask {mask:b}"
+        );
+        if self.eye.bins.is_empty_at(base, j) {
+            for i in crate::bits::ones(&[u64::from(mask)]) {
+                self.background(wavefront, (base + i, j), out);
+            }
+            return;
+        }
+        let hits = self.eye.hits_lanes(simd, base, j);
+        self.push_found_in(simd, wavefront, (base, j, mask), hits, None, out);
+    }
+
+    /// A pixel (i, j) whose primary ray sees only background: its colour to `out`, and its
+    /// column noted for [`PixelBatch::mark_background`] when marking and it may be marked.
+    fn background(&self, wavefront: &mut Wavefront, (i, j): (u32, u32), out: &mut impl FnMut(u32, u32, Touch)) {
+        // Marked later, together (`mark_background`).
+        out(i, self.eye.tracer.scene.background_rgb, Touch::NONE);
+        if self.marker.is_some_and(|marker| marker.may_meet(i, j)) {
+            wavefront.marks.push_background(i);
+        }
+    }
+
+    /// Pushes the pixels `mask` names of the group of lanes from `base` on row `j`, whose
+    /// first hits are `hits` (the bins' search: `t`, +∞ for none, sphere and ray direction
+    /// per lane), with light bits where `known` has them (as [`Wavefront::push_lanes`]
+    /// takes them); the ones that see only background go to `out`.
+    #[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
+    #[inline(always)]
+    fn push_found_in<S: Simd>(
+        &self,
+        simd: S,
+        wavefront: &mut Wavefront,
+        (base, j, mask): (u32, u32, u32),
+        hits: (F<S>, U<S>, [F<S>; 3]),
+        known: Option<(U<S>, u32)>,
+        out: &mut impl FnMut(u32, u32, Touch),
+    ) {
+        let view = self.eye.view;
+        let hit = hits.0.abs().simd_lt(F::<S>::splat(simd, f32::INFINITY)).to_bitmask() as u32;
+        if mask == hit && u64::from(mask) == (1 << F::<S>::LEN) - 1 {
+            // Every ray of the group hits: into the batch whole.
+            wavefront.push_lanes(simd, view.origin, hits, base, known);
+            return;
+        }
+        let (t, ids, d) = (hits.0.as_slice(), hits.1.as_slice(), crate::simd::each3(|a| hits.2[a].as_slice()));
+        let bits = known.as_ref().map(|(bits, which)| (bits.as_slice(), *which));
+        for l in crate::bits::ones(&[u64::from(mask)]) {
+            let (i, k) = (base + l, l as usize);
+            if hit & (1 << l) != 0 {
+                let ray = Ray::new(view.origin, Vec3::new(d[0][k], d[1][k], d[2][k]));
+                let lights = bits.and_then(|(bits, which)| (which & (1 << l) != 0).then(|| bits[k]));
+                wavefront.push_hit(&ray, Hit { t: t[k], object: ids[k] }, lights, i);
+            } else {
+                self.background(wavefront, (i, j), out);
+            }
+        }
+    }
+}

@@ -1,0 +1,405 @@
+//! [`PixelBatch::shade_row`]: a row made by a plan, exact mode's one pass.
+
+use fearless_simd::{dispatch, prelude::*, Simd};
+use glam::Vec3;
+
+use super::PixelBatch;
+use crate::film::Film;
+use crate::ray::Ray;
+use crate::reuse::{MarksRow, Touch};
+use crate::simd::{F, U};
+use crate::stats::RayCounts;
+use crate::surface::{Hit, NO_OBJECT};
+use crate::wavefront::{per_object, with_wavefront, Wavefront};
+
+/// A [`PixelBatch::shade_row`] plan entry: trace the pixel afresh.
+pub const TRACE: u32 = u32::MAX;
+/// A [`PixelBatch::shade_row`] plan entry: leave the pixel as it is.
+pub const KEEP: u32 = u32::MAX - 1;
+
+/// A row's plan for [`PixelBatch::shade_row`]: three slices with an entry per column.
+///
+/// Where `source` names a pixel of the other view's film, `object` and `lights` hold that
+/// pixel's object and light bits, read from the film in column order: a group of lanes then
+/// reads them in one load each, instead of a load per lane at scattered sources and a
+/// vector rebuilt from scalar stores. Elsewhere they may hold anything.
+#[derive(Clone, Copy, Debug)]
+pub struct RowPlan<'a> {
+    /// A pixel of the other view's film (a row-major index), [`TRACE`] or [`KEEP`].
+    pub source: &'a [u32],
+    /// The object of the pixel `source` names.
+    pub object: &'a [u32],
+    /// The light bits of the pixel `source` names.
+    pub lights: &'a [u32],
+}
+
+impl<'a> RowPlan<'a> {
+    /// The plan `source` (entries as [`RowPlan::source`]), its objects and light bits read
+    /// from `film` into `object` and `lights` (cleared first).
+    pub fn read(film: &Film, source: &'a [u32], (object, lights): (&'a mut Vec<u32>, &'a mut Vec<u32>)) -> Self {
+        object.clear();
+        lights.clear();
+        for &s in source {
+            let (o, l) = if s < KEEP { (film.object[s as usize], film.lights[s as usize]) } else { (NO_OBJECT, 0) };
+            object.push(o);
+            lights.push(l);
+        }
+        Self { source, object, lights }
+    }
+
+    /// Columns in the row.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.source.len()
+    }
+
+    /// Whether the row has no column.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.source.is_empty()
+    }
+}
+
+impl PixelBatch<'_> {
+    /// Makes the pixels of row `j` as `plan` says, in one batch. Its source per column is:
+    /// - the index (row-major) of a pixel of the other view's film: this pixel's own primary
+    ///   ray is tested against the one sphere that pixel saw (the plan's object), and where
+    ///   it hits, shaded with that pixel's light bits (the plan's); where it misses (a
+    ///   silhouette) the pixel is traced afresh and its column pushed to `missed`; where
+    ///   that pixel saw only background ([`NO_OBJECT`]), this one is background too, and
+    ///   takes the scene's background colour;
+    /// - [`TRACE`]: traced afresh, with a full primary ray;
+    /// - [`KEEP`]: left as it is.
+    ///
+    /// Colours go to `rgb` (the row), and when marking, each pixel made is marked in `marks`
+    /// (a pixel that takes a background colour carries no ray of its own and is left
+    /// unmarked). Returns the pixels tested against the sphere their plan names, alone or
+    /// in their tile's search (not scene rays, so not counted in `counts`).
+    ///
+    /// With the sphere the pixel really sees and its true light bits, a pixel is bit-for-bit
+    /// the full trace's: the ray, its `t` and the shading are the same operations on the same
+    /// values.
+    pub fn shade_row(
+        &self,
+        j: u32,
+        plan: RowPlan<'_>,
+        (rgb, marks): (&mut [u32], Option<&mut MarksRow<'_>>),
+        counts: &mut RayCounts,
+        missed: &mut Vec<u32>,
+    ) -> u64 {
+        debug_assert!(
+            plan.source.len() == rgb.len() && plan.object.len() == rgb.len() && plan.lights.len() == rgb.len(),
+            "a plan entry per pixel of the row"
+        );
+        missed.clear();
+        // Marks only when this view marks and the caller keeps them.
+        let mut marks = marks.filter(|_| self.marker.is_some());
+        with_wavefront(|wavefront| {
+            let tests = dispatch!(crate::simd::level(), simd => simd.vectorize(
+                #[inline(always)]
+                || self.push_row_in(simd, wavefront, j, plan, counts, (missed, rgb, &mut marks)),
+            ));
+            wavefront.shade(self.eye.tracer, counts);
+            // Colours in a plain loop; marks, when kept, in one of their own.
+            for e in 0..wavefront.len() {
+                rgb[wavefront.tag(e) as usize] = wavefront.rgb(e);
+            }
+            if let Some(marks) = marks {
+                self.mark_batch(wavefront, j, true);
+                for e in 0..wavefront.len() {
+                    marks.set(wavefront.tag(e), self.touch(wavefront, e));
+                }
+                self.mark_background(wavefront, j, &mut |i, _, touch| marks.set(i, touch));
+            }
+            tests
+        })
+    }
+
+    /// The first half of [`PixelBatch::shade_row`] with the lanes of `simd`: each group of
+    /// lanes of the row read from the plan, aimed and pushed into the batch (a group that
+    /// hits its spheres in every lane in vector stores). The colours made without shading
+    /// go straight to `rgb`, and the marks of traced pixels that see background to `marks`.
+    /// Returns the pixels tested against their planned spheres.
+    #[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
+    #[inline(always)]
+    fn push_row_in<S: Simd>(
+        &self,
+        simd: S,
+        wavefront: &mut Wavefront,
+        j: u32,
+        plan: RowPlan<'_>,
+        counts: &mut RayCounts,
+        (missed, rgb, marks): (&mut Vec<u32>, &mut [u32], &mut Option<&mut MarksRow<'_>>),
+    ) -> u64 {
+        let (tracer, view) = (self.eye.tracer, self.eye.view);
+        let lanes = F::<S>::LEN;
+        let all = (1u32 << lanes) - 1;
+        let inf = F::<S>::splat(simd, f32::INFINITY);
+        let origin = crate::simd::splat3(simd, view.origin);
+        let splat = |x: u32| U::<S>::splat(simd, x);
+        let (mut objects, mut short) = ([0u32; 16], [[KEEP; 16]; 3]);
+        let mut tests = 0;
+        for base in (0..plan.len()).step_by(lanes) {
+            let end = (base + lanes).min(plan.len());
+            let [source, object, lights] = if end - base == lanes {
+                [&plan.source[base..end], &plan.object[base..end], &plan.lights[base..end]]
+            } else {
+                // The row's last, short group, its missing lanes kept.
+                for (pad, part) in short.iter_mut().zip([plan.source, plan.object, plan.lights]) {
+                    pad[..end - base].copy_from_slice(&part[base..end]);
+                    pad[end - base..].fill(KEEP);
+                }
+                let [a, b, c] = &short;
+                [&a[..lanes], &b[..lanes], &c[..lanes]]
+            };
+            // The group's lanes by what the plan says, each set a vector compare.
+            let entries = U::<S>::from_slice(simd, source);
+            let ids = U::<S>::from_slice(simd, object);
+            let mut traced = entries.simd_eq(splat(TRACE)).to_bitmask() as u32;
+            let given = all & !traced & !(entries.simd_eq(splat(KEEP)).to_bitmask() as u32);
+            let background = given & ids.simd_eq(splat(NO_OBJECT)).to_bitmask() as u32;
+            let named = given & !background;
+            for l in crate::bits::ones(&[u64::from(background)]) {
+                // The other view's pixel is the background colour (not read from its film,
+                // where it has long left the cache). Marked nowhere: its ray is that view's.
+                rgb[base + l as usize] = tracer.scene.background_rgb;
+            }
+            tests += u64::from(named.count_ones());
+            // A group of traced and named lanes searches its tile's spheres once for all of
+            // them (its traced lanes need that anyway): a named lane whose nearest sphere is
+            // its own takes that hit, bit for bit its lone test's, with its light bits. The
+            // other named lanes are tested alone, as a group of named lanes only is.
+            let (mut found, mut alone) = (None, named);
+            if named != 0 && traced != 0 && !self.eye.bins.is_empty_at(base as u32, j) {
+                let hits = self.eye.hits_lanes(simd, base as u32, j);
+                let own = (hits.0.simd_lt(inf) & hits.1.simd_eq(ids)).to_bitmask() as u32 & named;
+                (found, alone) = (Some((hits, own)), named & !own);
+            }
+            if alone != 0 {
+                // The other lanes aim at a named lane's sphere, and are left out.
+                let first = splat(object[alone.trailing_zeros() as usize]);
+                let ids = crate::simd::mask_of(simd, u64::from(alone)).select(ids, first);
+                let one =
+                    (ids.simd_eq(first).to_bitmask() as u32 == all).then(|| object[alone.trailing_zeros() as usize]);
+                ids.store_slice(&mut objects[..lanes]);
+                let at = (&objects[..lanes], one);
+                let columns = splat(base as u32) + crate::simd::lane_index(simd);
+                let d = view.primary_dirs_at(simd, F::<S>::float_from(columns), j);
+                let c = crate::simd::each3(|a| per_object(simd, at, |o| tracer.scene.centers[o][a]));
+                let r = per_object(simd, at, |o| tracer.scene.radii[o]);
+                let t = crate::simd::spheres_t(simd, origin, d, (c, r), inf);
+                let hit = t.simd_lt(inf).to_bitmask() as u32 & alone;
+                if hit == all {
+                    let known = U::<S>::from_slice(simd, lights);
+                    wavefront.push_lanes(simd, view.origin, (t, ids, d), base as u32, Some((known, all)));
+                } else {
+                    let (ts, dirs) = (t.as_slice(), crate::simd::each3(|a| d[a].as_slice()));
+                    for l in crate::bits::ones(&[u64::from(hit)]) {
+                        let l = l as usize;
+                        let ray = Ray::new(view.origin, Vec3::new(dirs[0][l], dirs[1][l], dirs[2][l]));
+                        let hit = Hit { t: ts[l], object: objects[l] };
+                        wavefront.push_hit(&ray, hit, Some(lights[l]), (base + l) as u32);
+                    }
+                }
+                // The silhouettes the named spheres missed are traced afresh.
+                let miss = alone & !hit;
+                missed.extend(crate::bits::ones(&[u64::from(miss)]).map(|l| base as u32 + l));
+                traced |= miss;
+            }
+            let mut out = |i: u32, colour: u32, touch: Touch| {
+                rgb[i as usize] = colour;
+                if let Some(marks) = marks.as_deref_mut() {
+                    marks.set(i, touch);
+                }
+            };
+            counts.primary += u64::from(traced.count_ones());
+            if let Some((hits, own)) = found {
+                let known = (U::<S>::from_slice(simd, lights), own);
+                self.push_found_in(simd, wavefront, (base as u32, j, traced | own), hits, Some(known), &mut out);
+            } else if traced != 0 {
+                self.push_traced_in(simd, wavefront, (base as u32, j, traced), &mut out);
+            }
+        }
+        tests
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Eye;
+    use crate::render::Renderer;
+    use crate::scene::Scene;
+    use crate::surface::NO_OBJECT;
+    use crate::tracer::Tracer;
+
+    fn scene(name: &str) -> Scene {
+        let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+        Scene::load(path).expect("scene loads")
+    }
+
+    /// Row `j` of `second` made by `plan` (sources on `film`) into `rgb`: the sphere tests.
+    fn plan_row(
+        batch: &PixelBatch<'_>,
+        j: u32,
+        (film, plan): (&Film, &[u32]),
+        rgb: &mut [u32],
+        missed: &mut Vec<u32>,
+    ) -> u64 {
+        let (mut object, mut lights) = (Vec::new(), Vec::new());
+        let plan = RowPlan::read(film, plan, (&mut object, &mut lights));
+        batch.shade_row(j, plan, (rgb, None), &mut RayCounts::default(), missed)
+    }
+
+    /// A colour no traced pixel has: its high byte is set.
+    const UNTOUCHED: u32 = 0xFF00_FF00;
+
+    #[test]
+    fn a_planned_row_is_the_full_trace_wherever_its_sphere_and_bits_are_true() {
+        let scene = scene("many.toml");
+        let tracer = Tracer::new(&scene, 0.0);
+        let (w, h) = (94, 54); // a short last group of lanes
+        let view = scene.camera.view(Eye::Right, w, h);
+        let mut renderer = Renderer::new();
+        let batch = renderer.batch(&tracer, &view);
+        let n = tracer.sphere_count() as u32;
+        let mut plain = RayCounts::default();
+        let truth: Vec<_> = (0..h)
+            .flat_map(|j| (0..w).map(move |i| (i, j)))
+            .map(|(i, j)| tracer.trace_pixel(&view, i, j, &mut plain))
+            .collect();
+        // A film that names, for pixel (i, j), the sphere and light bits `pick` gives, or
+        // background (object NO_OBJECT) of a colour of its own, which a planned pixel does not
+        // take: it takes the scene's background colour.
+        let film_of = |pick: &dyn Fn(u32, u32) -> Option<(u32, u32)>| {
+            let mut film = Film::new(w, h);
+            for (k, (i, j)) in (0..h).flat_map(|j| (0..w).map(move |i| (i, j))).enumerate() {
+                (film.object[k], film.lights[k], film.rgb[k]) = match pick(i, j) {
+                    Some((object, lights)) => (object, lights, UNTOUCHED),
+                    None => (NO_OBJECT, 0, 0x0012_3400 | i),
+                };
+            }
+            film
+        };
+        let (mut counts, mut missed) = (RayCounts::default(), Vec::new());
+        let (mut hits, mut retraced, mut kept, mut copied) = (0, 0, 0, 0);
+
+        // Aimed at arbitrary spheres, with some pixels traced, some kept and some taking a
+        // background colour: retraced exactly where the lone sphere test misses, and then
+        // with the full trace's colour.
+        let film = film_of(&|i, j| (i % 5 != 2).then_some(((i * 13 + 7 * j) % n, 0)));
+        for j in 0..h {
+            let plan: Vec<u32> = (0..w)
+                .map(|i| match i % 7 {
+                    3 => TRACE,
+                    5 => KEEP,
+                    _ => j * w + i,
+                })
+                .collect();
+            let mut rgb = vec![UNTOUCHED; w as usize];
+            let tests = plan_row(&batch, j, (&film, &plan), &mut rgb, &mut missed);
+            let named = plan.iter().filter(|&&s| s < KEEP && film.object[s as usize] != NO_OBJECT).count();
+            assert_eq!(tests, named as u64, "row {j}: one sphere test per named pixel");
+            for (i, (&source, &got)) in plan.iter().zip(&rgb).enumerate() {
+                let (i, k) = (i as u32, (j * w) as usize + i);
+                let full = truth[k].rgb;
+                let miss = source < KEEP
+                    && film.object[k] != NO_OBJECT
+                    && tracer.accel.intersect_one(&view.primary_ray(i, j), film.object[k]).is_none();
+                assert_eq!(missed.contains(&i), miss, "({i}, {j}): listed as missed");
+                let want = match source {
+                    KEEP => {
+                        kept += 1;
+                        UNTOUCHED
+                    }
+                    TRACE => full,
+                    // The scene's background, not the film's colour there.
+                    _ if film.object[k] == NO_OBJECT => {
+                        copied += 1;
+                        tracer.scene.background_rgb
+                    }
+                    _ if miss => {
+                        retraced += 1;
+                        full
+                    }
+                    // Shaded with made-up bits: only made.
+                    _ => got & 0x00FF_FFFF,
+                };
+                assert_eq!(got, want, "({i}, {j}), plan {source}");
+            }
+        }
+        // Every pixel of the row aimed at one sphere: whole groups of lanes retraced.
+        let film = film_of(&|_, j| Some((j % n, 0)));
+        for j in 0..h {
+            let plan: Vec<u32> = (0..w).map(|i| j * w + i).collect();
+            let mut rgb = vec![UNTOUCHED; w as usize];
+            plan_row(&batch, j, (&film, &plan), &mut rgb, &mut missed);
+            for i in 0..w {
+                let miss = tracer.accel.intersect_one(&view.primary_ray(i, j), j % n).is_none();
+                assert_eq!(missed.contains(&i), miss, "({i}, {j}), one sphere");
+                if miss {
+                    assert_eq!(rgb[i as usize], truth[(j * w + i) as usize].rgb, "({i}, {j}) retraced");
+                }
+            }
+        }
+        // Aimed at what each pixel sees, with its true light bits: the full trace.
+        let film = film_of(&|i, j| {
+            let s = truth[(j * w + i) as usize].surface;
+            s.is_hit().then_some((s.object, s.lights))
+        });
+        for j in 0..h {
+            let plan: Vec<u32> = (0..w).map(|i| j * w + i).collect();
+            let mut rgb = vec![UNTOUCHED; w as usize];
+            plan_row(&batch, j, (&film, &plan), &mut rgb, &mut missed);
+            assert!(missed.is_empty(), "row {j}: every named sphere is hit");
+            for i in 0..w {
+                let k = (j * w + i) as usize;
+                let want = if truth[k].surface.is_hit() { truth[k].rgb } else { tracer.scene.background_rgb };
+                assert_eq!(rgb[i as usize], want, "({i}, {j})");
+                hits += usize::from(truth[k].surface.is_hit());
+            }
+            // And every pixel traced afresh.
+            batch.trace_pixels(j, 0..w, &mut counts, |i, rgb, _| {
+                assert_eq!(rgb, truth[(j * w + i) as usize].rgb, "({i}, {j}) traced");
+            });
+        }
+        assert!(hits > 500 && retraced > 500, "the view sees spheres: {hits} hits, {retraced} retraced");
+        assert!(kept > 500 && copied > 500, "{kept} kept, {copied} copied");
+    }
+
+    #[test]
+    fn a_group_of_planned_and_traced_lanes_is_the_full_trace() {
+        // Big spheres, so that many groups of lanes hit in every lane: traced lanes among
+        // planned ones (true spheres and light bits) enter the batch whole, each lane with
+        // its own light bits or none.
+        let scene = scene("seed.toml");
+        let tracer = Tracer::new(&scene, 0.4);
+        let (w, h) = (160, 90);
+        let view = scene.camera.view(Eye::Right, w, h);
+        let mut renderer = Renderer::new();
+        let batch = renderer.batch(&tracer, &view);
+        let mut plain = RayCounts::default();
+        let truth: Vec<_> = (0..h)
+            .flat_map(|j| (0..w).map(move |i| (i, j)))
+            .map(|(i, j)| tracer.trace_pixel(&view, i, j, &mut plain))
+            .collect();
+        let mut film = Film::new(w, h);
+        for (k, shaded) in truth.iter().enumerate() {
+            (film.object[k], film.lights[k], film.rgb[k]) = (shaded.surface.object, shaded.surface.lights, shaded.rgb);
+        }
+        let (lanes, mut whole) = (PixelBatch::lanes(), 0);
+        let mut missed = Vec::new();
+        for j in 0..h {
+            let plan: Vec<u32> = (0..w).map(|i| if (i + j) % 5 == 1 { TRACE } else { j * w + i }).collect();
+            let mut rgb = vec![UNTOUCHED; w as usize];
+            plan_row(&batch, j, (&film, &plan), &mut rgb, &mut missed);
+            assert!(missed.is_empty(), "row {j}: every planned sphere is hit");
+            for i in 0..w {
+                assert_eq!(rgb[i as usize], truth[(j * w + i) as usize].rgb, "({i}, {j})");
+            }
+            let hits = |i: u32| truth[(j * w + i) as usize].surface.is_hit();
+            whole += (0..w / lanes).filter(|g| (g * lanes..(g + 1) * lanes).all(hits)).count();
+        }
+        assert!(whole > 100, "{whole} groups of lanes that hit in every lane");
+    }
+}

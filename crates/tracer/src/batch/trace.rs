@@ -1,0 +1,65 @@
+//! [`PixelBatch::trace_pixels`]: chosen pixels of a row with full primary rays.
+
+use super::{by_lanes, PixelBatch};
+use crate::reuse::Touch;
+use crate::stats::RayCounts;
+use crate::wavefront::with_wavefront;
+
+impl PixelBatch<'_> {
+    /// Traces the pixels `cols` (ascending columns) of row `j` with full primary rays, and
+    /// hands each pixel's sRGB colour to `out(column, colour, touch)`.
+    pub fn trace_pixels(
+        &self,
+        j: u32,
+        cols: impl IntoIterator<Item = u32>,
+        counts: &mut RayCounts,
+        mut out: impl FnMut(u32, u32, Touch),
+    ) {
+        with_wavefront(|wavefront| {
+            by_lanes(cols, Self::lanes(), |base, mask| {
+                counts.primary += u64::from(mask.count_ones());
+                self.push_traced(wavefront, base, j, mask, &mut out);
+            });
+            wavefront.shade(self.eye.tracer, counts);
+            self.mark_batch(wavefront, j, true);
+            for e in 0..wavefront.len() {
+                out(wavefront.tag(e), wavefront.rgb(e), self.touch(wavefront, e));
+            }
+            self.mark_background(wavefront, j, &mut out);
+        });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::camera::Eye;
+    use crate::render::Renderer;
+    use crate::scene::Scene;
+    use crate::tracer::Tracer;
+
+    fn scene(name: &str) -> Scene {
+        let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+        Scene::load(path).expect("scene loads")
+    }
+
+    #[test]
+    fn pixel_lists_count_the_rays_a_full_trace_casts() {
+        let scene = scene("seed.toml");
+        let tracer = Tracer::new(&scene, 0.9);
+        let (w, h) = (61, 34);
+        let view = scene.camera.view(Eye::Right, w, h);
+        let mut renderer = Renderer::new();
+        let batch = renderer.batch(&tracer, &view);
+        let (mut listed, mut plain) = (RayCounts::default(), RayCounts::default());
+        for j in 0..h {
+            // Every other pixel, then the rest: scattered lists, whole quads and lone pixels.
+            batch.trace_pixels(j, (0..w).step_by(2), &mut listed, |_, _, _| {});
+            batch.trace_pixels(j, (1..w).step_by(2), &mut listed, |_, _, _| {});
+            for i in 0..w {
+                let _ = tracer.trace_pixel(&view, i, j, &mut plain);
+            }
+        }
+        assert_eq!(listed, plain, "primary, shadow and mirror rays");
+    }
+}

@@ -1,0 +1,156 @@
+//! Temporal reuse, as one layer over the tracer: while only the orbits move, a frame is made
+//! from the last one by tracing again only the pixels that can have changed, and comes out
+//! byte for byte the frame a fresh trace gives (Adelson & Hodges 1995, "Generating exact
+//! ray-traced animation frames by reprojection", made exact).
+//!
+//! - `swept.rs`: where each moving sphere can ever be (a washer about its orbit), the arcs
+//!   of it a ray crosses ([`Touch`]), and the wedge the sphere fills at an instant.
+//! - `marks.rs`: per pixel, where its ray tree meets those volumes ([`Marks`]), and the
+//!   pixels that can differ between two instants ([`Marks::select`]).
+//! - `tree.rs` and `lanes.rs`: the hook. After the wavefront shades a batch, it hands its
+//!   levels to its `Marker`, which marks every ray of each sample's tree (primary, shadow and
+//!   mirror, at every depth) against the volumes, in SIMD lanes.
+//!
+//! A render marks only when its caller asks (`Target::marking`), and a scene with no
+//! moving sphere is never marked: without reuse, no code here runs. The argument that the
+//! reuse is exact is in `docs/design/reuse-exactness.md` and `docs/design/swept-volumes.md`;
+//! in short, a pixel whose tree meets no moving sphere's wedge at either instant is the
+//! same tree, colour and record at both.
+
+mod lanes;
+mod marks;
+mod swept;
+mod tree;
+
+use glam::Vec3;
+
+use crate::accel::screen::pixel_rect;
+use crate::camera::EyeView;
+use crate::scene::Scene;
+use crate::snapshot::Snapshot;
+
+pub use marks::{Marks, MarksBand, MarksRow, Rewrite};
+pub use swept::{Arc, SweptRing, Touch};
+pub(crate) use tree::{LevelRays, TreeMarks};
+
+/// The swept volumes of a scene's moving spheres: where each can be at any instant.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Swept {
+    rings: Vec<SweptRing>,
+}
+
+impl Swept {
+    /// The volumes of `scene`'s moving spheres (none for a still scene).
+    #[must_use]
+    pub fn of(scene: &Scene) -> Self {
+        let mut swept = Self::default();
+        swept.update(scene);
+        swept
+    }
+
+    /// Rebuilds for `scene`, reusing the allocation.
+    pub fn update(&mut self, scene: &Scene) {
+        self.rings.clear();
+        self.rings
+            .extend(scene.spheres.iter().enumerate().filter_map(|(k, s)| SweptRing::of(k as u32, s.radius, &s.motion)));
+    }
+
+    /// The volumes, one per moving sphere, in sphere order.
+    #[must_use]
+    pub fn rings(&self) -> &[SweptRing] {
+        &self.rings
+    }
+
+    /// Whether no sphere moves.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.rings.is_empty()
+    }
+
+    /// Where the segment `o + s·d`, 0 ≤ s ≤ `s_max`, meets the volumes ([`Touch::NONE`] if
+    /// nowhere: then it meets the same spheres at every instant).
+    #[must_use]
+    pub fn touch(&self, o: Vec3, d: Vec3, s_max: f32) -> Touch {
+        let mut touch = Touch::NONE;
+        for (k, ring) in self.rings.iter().enumerate() {
+            if let Some(arc) = ring.touch(o, d, s_max) {
+                touch = touch.union(Touch { ring: k as u32, arc });
+            }
+        }
+        touch
+    }
+
+    /// The wedge of its ring that each moving sphere fills at `scene`'s instant, in the
+    /// order of [`Swept::rings`], into `out` (cleared first).
+    pub fn wedges(&self, scene: &Snapshot, out: &mut Vec<Arc>) {
+        out.clear();
+        out.extend(self.rings.iter().map(|ring| {
+            let (c, r) = (scene.centers[ring.object as usize], scene.radii[ring.object as usize]);
+            // The invariant the reuse rests on: a moving sphere never leaves its volume.
+            debug_assert!(ring.holds(c, r), "sphere {} at {c} lies outside its swept volume {ring:?}", ring.object);
+            ring.wedge(c, r)
+        }));
+    }
+
+    /// Writes into `out` (cleared first) everything a frame of `s` depends on except where
+    /// the moving spheres are: the still spheres' centres, every radius, material and swept
+    /// volume, the lights and the render settings, as bits. Two snapshots of one scene at two
+    /// instants give the same words; change anything else and they differ. Nothing is
+    /// allocated once `out` has grown to size.
+    pub fn fingerprint(&self, s: &Snapshot, out: &mut Vec<u32>) {
+        out.clear();
+        let v3 = |out: &mut Vec<u32>, v: Vec3| out.extend(v.to_array().map(f32::to_bits));
+        out.push(s.centers.len() as u32);
+        let mut rings = self.rings.iter().peekable();
+        for (k, (&c, m)) in s.centers.iter().zip(&s.materials).enumerate() {
+            match rings.next_if(|ring| ring.object as usize == k) {
+                Some(ring) => {
+                    v3(out, ring.center);
+                    out.extend([ring.half_height, ring.inner, ring.outer].map(f32::to_bits));
+                }
+                None => v3(out, c),
+            }
+            out.push(s.radii[k].to_bits());
+            v3(out, m.color);
+            out.extend([m.diffuse, m.specular, m.shininess, m.reflectivity].map(f32::to_bits));
+        }
+        out.push(s.lights.len() as u32);
+        for light in &s.lights {
+            v3(out, light.position);
+            v3(out, light.color);
+        }
+        out.push(s.settings.max_depth);
+        v3(out, s.settings.background);
+        out.push(s.settings.ambient.to_bits());
+    }
+}
+
+/// The hook a render marks its pixels through: the volumes, and where on one view's screen
+/// a primary ray can meet them.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Marker<'a> {
+    /// The volumes.
+    pub(crate) swept: &'a Swept,
+    /// The inclusive pixel rectangle `[i0, j0, i1, j1]` outside which no primary ray of
+    /// the view can meet a volume, or `None` if none can.
+    screen: Option<[u32; 4]>,
+}
+
+impl<'a> Marker<'a> {
+    /// The hook for the pixels of `view`.
+    pub(crate) fn new(swept: &'a Swept, view: &EyeView) -> Self {
+        let screen = swept
+            .rings
+            .iter()
+            .filter_map(|ring| pixel_rect(view, ring.center, ring.bounding_radius()))
+            .reduce(|[a0, b0, a1, b1], [c0, d0, c1, d1]| [a0.min(c0), b0.min(d0), a1.max(c1), b1.max(d1)]);
+        Self { swept, screen }
+    }
+
+    /// Whether the primary ray of pixel (i, j) might meet a volume (if `false`, it cannot).
+    #[inline]
+    #[must_use]
+    pub(crate) fn may_meet(&self, i: u32, j: u32) -> bool {
+        self.screen.is_some_and(|[i0, j0, i1, j1]| (i0..=i1).contains(&i) && (j0..=j1).contains(&j))
+    }
+}

@@ -1,0 +1,118 @@
+//! The scene at one instant as plain structure-of-arrays data: where each sphere is, how
+//! big, what it is made of; the lights and the render settings. Everything that traces
+//! reads it; nothing in it knows how rays are answered (`accel/`) or what moves (`scene.rs`
+//! and `reuse/`).
+
+use glam::Vec3;
+
+use crate::color::pack_rgb;
+use crate::material::{Exponent, Material};
+use crate::scene::{Light, RenderSettings, Scene};
+
+/// The scene at one instant, a column per property (sphere k is entry k of each).
+#[derive(Clone, Debug, Default)]
+pub struct Snapshot {
+    pub(crate) centers: Vec<Vec3>,
+    pub(crate) radii: Vec<f32>,
+    pub(crate) materials: Vec<Material>,
+    /// How each material's highlight exponent is evaluated.
+    pub(crate) exponents: Vec<Exponent>,
+    pub(crate) lights: Vec<Light>,
+    pub(crate) settings: RenderSettings,
+    /// The background, encoded once per update.
+    pub(crate) background_rgb: u32,
+}
+
+impl Snapshot {
+    /// Re-resolves `scene` at time `t`, reusing the columns.
+    pub(crate) fn update(&mut self, scene: &Scene, t: f32) {
+        self.centers.clear();
+        self.radii.clear();
+        self.materials.clear();
+        self.exponents.clear();
+        for (k, s) in scene.spheres.iter().enumerate() {
+            let g = scene.sphere_at(k, t);
+            self.centers.push(g.center);
+            self.radii.push(g.radius);
+            self.materials.push(s.material);
+            self.exponents.push(Exponent::of(s.material.shininess));
+        }
+        self.lights.clear();
+        self.lights.extend_from_slice(&scene.lights);
+        self.settings = scene.render;
+        self.background_rgb = pack_rgb(self.settings.background);
+    }
+
+    /// Each sphere's centre, by id.
+    #[must_use]
+    pub fn centers(&self) -> &[Vec3] {
+        &self.centers
+    }
+
+    /// Each sphere's radius, by id.
+    #[must_use]
+    pub fn radii(&self) -> &[f32] {
+        &self.radii
+    }
+
+    /// Each sphere's material, by id.
+    #[must_use]
+    pub fn materials(&self) -> &[Material] {
+        &self.materials
+    }
+
+    /// The lights.
+    #[must_use]
+    pub fn lights(&self) -> &[Light] {
+        &self.lights
+    }
+
+    /// The render settings (reflection depth, background, ambient).
+    #[must_use]
+    pub fn settings(&self) -> &RenderSettings {
+        &self.settings
+    }
+
+    /// The smallest depth along `forward` from `origin` of any sphere point in front of
+    /// that plane: min over spheres of (forward·(c − origin) − r), ignoring spheres wholly
+    /// behind it. `None` if no sphere is in front. Negative when a sphere straddles the
+    /// plane. With `origin` the head and `forward` its view axis, the nearest thing either
+    /// eye can see is no nearer than this.
+    #[must_use]
+    pub fn nearest_depth(&self, origin: Vec3, forward: Vec3) -> Option<f32> {
+        self.centers
+            .iter()
+            .zip(&self.radii)
+            .map(|(&c, &r)| (forward.dot(c - origin), r))
+            .filter(|&(w, r)| w + r > 0.0)
+            .map(|(w, r)| w - r)
+            .reduce(f32::min)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use crate::scene::Scene;
+    use crate::tracer::Tracer;
+
+    fn scene(name: &str) -> Scene {
+        let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+        Scene::load(path).expect("scene loads")
+    }
+
+    #[test]
+    fn nearest_depth_is_the_nearest_sphere_point_ahead() {
+        let mut scene = scene("seed.toml");
+        scene.spheres.truncate(2);
+        scene.spheres[0].motion = crate::scene::Motion::Static(Vec3::new(0.0, 0.0, 10.0));
+        scene.spheres[0].radius = 1.0;
+        scene.spheres[1].motion = crate::scene::Motion::Static(Vec3::new(3.0, 0.0, -4.0));
+        scene.spheres[1].radius = 1.0;
+        let tracer = Tracer::new(&scene, 0.0);
+        assert_eq!(tracer.snapshot().nearest_depth(Vec3::ZERO, Vec3::Z), Some(9.0), "the sphere behind is ignored");
+        assert_eq!(tracer.snapshot().nearest_depth(Vec3::new(0.0, 0.0, 10.5), Vec3::Z), Some(-1.5), "straddling");
+        assert_eq!(tracer.snapshot().nearest_depth(Vec3::new(0.0, 0.0, 20.0), Vec3::Z), None, "nothing ahead");
+    }
+}
