@@ -18,42 +18,48 @@
 //!   presenting into it);
 //! - `app`, the event loop's handler, which ties the viewer together.
 
-mod app;
-mod bench;
-mod cli;
+mod args;
 mod crop;
-mod fps_log;
-mod frame_times;
-mod input;
-mod plot;
-mod present;
 mod reference;
-mod render_cmd;
-mod report;
-mod scene_watch;
-mod screenshot;
-mod settings;
 mod setup;
-mod sweep;
-mod syslibs;
-mod timing;
-mod ui;
-mod window;
-mod worker;
+
+mod cli {
+    pub mod bench;
+    pub mod plot;
+    pub mod render;
+    pub mod report;
+    pub mod sweep;
+}
+
+mod window {
+    pub mod app;
+    pub mod fps_log;
+    pub mod frame_times;
+    pub mod input;
+    pub mod os_window;
+    pub mod present;
+    pub mod scene_watch;
+    pub mod screenshot;
+    pub mod settings;
+    pub mod syslibs;
+    pub mod timing;
+    pub mod ui;
+    pub mod worker;
+}
 
 use std::process::ExitCode;
 
 use clap::Parser;
 
-use crate::cli::{Cli, Command};
+use crate::args::{Cli, Command};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = setup::check_lanes_env().and_then(|()| match cli.command {
-        None => app::run(&cli.window),
-        Some(Command::Render(args)) => render_cmd::run(&args),
-        Some(Command::Bench(args)) => bench::run(&args),
-        Some(Command::Sweep(args)) => sweep::run(&args),
+        None => window::app::run(&cli.window),
+        Some(Command::Render(args)) => cli::render::run(&args),
+        Some(Command::Bench(args)) => cli::bench::run(&args),
+        Some(Command::Sweep(args)) => cli::sweep::run(&args),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,

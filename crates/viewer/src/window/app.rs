@@ -36,19 +36,19 @@ use winit::event::{ElementState, KeyEvent, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow};
 use winit::window::WindowId;
 
-use crate::cli::{WindowArgs, DEFAULT_SCENE};
-use crate::fps_log::{FpsLog, Report};
-use crate::frame_times::{self, FrameTimes};
-use crate::input::{self, Command, Input};
-use crate::present;
-use crate::scene_watch::{Change, SceneWatch};
-use crate::screenshot::Screenshots;
-use crate::settings::Settings;
-use crate::syslibs;
-use crate::timing::{RateMeter, SceneClock};
-use crate::ui::{self, Actions, Readout, SceneReadout};
-use crate::window::{self, Dump, Size, Window};
-use crate::worker::{FrameInfo, Request, Worker};
+use crate::args::{WindowArgs, DEFAULT_SCENE};
+use crate::window::fps_log::{FpsLog, Report};
+use crate::window::frame_times::{self, FrameTimes};
+use crate::window::input::{self, Command, Input};
+use crate::window::os_window::{self, Dump, Size, Window};
+use crate::window::present;
+use crate::window::scene_watch::{Change, SceneWatch};
+use crate::window::screenshot::Screenshots;
+use crate::window::settings::Settings;
+use crate::window::syslibs;
+use crate::window::timing::{RateMeter, SceneClock};
+use crate::window::ui::{self, Actions, Readout, SceneReadout};
+use crate::window::worker::{FrameInfo, Request, Worker};
 
 /// Time between UI ticks (240 Hz: above VR headsets' 90 and high-refresh monitors' 144, so a
 /// fast enough renderer is never held back by the tick that posts its requests).
@@ -73,7 +73,7 @@ pub fn run(args: &WindowArgs) -> anyhow::Result<()> {
     let scene = Scene::load(&scene_path)?;
     let backend = syslibs::backend_from_env()?;
     syslibs::check_runtime_libraries(backend)?;
-    let event_loop = window::build_event_loop(backend)?;
+    let event_loop = os_window::build_event_loop(backend)?;
     let watch = SceneWatch::new(scene_path, scene, Instant::now());
     let mut app = App { viewer: Viewer::new(args, watch)?, state: State::Initial };
     event_loop.run_app(&mut app).context("the window's event loop failed")?;

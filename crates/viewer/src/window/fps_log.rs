@@ -4,8 +4,8 @@
 
 use std::time::Duration;
 
-use crate::settings::Settings;
-use crate::worker::FrameInfo;
+use crate::window::settings::Settings;
+use crate::window::worker::FrameInfo;
 
 /// The environment variable that turns the log on (value `1`).
 pub const ENV: &str = "STEREOTRACE_LOG_FPS";

@@ -15,9 +15,9 @@ use winit::dpi::{LogicalSize, PhysicalSize};
 use winit::event::WindowEvent;
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 
-use crate::present::{self, Compositor, Look};
-use crate::syslibs::Backend;
-use crate::worker::Finished;
+use crate::window::present::{self, Compositor, Look};
+use crate::window::syslibs::Backend;
+use crate::window::worker::Finished;
 
 /// The event loop on the chosen backend, with a clear error if the display cannot be opened.
 pub fn build_event_loop(backend: Backend) -> anyhow::Result<EventLoop<()>> {
