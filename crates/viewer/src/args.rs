@@ -1,4 +1,5 @@
-//! Command-line arguments (clap). `stereotrace` alone opens the window.
+//! Command-line arguments (clap), of the window and of the headless commands alike.
+//! `stereotrace` alone opens the window.
 
 use std::path::PathBuf;
 
@@ -8,7 +9,7 @@ use stereo::{Layout, Mode};
 use crate::crop::Crop;
 
 /// Default scene, relative to the workspace root (also found next to the executable's
-/// workspace when run from elsewhere; see `scene_path`).
+/// workspace when run from elsewhere; see `setup::resolve_scene`).
 pub const DEFAULT_SCENE: &str = "assets/scenes/seed.toml";
 
 /// Largest image side accepted, per eye, in pixels.

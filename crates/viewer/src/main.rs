@@ -3,49 +3,28 @@
 //!
 //! Exit codes: 0 success, 2 bad input (scene file, arguments), 1 any other failure.
 //!
-//! The modules, in order: each uses only modules listed before it (and the package's library,
-//! `lib.rs`, for PNG output).
-//! - `crop` (a rectangle of an eye image), `cli` (the arguments), `setup` (a scene with the overrides applied, the memory check),
-//!   `report` (the JSON keys), `reference` (the full trace quality is measured against);
-//! - `render_cmd` and `bench`, the headless commands; `plot` (the sweep's figure) and `sweep`,
-//!   which measures with `bench`'s loop;
-//! - `timing` (scene clock, rate meters), `syslibs` (start-up checks), `frame_times` (the
-//!   frame-time history), `input` (keys and drags);
-//! - `worker` (the render thread and its requests), `present` (a frame into the window's
-//!   buffer), `settings` (the settings model, head movement, the request), `scene_watch`
-//!   (the scene file watched and reloaded, other files opened), `screenshot`,
-//!   `fps_log` (the stderr log), `ui` (the panel, drawing only), `window` (the window and
-//!   presenting into it);
-//! - `app`, the event loop's handler, which ties the viewer together.
+//! The sources are laid out by job: `cli/` holds the headless commands and what only they
+//! use, `window/` the viewer window; what both use stays at the top. The modules, in order:
+//! each uses only modules listed before it (and the package's library, `lib.rs`, for PNG
+//! output).
+//! - shared: `crop` (a rectangle of an eye image, the type of `render --crop`), `args` (the
+//!   command line, clap), `setup` (a scene with the overrides applied, the memory check, the
+//!   scene path resolved), `reference` (the full trace quality is measured against);
+//! - `cli`, the headless commands: `report` (the JSON keys), `render` and `bench`; `plot`
+//!   (the sweep's figure) and `sweep`, which measures with `bench`'s loop;
+//! - `window`, the viewer window: `timing`, `syslibs`, `frame_times`, `input`; `worker`,
+//!   `present`, `settings`, `scene_watch`, `screenshot`, `fps_log`, `ui`, `os_window`; then
+//!   `app`, the event loop's handler (its parts: `chrome`, `meters`, `viewer`, `frame`,
+//!   `events`).
+//!
+//! `cli` and `window` do not use each other; `main` dispatches to one of them.
 
 mod args;
+mod cli;
 mod crop;
 mod reference;
 mod setup;
-
-mod cli {
-    pub mod bench;
-    pub mod plot;
-    pub mod render;
-    pub mod report;
-    pub mod sweep;
-}
-
-mod window {
-    pub mod app;
-    pub mod fps_log;
-    pub mod frame_times;
-    pub mod input;
-    pub mod os_window;
-    pub mod present;
-    pub mod scene_watch;
-    pub mod screenshot;
-    pub mod settings;
-    pub mod syslibs;
-    pub mod timing;
-    pub mod ui;
-    pub mod worker;
-}
+mod window;
 
 use std::process::ExitCode;
 
