@@ -4,9 +4,6 @@
 //! Needs `xvfb-run` (Debian: xvfb xauth). Without it the test passes with a loud SKIPPED
 //! message, except when `CI` is set: CI installs it, so there a missing `xvfb-run` fails.
 
-#[expect(dead_code, reason = "shared helpers; this file runs the viewer under xvfb-run itself")]
-mod common;
-
 use std::ffi::OsStr;
 use std::fs::File;
 use std::os::unix::process::CommandExt;
@@ -14,7 +11,7 @@ use std::path::Path;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
-use common::{read_rgb_png, seed_scene};
+use crate::common::{read_rgb_png, seed_scene};
 
 const WIDTH: u32 = 800;
 const HEIGHT: u32 = 300;

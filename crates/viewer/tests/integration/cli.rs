@@ -1,14 +1,11 @@
 //! End-to-end tests of the `stereotrace` binary's headless commands.
 
-#[expect(dead_code, reason = "shared helpers; this file needs no `seed_scene`")]
-mod common;
-
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
 use serde_json::Value;
 
-use common::{read_png, root, stereotrace, stereotrace_with, tmp};
+use crate::common::{read_png, root, stereotrace, stereotrace_with, tmp};
 
 fn png_size(path: &Path) -> (u32, u32) {
     let (w, h, _) = read_png(path);
