@@ -61,6 +61,7 @@ impl Viewer {
                 window: size.get(),
                 frame: info.as_ref(),
                 settings: &self.settings,
+                ui_hidden: self.chrome.hidden,
             });
         }
         info
