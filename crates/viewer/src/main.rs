@@ -3,57 +3,42 @@
 //!
 //! Exit codes: 0 success, 2 bad input (scene file, arguments), 1 any other failure.
 //!
-//! The modules, in order: each uses only modules listed before it (and the package's library,
-//! `lib.rs`, for PNG output).
-//! - `crop` (a rectangle of an eye image), `cli` (the arguments), `setup` (a scene with the overrides applied, the memory check),
-//!   `report` (the JSON keys), `reference` (the full trace quality is measured against);
-//! - `render_cmd` and `bench`, the headless commands; `plot` (the sweep's figure) and `sweep`,
-//!   which measures with `bench`'s loop;
-//! - `timing` (scene clock, rate meters), `syslibs` (start-up checks), `frame_times` (the
-//!   frame-time history), `input` (keys and drags);
-//! - `worker` (the render thread and its requests), `present` (a frame into the window's
-//!   buffer), `settings` (the settings model, head movement, the request), `scene_watch`
-//!   (the scene file watched and reloaded, other files opened), `screenshot`,
-//!   `fps_log` (the stderr log), `ui` (the panel, drawing only), `window` (the window and
-//!   presenting into it);
-//! - `app`, the event loop's handler, which ties the viewer together.
+//! The sources are laid out by job: `cli/` holds the headless commands and what only they
+//! use, `window/` the viewer window; what both use stays at the top. The modules, in order:
+//! each uses only modules listed before it (and the package's library, `lib.rs`, for PNG
+//! output).
+//! - shared: `crop` (a rectangle of an eye image, the type of `render --crop`), `args` (the
+//!   command line, clap), `setup` (a scene with the overrides applied, the memory check, the
+//!   scene path resolved), `reference` (the full trace quality is measured against);
+//! - `cli`, the headless commands: `report` (the JSON keys), `render` and `bench`; `plot`
+//!   (the sweep's figure) and `sweep`, which measures with `bench`'s loop;
+//! - `window`, the viewer window: `timing`, `syslibs`, `frame_times`, `input`; `worker`,
+//!   `present`, `settings`, `scene_watch`, `screenshot`, `fps_log`, `ui`, `os_window`; then
+//!   `app`, the event loop's handler (its parts: `chrome`, `meters`, `viewer`, `frame`,
+//!   `events`).
+//!
+//! `cli` and `window` do not use each other; `main` dispatches to one of them.
 
-mod app;
-mod bench;
+mod args;
 mod cli;
 mod crop;
-mod fps_log;
-mod frame_times;
-mod input;
-mod plot;
-mod present;
 mod reference;
-mod render_cmd;
-mod report;
-mod scene_watch;
-mod screenshot;
-mod settings;
 mod setup;
-mod sweep;
-mod syslibs;
-mod timing;
-mod ui;
 mod window;
-mod worker;
 
 use std::process::ExitCode;
 
 use clap::Parser;
 
-use crate::cli::{Cli, Command};
+use crate::args::{Cli, Command};
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = setup::check_lanes_env().and_then(|()| match cli.command {
-        None => app::run(&cli.window),
-        Some(Command::Render(args)) => render_cmd::run(&args),
-        Some(Command::Bench(args)) => bench::run(&args),
-        Some(Command::Sweep(args)) => sweep::run(&args),
+        None => window::app::run(&cli.window),
+        Some(Command::Render(args)) => cli::render::run(&args),
+        Some(Command::Bench(args)) => cli::bench::run(&args),
+        Some(Command::Sweep(args)) => cli::sweep::run(&args),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,

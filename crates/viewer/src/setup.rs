@@ -11,7 +11,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 use tracer::{Camera, Scene, MAX_DEPTH_LIMIT};
 
-use crate::cli::FrameArgs;
+use crate::args::FrameArgs;
 
 /// Bad input from the user (an argument out of range): exit code 2, like a bad scene file.
 #[derive(Debug)]

@@ -21,9 +21,9 @@ use serde_json::{json, Map, Value};
 use stereo::{FrameStats, Mode, Options, Quality, StereoFrame};
 use tracer::{Camera, RayCounts, Scene, Tracer};
 
-use crate::cli::BenchArgs;
+use crate::args::BenchArgs;
+use crate::cli::report;
 use crate::reference::Reference;
-use crate::report;
 use crate::setup::FrameSetup;
 
 /// One measured variant: its name in reports, the mode, and whether edges are retraced.

@@ -18,7 +18,7 @@ use std::ops::Range;
 use stereo::Layout;
 use tracer::Eye;
 
-use crate::worker::Finished;
+use crate::window::worker::Finished;
 
 /// Colour of window areas no eye covers.
 pub const BACKGROUND: u32 = 0x0018_1818;
@@ -167,7 +167,7 @@ mod tests {
     use super::*;
     use stereo::{mask_color, PixelClass};
 
-    use crate::worker::{FrameInfo, Request};
+    use crate::window::worker::{FrameInfo, Request};
 
     fn look(layout: Layout, swap: bool, show_mask: bool) -> Look {
         Look { layout, swap, show_mask }

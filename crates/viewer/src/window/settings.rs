@@ -9,8 +9,8 @@ use glam::Vec3;
 use stereo::{Layout, Mode};
 use tracer::{Camera, Scene};
 
-use crate::present::Look;
-use crate::worker::Request;
+use crate::window::present::Look;
+use crate::window::worker::Request;
 
 /// Largest interpupillary distance the slider offers, scene units.
 pub const MAX_IPD: f32 = 2.0;

@@ -13,7 +13,7 @@
 //!
 //! Letters and arrows are ignored while egui has keyboard focus (typing a value into a
 //! slider); Tab, F1, F11 and F12 are the viewer's whatever egui wants ([`Command::is_global`]),
-//! and Tab never reaches egui at all (egui would move its focus with it; `app.rs` keeps it).
+//! and Tab never reaches egui at all (egui would move its focus with it; `app/events.rs` keeps it).
 
 use std::time::Instant;
 

@@ -1,15 +1,12 @@
 //! End-to-end tests of `stereotrace sweep`: the CSV's rows, what reprojection predicts at
 //! IPD 0, the plot files, bad arguments, and Ctrl-C keeping the rows done.
 
-#[expect(dead_code, reason = "shared helpers; this file reads PNGs as bytes")]
-mod common;
-
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader, Read};
 
 use std::process::{Command, Stdio};
 
-use common::{read_rgb_png, root, stereotrace, tmp};
+use crate::common::{read_rgb_png, root, stereotrace, tmp};
 
 const HEADER: &str =
     "mode,right_over_left_rays,right_ms,left_ms,stereo_over_mono,reprojected_pct,psnr_db,over_2_255_pct";

@@ -1,12 +1,9 @@
 //! End-to-end tests of `render --crop` and `render --diff`, the options the paper figures
 //! (`scripts/paper-figures.sh`) use.
 
-#[expect(dead_code, reason = "shared helpers; this file needs no environment of its own")]
-mod common;
-
 use std::path::{Path, PathBuf};
 
-use common::{read_png, stereotrace, tmp};
+use crate::common::{read_png, stereotrace, tmp};
 
 fn s(p: &Path) -> &str {
     p.to_str().unwrap_or_else(|| panic!("{} is not UTF-8", p.display()))

@@ -1,11 +1,13 @@
 //! The frame-rate log on stderr, on with `STEREOTRACE_LOG_FPS=1`: one line of `key=value`
 //! fields each time the UI's rate meter closes a window (about twice a second). Soak runs
-//! read the rates from it, and the window test reads the head pose, layout, swap and PSNR.
+//! read the rates from it, and the window tests read the head pose, layout, swap and PSNR,
+//! and wait on it: for the first rendered frame (`frame`, its number, 0 before it) and for
+//! the UI to be hidden (`ui`) before they go on.
 
 use std::time::Duration;
 
-use crate::settings::Settings;
-use crate::worker::FrameInfo;
+use crate::window::settings::Settings;
+use crate::window::worker::FrameInfo;
 
 /// The environment variable that turns the log on (value `1`).
 pub const ENV: &str = "STEREOTRACE_LOG_FPS";
@@ -23,6 +25,8 @@ pub struct Report<'a> {
     pub frame: Option<&'a FrameInfo>,
     /// The settings on screen.
     pub settings: &'a Settings,
+    /// Tab has hidden the UI: the frame presented with this line shows the eyes alone.
+    pub ui_hidden: bool,
 }
 
 /// The log: whether it is on, and the time spent redrawing since its last line.
@@ -56,14 +60,15 @@ impl FpsLog {
 }
 
 /// One log line: the rates, the mean redraw time over `redraws` redraws that took `busy`,
-/// the window, the eyes' trace times, the head pose and the view.
+/// the window, the eyes' trace times, the head pose and the view, the newest frame's number
+/// and whether the UI is shown.
 fn line(r: &Report<'_>, busy: Duration, redraws: u32) -> String {
     let s = r.settings;
     let (left_ms, right_ms) = r.frame.map_or((0.0, 0.0), |f| (f.stats.left.ms, f.stats.right.ms));
     let psnr = r.frame.and_then(|f| f.quality).map_or_else(|| "-".to_owned(), |q| format!("{:.2}", q.psnr_db));
     format!(
         "fps={:.1} render_fps={:.1} ui_ms={:.2} window={}x{} left_ms={left_ms:.1} right_ms={right_ms:.1} \
-         head={:.3},{:.3},{:.3} yaw={:.1} pitch={:.1} layout={} swap={} psnr={psnr}",
+         head={:.3},{:.3},{:.3} yaw={:.1} pitch={:.1} layout={} swap={} psnr={psnr} frame={} ui={}",
         r.ui_fps,
         r.render_fps,
         busy.as_secs_f64() * 1e3 / f64::from(redraws.max(1)),
@@ -76,6 +81,8 @@ fn line(r: &Report<'_>, busy: Duration, redraws: u32) -> String {
         s.pitch_deg,
         s.layout,
         s.swap_eyes,
+        r.frame.map_or(0, |f| f.seq),
+        if r.ui_hidden { "hidden" } else { "shown" },
     )
 }
 
@@ -93,21 +100,27 @@ mod tests {
         let mut settings = Settings::from_scene(&scene);
         (settings.position, settings.yaw_deg, settings.layout, settings.swap_eyes) =
             (Vec3::new(0.5, 0.0, -1.25), 30.0, Layout::Anaglyph, true);
-        let mut report =
-            Report { ui_fps: 60.0, render_fps: 12.5, window: (800, 300), frame: None, settings: &settings };
+        let mut report = Report {
+            ui_fps: 60.0,
+            render_fps: 12.5,
+            window: (800, 300),
+            frame: None,
+            settings: &settings,
+            ui_hidden: false,
+        };
         assert_eq!(
             line(&report, Duration::from_millis(9), 3),
             "fps=60.0 render_fps=12.5 ui_ms=3.00 window=800x300 left_ms=0.0 right_ms=0.0 \
-             head=0.500,0.000,-1.250 yaw=30.0 pitch=0.0 layout=anaglyph swap=true psnr=-",
+             head=0.500,0.000,-1.250 yaw=30.0 pitch=0.0 layout=anaglyph swap=true psnr=- frame=0 ui=shown",
             "before the first frame"
         );
         let mut stats = FrameStats::default();
         (stats.left.ms, stats.right.ms) = (20.0, 5.5);
         let request = settings.request(&scene, 0.0, 8, 8);
         let quality = Some(Quality { psnr_db: f64::INFINITY, ..Quality::default() });
-        let frame = FrameInfo { seq: 1, request, samples: request.samples, stats, quality, wall_ms: 30.0 };
-        report.frame = Some(&frame);
+        let frame = FrameInfo { seq: 7, request, samples: request.samples, stats, quality, wall_ms: 30.0 };
+        (report.frame, report.ui_hidden) = (Some(&frame), true);
         let l = line(&report, Duration::ZERO, 0);
-        assert!(l.contains(" left_ms=20.0 right_ms=5.5 ") && l.ends_with(" psnr=inf"), "{l}");
+        assert!(l.contains(" left_ms=20.0 right_ms=5.5 ") && l.ends_with(" psnr=inf frame=7 ui=hidden"), "{l}");
     }
 }

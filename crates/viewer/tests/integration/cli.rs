@@ -1,14 +1,14 @@
-//! End-to-end tests of the `stereotrace` binary's headless commands.
+//! End-to-end tests of the `stereotrace` binary's headless commands: what they write and
+//! report; bad input is `bad_input`'s.
 
-#[expect(dead_code, reason = "shared helpers; this file needs no `seed_scene`")]
-mod common;
+mod bad_input;
 
 use std::path::{Path, PathBuf};
 use std::process::Output;
 
 use serde_json::Value;
 
-use common::{read_png, root, stereotrace, stereotrace_with, tmp};
+use crate::common::{read_png, root, stereotrace, tmp};
 
 fn png_size(path: &Path) -> (u32, u32) {
     let (w, h, _) = read_png(path);
@@ -48,6 +48,35 @@ fn one_mirror_rays(image: &Path) -> [u64; 4] {
     [pixels_n, 2 * hits, hits, pixels_n + 3 * hits]
 }
 
+/// The bench's modes, as its report names them.
+const MODES: [&str; 6] = ["full", "copy", "copy+edges", "reshade", "reshade+edges", "exact"];
+
+/// The number at `path` in `v`.
+fn ms(v: &Value, path: &[&str]) -> f64 {
+    path.iter().fold(v, |v, key| &v[key]).as_f64().unwrap_or_else(|| panic!("{path:?} is not a number in {v}"))
+}
+
+/// Equal but for what a number's trip through JSON's decimal form may round off.
+fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-12 * a.abs().max(b.abs())
+}
+
+/// The README's promises about a frame report's times: the left eye is stage 1 (its trace),
+/// the right eye the sum of stages 2 to 5 (reprojection, retrace, reshade), and their ratio
+/// is `ratios.right_ms_over_left`.
+fn assert_times_add_up(v: &Value, what: &str) {
+    let (left, right) = (ms(v, &["left", "ms"]), ms(v, &["right", "ms"]));
+    let stage = |name: &str| ms(v, &["stages", name]);
+    assert!(close(left, stage("trace_left_ms")), "{what}: left.ms {left} should equal stages.trace_left_ms: {v}");
+    let stages = stage("reproject_ms") + stage("retrace_ms") + stage("reshade_ms");
+    assert!(close(right, stages), "{what}: right.ms {right} should equal reproject + retrace + reshade, {stages}: {v}");
+    let ratio = ms(v, &["ratios", "right_ms_over_left"]);
+    assert!(
+        close(ratio, right / left),
+        "{what}: ratios.right_ms_over_left {ratio} should equal right.ms / left.ms, {right} / {left}"
+    );
+}
+
 /// An eye's `rays` object as reported: [primary, shadow, reflection, total].
 fn rays(eye: &Value) -> [u64; 4] {
     ["primary", "shadow", "reflection", "total"].map(|k| count(&eye["rays"], k))
@@ -77,8 +106,8 @@ fn render_full_writes_both_eyes_and_a_consistent_report() {
     assert_eq!(png_size(&r), (160, 90), "the right eye's size");
     for eye in ["left", "right"] {
         assert_eq!(v[eye]["rays"]["primary"].as_u64(), Some(160 * 90), "{eye}: one primary ray per pixel");
-        assert!(v[eye]["ms"].as_f64().unwrap() > 0.0, "{eye}: timed");
     }
+    assert_times_add_up(&v, "render full");
     assert_eq!(v["quality"]["share_not_identical"].as_f64(), Some(0.0));
     assert!(v["quality"]["psnr_db"].is_null(), "identical images have infinite PSNR, reported as null");
 }
@@ -157,56 +186,52 @@ fn the_reported_rays_are_those_the_pixels_imply() {
     ]);
     let v = json(&out);
     let expected = one_mirror_rays(&l);
-    for mode in ["full", "copy", "copy+edges", "reshade", "reshade+edges", "exact"] {
+    for mode in MODES {
         assert_eq!(rays(&v["modes"][mode]["left"]), expected, "{mode}: the left eye");
     }
     assert_eq!(rays(&v["modes"]["full"]["right"]), expected, "full: the right eye too");
 }
 
 #[test]
-fn bench_reports_every_mode() {
+fn bench_reports_every_mode_and_its_times_add_up() {
     let out = stereotrace(&["bench", "--width", "96", "--height", "54", "--frames", "1", "--json"]);
     let v = json(&out);
-    for mode in ["full", "copy", "copy+edges", "reshade", "reshade+edges", "exact"] {
+    // mono_ms is the median left eye over every mode's frames: here, of six modes' one frame.
+    let mut lefts: Vec<f64> = MODES.iter().map(|mode| ms(&v["modes"][mode], &["left", "ms"])).collect();
+    lefts.sort_by(f64::total_cmp);
+    let mono = ms(&v, &["mono_ms"]);
+    assert!(
+        close(mono, 0.5 * (lefts[2] + lefts[3])),
+        "mono_ms {mono} should be the median of the modes' left.ms, {lefts:?}"
+    );
+    for mode in MODES {
         let m = &v["modes"][mode];
         assert_eq!(rays(&m["left"])[0], 96 * 54, "{mode}: the left eye casts one primary ray per pixel");
         assert!(rays(&m["right"])[0] <= 96 * 54, "{mode}: the right eye at most one per pixel");
         assert!(m["quality"]["share_over_2_255"].is_number(), "{mode}");
-        // Each frame's stereo time includes its own left eye: never below one mono frame.
-        assert!(m["stereo_over_mono"].as_f64().unwrap() >= 1.0, "{mode}");
-        assert!(m["stereo_ms_over_mono_ms"].as_f64().unwrap() > 0.0, "{mode}");
+        assert_times_add_up(m, mode);
+        // One frame: every median is that frame's own value.
+        let (left, right) = (ms(m, &["left", "ms"]), ms(m, &["right", "ms"]));
+        let stereo = ms(m, &["stereo_ms"]);
+        assert!(
+            close(stereo, left + right),
+            "{mode}: stereo_ms {stereo} should equal left.ms {left} + right.ms {right}"
+        );
+        let over_mono = ms(m, &["stereo_over_mono"]);
+        assert!(
+            close(over_mono, stereo / left),
+            "{mode}: stereo_over_mono {over_mono} should equal (left.ms + right.ms) / left.ms, {stereo} / {left}"
+        );
+        let over = ms(m, &["stereo_ms_over_mono_ms"]);
+        assert!(
+            close(over, stereo / mono),
+            "{mode}: stereo_ms_over_mono_ms {over} should equal stereo_ms / mono_ms, {stereo} / {mono}"
+        );
     }
     let table = stereotrace(&["bench", "--width", "96", "--height", "54", "--frames", "1"]);
     assert!(table.status.success(), "the table: {}", String::from_utf8_lossy(&table.stderr));
     let text = String::from_utf8_lossy(&table.stdout);
     assert!(text.contains("reshade+edges") && text.contains("PSNR") && text.contains("reproject"), "{text}");
-}
-
-#[test]
-fn a_bad_scene_file_names_file_line_and_field_and_exits_2() {
-    let bad = tmp("bad.toml");
-    std::fs::write(&bad, "[[spheres]]\ncenter = [0.0, 0.0, 15.0]\nradius = -2.0\n").unwrap();
-    let out = stereotrace(&["render", "--scene", bad.to_str().unwrap(), "--json"]);
-    assert_eq!(out.status.code(), Some(2), "bad input");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("bad.toml:1: spheres[0].radius = -2: must be > 0"), "{err}");
-    assert!(!err.contains("panicked"), "{err}");
-}
-
-#[test]
-fn bad_arguments_exit_2_without_writing() {
-    let out = stereotrace(&["render", "--width", "0", "--json"]);
-    assert_eq!(out.status.code(), Some(2), "--width 0");
-    let out = stereotrace(&["render", "--ipd", "-1", "--json"]);
-    assert_eq!(out.status.code(), Some(2), "--ipd -1");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("--ipd -1"), "{err}");
-    let missing = tmp("no/such/dir/l.png");
-    let out = stereotrace(&["render", "--width", "8", "--height", "8", "--left", missing.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2), "an output in a missing directory");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("does not exist"), "{err}");
-    assert!(!missing.exists(), "nothing written");
 }
 
 #[test]
@@ -236,84 +261,6 @@ fn help_documents_every_flag() {
     for flag in ["--scene", "--frames", "--dump", "--render-scale", "render", "bench"] {
         assert!(text.contains(flag), "--help lacks {flag}");
     }
-}
-
-/// `STEREOTRACE_LANES` accepts 4 (the fallback, which the report names) and refuses the rest.
-#[test]
-fn the_lanes_variable_forces_the_fallback_and_refuses_other_values() {
-    let args = ["render", "--width", "16", "--height", "8", "--json"];
-    let out = stereotrace_with(&[("STEREOTRACE_LANES", "4")], &args);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("the JSON report");
-    assert_eq!(report["lanes"], 4, "the fallback ran");
-    let out = stereotrace_with(&[("STEREOTRACE_LANES", "16")], &args);
-    assert_eq!(out.status.code(), Some(2), "a width the tracer does not have is bad input");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("STEREOTRACE_LANES=16: must be 4"), "{err}");
-}
-
-/// The memory check, with the limit injected (`STEREOTRACE_MEMORY_AVAILABLE`) so the answer
-/// does not depend on this machine's free memory.
-#[test]
-fn a_frame_too_large_for_the_memory_is_refused_before_any_work() {
-    let limit = |bytes: &str| [("STEREOTRACE_MEMORY_AVAILABLE", bytes.to_owned())];
-    let run = |env: &[(&str, String)], args: &[&str]| {
-        let env: Vec<(&str, &str)> = env.iter().map(|(k, v)| (*k, v.as_str())).collect();
-        stereotrace_with(&env, args)
-    };
-    let out = run(&limit("17179869184"), &["render", "--width", "16384", "--height", "16384", "--json"]);
-    assert_eq!(out.status.code(), Some(2), "refused as bad input");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        err.contains("--width 16384 --height 16384: the frame needs 52.0 GiB but only 16.0 GiB of memory is available"),
-        "{err}"
-    );
-    // 208 bytes per eye pixel (three films, the source map and the mask, and what temporal
-    // reuse keeps): 64 × 64 needs 851968.
-    let small = ["render", "--width", "64", "--height", "64", "--json"];
-    assert!(run(&limit("851968"), &small).status.success(), "exactly enough memory");
-    let out = run(&limit("851967"), &small);
-    assert_eq!(out.status.code(), Some(2), "one byte short: {}", String::from_utf8_lossy(&out.stderr));
-    let out = run(&limit("lots"), &small);
-    assert_eq!(out.status.code(), Some(2), "a limit that is no number");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("STEREOTRACE_MEMORY_AVAILABLE=lots: must be a whole number of bytes"), "{err}");
-}
-
-#[test]
-fn limits_are_refused_before_any_work() {
-    let out = stereotrace(&["render", "--width", "20000", "--json"]);
-    assert_eq!(out.status.code(), Some(2), "over the documented maximum side");
-    let out = stereotrace(&["render", "--mode", "fast", "--json"]);
-    assert_eq!(out.status.code(), Some(2), "an unknown mode");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("expected one of full, copy, reshade, exact"), "{err}");
-    let out = stereotrace(&["render", "--layout", "over-under", "--out", "x.png"]);
-    assert_eq!(out.status.code(), Some(2), "an unknown layout");
-    let dir = tmp("anim-bad-fps");
-    let out = stereotrace(&["render", "--frames", "2", "--fps", "0", "--out-dir", dir.to_str().unwrap()]);
-    assert_eq!(out.status.code(), Some(2), "--fps 0");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("--fps 0"), "{err}");
-    let out = stereotrace(&["render", "--scene", "no/such/scene.toml", "--json"]);
-    assert_eq!(out.status.code(), Some(2), "a missing scene");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("no/such/scene.toml: cannot read scene file"), "{err}");
-}
-
-#[test]
-fn an_unwritable_output_fails_cleanly_and_leaves_no_partial_file() {
-    // /proc accepts no new files, even for root.
-    let out = stereotrace(&["render", "--width", "8", "--height", "8", "--left", "/proc/stereotrace-left.png"]);
-    assert_eq!(out.status.code(), Some(1), "not bad input, a failure");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("cannot write /proc/stereotrace-left.png"), "{err}");
-    let leftovers: Vec<_> = std::fs::read_dir("/proc")
-        .unwrap()
-        .filter_map(Result::ok)
-        .filter(|e| e.file_name().to_string_lossy().contains("stereotrace-left"))
-        .collect();
-    assert!(leftovers.is_empty(), "no partial file: {leftovers:?}");
 }
 
 #[test]
@@ -404,21 +351,6 @@ fn supersampling_traces_the_samples_and_writes_the_requested_size() {
     let out = stereotrace(&[&args[..], &[dir.to_str().unwrap()]].concat());
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(png_size(&dir.join("frame_00001.png")), (64, 18), "two 32 × 18 eyes side by side");
-}
-
-#[test]
-fn a_supersample_factor_outside_1_to_4_exits_2() {
-    for bad in ["0", "5", "1.5", "two"] {
-        let out = stereotrace(&["render", "--supersample", bad, "--json"]);
-        assert_eq!(out.status.code(), Some(2), "--supersample {bad}");
-        let err = String::from_utf8_lossy(&out.stderr);
-        assert!(err.contains(&format!("invalid value '{bad}' for '--supersample <S>'")), "{err}");
-        assert!(out.stdout.is_empty(), "nothing rendered for --supersample {bad}");
-    }
-    let out = stereotrace(&["render", "--width", "16384", "--height", "16384", "--supersample", "4", "--json"]);
-    assert_eq!(out.status.code(), Some(2), "2³² samples per eye");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("65536 × 65536 samples per eye; an eye must have fewer than 4294967295 samples"), "{err}");
 }
 
 /// `render --frames` reuses each frame's unchanged pixels for the next: the files are those

@@ -232,7 +232,7 @@ mod tests {
     use super::*;
     use glam::Vec3;
 
-    use crate::settings::Settings;
+    use crate::window::settings::Settings;
 
     const GOOD: &str = "[camera]\nposition = [0.0, 0.0, -1.0]\n[[spheres]]\ncenter = [0.0, 0.0, 10.0]\nradius = 1.0\n";
     const BROKEN: &str =

@@ -14,13 +14,13 @@ use egui::{Align2, Color32, RichText, Slider};
 use glam::Vec3;
 use stereo::{mask_color, Layout, Mode, KEPT_COLOR, KEPT_LEGEND, MASK_LEGEND};
 
-use crate::frame_times::{FrameTimes, SERIES_LEN, SERIES_NAMES};
-use crate::input::KEYS;
-use crate::settings::{
+use crate::window::frame_times::{FrameTimes, SERIES_LEN, SERIES_NAMES};
+use crate::window::input::KEYS;
+use crate::window::settings::{
     Settings, DISTANCE_RANGE, LIGHT_RANGE, MAX_IPD, MAX_ORBIT_SPEED, MAX_REFLECTION_DEPTH, MAX_RENDER_SCALE,
     MIN_RENDER_SCALE,
 };
-use crate::worker::FrameInfo;
+use crate::window::worker::FrameInfo;
 
 /// The hint shown until Tab is first pressed.
 pub const TAB_HINT: &str = "Tab hides the UI · ? lists the keys";

@@ -19,9 +19,9 @@ use serde_json::json;
 use stereo::{compose, downsample, mask_image, Options, StereoFrame};
 use tracer::{RayCounts, Tracer};
 
-use crate::cli::RenderArgs;
+use crate::args::RenderArgs;
+use crate::cli::report;
 use crate::reference::Reference;
-use crate::report;
 use crate::setup::{BadInput, FrameSetup};
 use viewer::{parent_dir, write_png};
 

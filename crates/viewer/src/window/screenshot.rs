@@ -6,8 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant, SystemTime, UNIX_EPOCH};
 
-use crate::present::Look;
-use crate::worker::Finished;
+use crate::window::present::Look;
+use crate::window::worker::Finished;
 use anyhow::Context as _;
 
 /// The default folder, relative to the current directory.
@@ -151,7 +151,7 @@ mod tests {
     /// A supersampled frame: the eyes at their size, the mask per sample.
     #[test]
     fn a_supersampled_mask_is_saved_per_sample() {
-        use crate::worker::{FrameInfo, Request};
+        use crate::window::worker::{FrameInfo, Request};
         let dir = std::env::temp_dir().join(format!("stereotrace-shot-ss-test-{}", std::process::id()));
         let request = Request {
             camera: tracer::Camera::default(),

@@ -21,7 +21,7 @@ use plotters::prelude::*;
 use viewer::{write_bytes, write_png};
 
 /// The embedded font (a subset of DejaVu Sans 2.37; see `fonts/README.md`).
-static FONT: &[u8] = include_bytes!("../fonts/DejaVuSans-subset.ttf");
+static FONT: &[u8] = include_bytes!("../../fonts/DejaVuSans-subset.ttf");
 
 /// The font family the figure's text asks for, which [`register_font`] provides.
 const FAMILY: &str = "sans-serif";

@@ -16,9 +16,9 @@ use std::sync::Arc;
 use anyhow::Result;
 use tracer::{Tracer, MAX_DEPTH_LIMIT};
 
-use crate::bench::{Bench, Summary, Variant, VARIANTS};
-use crate::cli::{FrameArgs, SweepArgs, SweepParam};
-use crate::plot::{self, Figure, Line};
+use crate::args::{FrameArgs, SweepArgs, SweepParam};
+use crate::cli::bench::{Bench, Summary, Variant, VARIANTS};
+use crate::cli::plot::{self, Figure, Line};
 use crate::setup::{BadInput, FrameSetup};
 use viewer::{parent_dir, write_bytes};
 

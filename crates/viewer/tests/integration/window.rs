@@ -1,24 +1,27 @@
-//! Window smoke test: the real viewer under Xvfb shows five frames and dumps the last one
-//! (eyes and egui panel) to PNG, which must show the seed scene in both halves.
+//! The real viewer under Xvfb: it shows the seed scene in both eyes with the egui panel over
+//! the left one, keys move the head, switch the layout and save screenshots, Tab leaves both
+//! eyes clean, and a render scale of 200 % shows the supersampled eyes.
 //!
-//! Needs `xvfb-run` (Debian: xvfb xauth). Without it the test passes with a loud SKIPPED
-//! message, except when `CI` is set: CI installs it, so there a missing `xvfb-run` fails.
+//! Each test starts its own X server ([`XSession`]) and waits only for conditions — the
+//! window mapped, a line of the viewer's fps log (`STEREOTRACE_LOG_FPS=1`), the `saved`
+//! lines of a screenshot, the viewer's exit after `--frames` — each within a generous
+//! timeout whose failure says what it waited for and shows the viewer's stderr.
+//!
+//! Needs `xvfb-run` (Debian: xvfb xauth) and, to drive the keys, `xdotool`. Without them the
+//! tests pass with a loud SKIPPED message, except when `CI` is set: CI installs them, so
+//! there a missing tool fails.
 
-#[expect(dead_code, reason = "shared helpers; this file runs the viewer under xvfb-run itself")]
-mod common;
+mod x_session;
 
 use std::ffi::OsStr;
-use std::fs::File;
-use std::os::unix::process::CommandExt;
-use std::path::Path;
-use std::process::{Command, Stdio};
-use std::time::{Duration, Instant};
+use std::path::{Path, PathBuf};
+use std::process::Command;
 
-use common::{read_rgb_png, seed_scene};
+use self::x_session::{Viewer, XSession};
+use crate::common::{read_rgb_png, seed_scene};
 
 const WIDTH: u32 = 800;
 const HEIGHT: u32 = 300;
-const TIMEOUT: Duration = Duration::from_secs(120);
 
 fn on_path(exe: &str) -> bool {
     std::env::var_os("PATH").is_some_and(|p| std::env::split_paths(&p).any(|d| d.join(exe).is_file()))
@@ -36,62 +39,54 @@ fn missing(tools: &[&str]) -> bool {
     true
 }
 
-/// Runs `args` (a program and its arguments) under `xvfb-run` in `dir`, with `env` set,
-/// waits for it (killing the lot after [`TIMEOUT`]), asserts that it succeeded, and returns
-/// its stderr.
-fn under_xvfb(dir: &Path, args: &[&OsStr], env: &[(&str, &str)]) -> String {
-    let log = dir.join("stderr.txt");
-    let read = || std::fs::read_to_string(&log).unwrap_or_else(|e| panic!("{}: {e}", log.display()));
-    let mut child = Command::new("xvfb-run")
-        .args(["-a", "-s", "-screen 0 1920x1080x24"])
-        .args(args)
-        .envs(env.iter().copied())
-        .current_dir(dir)
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(File::create(&log).unwrap_or_else(|e| panic!("{}: {e}", log.display())))
-        // Its own process group, so a timeout can kill xvfb-run, Xvfb and the viewer together.
-        .process_group(0)
-        .spawn()
-        .unwrap_or_else(|e| panic!("cannot start xvfb-run: {e}"));
-    let started = Instant::now();
-    let status = loop {
-        if let Some(status) = child.try_wait().unwrap_or_else(|e| panic!("xvfb-run: {e}")) {
-            break status;
-        }
-        if started.elapsed() > TIMEOUT {
-            let _ = Command::new("kill").args(["-KILL", &format!("-{}", child.id())]).status();
-            let _ = child.wait();
-            panic!("the viewer did not exit within {TIMEOUT:?}; stderr:\n{}", read());
-        }
-        std::thread::sleep(Duration::from_millis(50));
-    };
-    let stderr = read();
-    assert!(status.success(), "viewer failed ({status}); stderr:\n{stderr}");
-    stderr
+/// A fresh scratch folder for one test.
+fn scratch(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("stereotrace-{name}-test-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display()));
+    dir
 }
 
-/// Runs the viewer on the seed scene with `args` and `--dump` under Xvfb (scratch in `dir`),
-/// and returns the dumped frame: width, height, RGB bytes.
-fn dumped(dir: &Path, args: &[&str]) -> (u32, u32, Vec<u8>) {
-    let dump = dir.join("dump.png");
+/// Starts the viewer on the seed scene with `args` on `x`, in `dir`, with `env` set.
+fn viewer(x: &XSession, dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Viewer {
     let scene = seed_scene();
-    let exe = OsStr::new(env!("CARGO_BIN_EXE_stereotrace"));
-    let args: Vec<&OsStr> = [exe, "--scene".as_ref(), scene.as_os_str()]
-        .into_iter()
-        .chain(args.iter().map(OsStr::new))
-        .chain(["--dump".as_ref(), dump.as_os_str()])
-        .collect();
-    under_xvfb(dir, &args, &[]);
+    let args: Vec<&OsStr> =
+        ["--scene".as_ref(), scene.as_os_str()].into_iter().chain(args.iter().map(OsStr::new)).collect();
+    x.viewer(dir, &args, env)
+}
+
+/// Runs the viewer on the seed scene with `args` and `--dump` under Xvfb (scratch in `dir`)
+/// until it exits by itself (`args` has `--frames`), and returns the dumped frame: width,
+/// height, RGB bytes.
+fn dumped(dir: &Path, args: &[&str]) -> (u32, u32, Vec<u8>) {
+    let x = XSession::start();
+    let dump = dir.join("dump.png");
+    let dump_arg = dump.to_str().unwrap_or_else(|| panic!("{} is not UTF-8", dump.display()));
+    let args: Vec<&str> = args.iter().copied().chain(["--dump", dump_arg]).collect();
+    viewer(&x, dir, &args, &[]).wait_exit();
     read_rgb_png(&dump)
 }
 
-/// Runs the viewer and xdotool from the shell `script` under `xvfb-run` in `dir`, as
-/// [`under_xvfb`]: the script gets the binary as `$0` and the seed scene as `$1`.
-fn scripted(dir: &Path, script: &str, env: &[(&str, &str)]) -> String {
-    let exe = OsStr::new(env!("CARGO_BIN_EXE_stereotrace"));
-    let scene = seed_scene();
-    under_xvfb(dir, &["sh".as_ref(), "-c".as_ref(), script.as_ref(), exe, scene.as_os_str()], env)
+/// The value of `key` in a line of the fps log, if it is one and has the key.
+fn field<'a>(line: &'a str, key: &str) -> Option<&'a str> {
+    let prefix = format!("{key}=");
+    line.starts_with("fps=").then(|| line.split_whitespace().find_map(|f| f.strip_prefix(prefix.as_str()))).flatten()
+}
+
+/// The last value of `key` in the fps log lines of `log`.
+fn last_logged<'a>(log: &'a str, key: &str) -> Option<&'a str> {
+    log.lines().rev().find_map(|l| field(l, key))
+}
+
+/// The head position (x, y, z) of an fps log line.
+fn head(line: &str) -> Option<[f32; 3]> {
+    let xyz: Vec<f32> = field(line, "head")?.split(',').map(|v| v.parse().ok()).collect::<Option<_>>()?;
+    xyz.try_into().ok()
+}
+
+/// Whether the fps log line shows a rendered frame (`frame` ≥ 1).
+fn has_frame(line: &str) -> bool {
+    field(line, "frame").and_then(|n| n.parse::<u64>().ok()).is_some_and(|n| n >= 1)
 }
 
 /// Pixel statistics of the columns `x0..x1` of an RGB image `width` wide.
@@ -136,8 +131,7 @@ fn window_shows_both_eyes_under_xvfb() {
     if missing(&["xvfb-run"]) {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("stereotrace-window-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("window");
     let (width, height) = (WIDTH.to_string(), HEIGHT.to_string());
     let (w, h, rgb) = dumped(&dir, &["--frames", "5", "--time", "1.0", "--width", &width, "--height", &height]);
     assert_eq!((w, h), (WIDTH, HEIGHT), "the dump has the window's size (Xvfb scale factor 1)");
@@ -171,52 +165,42 @@ fn window_shows_both_eyes_under_xvfb() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-/// The last `key=value` of `key` in the fps log lines.
-fn last_logged<'a>(log: &'a str, key: &str) -> Option<&'a str> {
-    let prefix = format!("{key}=");
-    log.lines()
-        .rev()
-        .filter(|l| l.starts_with("fps="))
-        .find_map(|l| l.split_whitespace().find_map(|field| field.strip_prefix(prefix.as_str())))
-}
-
-/// Keys driven with xdotool: Up held moves the head forward, 3 picks the anaglyph, X swaps
-/// the eyes, F12 saves screenshots; exact mode stays identical to a full trace while moving.
+/// Keys driven with xdotool: Up held moves the head forward (and only while held), 3 picks
+/// the anaglyph, X swaps the eyes, F12 saves screenshots; exact mode stays identical to a
+/// full trace while moving.
 #[test]
 fn keys_move_the_head_switch_layouts_and_save_screenshots() {
     if missing(&["xvfb-run", "xdotool"]) {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("stereotrace-keys-test-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    // The viewer in the background; xdotool waits for its window, then types.
-    let script = r#"
-        "$0" --scene "$1" --width 400 --height 200 --live-psnr --time 1.0 &
-        viewer=$!
-        wid=""
-        for _ in $(seq 300); do
-            wid=$(xdotool search --name stereotrace 2>/dev/null | head -n 1)
-            [ -n "$wid" ] && break
-            sleep 0.1
-        done
-        [ -n "$wid" ] || { echo "no window" >&2; kill $viewer; exit 3; }
-        sleep 1.5
-        xdotool windowfocus --sync "$wid" 2>/dev/null
-        xdotool keydown Up; sleep 1.0; xdotool keyup Up
-        xdotool key 3; xdotool key x
-        sleep 2.5
-        xdotool key F12
-        sleep 1.0
-        xdotool key Escape
-        wait $viewer
-    "#;
-    let stderr = scripted(&dir, script, &[("STEREOTRACE_LOG_FPS", "1")]);
+    let dir = scratch("keys");
+    let x = XSession::start();
+    let args = ["--width", "400", "--height", "200", "--live-psnr", "--time", "1.0"];
+    let mut viewer = viewer(&x, &dir, &args, &[("STEREOTRACE_LOG_FPS", "1")]);
+    x.focus_window(&viewer);
+    // Up held until the log shows the head half a unit forward (at 2 units/s), then let go.
+    x.xdotool(&viewer, "hold Up", &["keydown", "Up"]);
+    viewer.wait_for_line("the head to move forward with Up held", |l| head(l).is_some_and(|[_, _, z]| z >= 0.5));
+    x.xdotool(&viewer, "let Up go", &["keyup", "Up"]);
+    x.xdotool(&viewer, "press 3 and X", &["key", "3", "x"]);
+    let shown = viewer.wait_for_line("the anaglyph with swapped eyes and a frame measured against a full trace", |l| {
+        field(l, "layout") == Some("anaglyph") && field(l, "swap") == Some("true") && field(l, "psnr") != Some("-")
+    });
+    // Up was let go before 3 was pressed: from then on the head stands where it is.
+    let later = viewer.wait_for_line("the next line of the fps log", |l| l.starts_with("fps="));
+    let [x0, _, z] = head(&shown).unwrap_or_else(|| panic!("no head in {shown}"));
+    assert_eq!(head(&later), head(&shown), "the head stopped when Up was let go:\n{shown}\n{later}");
+    // Straight along +z (the seed scene looks along +z), about as far as held.
+    assert!((0.5..4.0).contains(&z) && x0.abs() < 1e-3, "the head moved forward: {shown}");
+    x.xdotool(&viewer, "press F12", &["key", "F12"]);
+    for k in 1..=3 {
+        viewer.wait_for_line(&format!("screenshot {k} of 3 (left, right, pair) to be saved"), |l| {
+            l.starts_with("stereotrace: saved ")
+        });
+    }
+    x.xdotool(&viewer, "press Esc", &["key", "Escape"]);
+    let stderr = viewer.wait_exit();
 
-    let head = last_logged(&stderr, "head").unwrap_or_else(|| panic!("no fps log line:\n{stderr}"));
-    let xyz: Vec<f32> = head.split(',').map(|v| v.parse().unwrap()).collect();
-    // Up held for about a second at 2 units/s, along +z (the seed scene looks along +z).
-    assert!(xyz[2] > 0.5 && xyz[2] < 4.0 && xyz[0].abs() < 1e-3, "head moved forward: {head}\n{stderr}");
     assert_eq!(last_logged(&stderr, "layout"), Some("anaglyph"), "{stderr}");
     assert_eq!(last_logged(&stderr, "swap"), Some("true"), "{stderr}");
     assert_eq!(last_logged(&stderr, "psnr"), Some("inf"), "exact mode is identical to a full trace:\n{stderr}");
@@ -253,8 +237,7 @@ fn a_render_scale_of_200_shows_the_supersampled_eyes() {
     if missing(&["xvfb-run"]) {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("stereotrace-scale-test-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("scale");
     let args = ["--frames", "3", "--time", "1.0", "--render-scale", "200", "--width", "800", "--height", "300"];
     let (w, h, rgb) = dumped(&dir, &args);
     assert_eq!((w, h), (800, 300));
@@ -288,27 +271,18 @@ fn tab_hides_the_ui_and_leaves_both_eyes_clean() {
     if missing(&["xvfb-run", "xdotool"]) {
         return;
     }
-    let dir = std::env::temp_dir().join(format!("stereotrace-tab-test-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    let script = r#"
-        "$0" --scene "$1" --width 400 --height 200 --time 1.0 --dump dump.png &
-        viewer=$!
-        wid=""
-        for _ in $(seq 300); do
-            wid=$(xdotool search --name stereotrace 2>/dev/null | head -n 1)
-            [ -n "$wid" ] && break
-            sleep 0.1
-        done
-        [ -n "$wid" ] || { echo "no window" >&2; kill $viewer; exit 3; }
-        sleep 1.5
-        xdotool windowfocus --sync "$wid" 2>/dev/null
-        xdotool key Tab
-        sleep 1.5
-        xdotool key Escape
-        wait $viewer
-    "#;
-    scripted(&dir, script, &[]);
+    let dir = scratch("tab");
+    let x = XSession::start();
+    let args = ["--width", "400", "--height", "200", "--time", "1.0", "--dump", "dump.png"];
+    let mut viewer = viewer(&x, &dir, &args, &[("STEREOTRACE_LOG_FPS", "1")]);
+    x.focus_window(&viewer);
+    x.xdotool(&viewer, "press Tab", &["key", "Tab"]);
+    // The line is written as a redraw begins, and that redraw presents what it says.
+    viewer.wait_for_line("a rendered frame presented with the UI hidden", |l| {
+        field(l, "ui") == Some("hidden") && has_frame(l)
+    });
+    x.xdotool(&viewer, "press Esc", &["key", "Escape"]);
+    viewer.wait_exit();
 
     // The same frame headless: the viewer's defaults are the scene's camera in exact mode.
     let render = Command::new(env!("CARGO_BIN_EXE_stereotrace"))

@@ -1,0 +1,181 @@
+//! A warm stereo frame allocates nothing of its own: the tracer's per-frame rebuild (BVH,
+//! screen bins, shadow cube maps, cones) and every mode's passes reuse their buffers, on
+//! every thread; nor does supersampling's filter (`downsample`) into a buffer it reuses.
+//!
+//! Allocations are counted by a global allocator that forwards to the system's and counts
+//! only on the threads of a rayon pool built for the purpose ([`CountingPool`]), each pool
+//! into a counter of its own: this module shares its test binary with the crate's other
+//! tests, which allocate on their own threads (and rayon's global pool) at the same time,
+//! and none of that is counted. The frames run inside the pool (`ThreadPool::install`), so
+//! every parallel pass of theirs runs on its workers, and whatever they allocate, on any of
+//! the pool's threads, counts. The thread that hands the work in is not counted: its one
+//! allocation is rayon's (its queue for work from outside the pool, crossbeam's `Injector`,
+//! takes a new block every 63 jobs), not ours. The test allows fewer allocations than frames:
+//! anything allocated per frame, on any path, counts at least one per frame and fails it.
+//!
+//! The frames are counted in rounds, and the round that allocated least is judged: what is
+//! allocated per frame is allocated in every round, while a buffer that grows once
+//! allocates in one round only. That buffer is typically a rayon worker's scratch for the
+//! reprojection pass (`reproject.rs`): a worker that a busy machine kept from the warm-up
+//! gets its first band later, and its scratch grows then (seen here in about one run in
+//! ten, on main before this test counted in rounds).
+//!
+//! The same holds for frames that reuse the last one (`reuse.rs`), in every mode.
+
+#![expect(
+    unsafe_code,
+    reason = "the counting allocator implements `GlobalAlloc`, an unsafe trait; it only forwards to `System` and bumps a counter"
+)]
+
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use stereo::{Mode, Options, StereoFrame};
+use tracer::{Scene, Tracer};
+
+thread_local! {
+    /// The counter this thread's allocations go to: set on a [`CountingPool`]'s threads
+    /// only. (A `const` thread-local of a type without `Drop`: reading it never allocates.)
+    static COUNTER: Cell<Option<&'static AtomicU64>> = const { Cell::new(None) };
+}
+
+/// Counts an allocation if this thread counts them.
+fn count() {
+    // `try_with`: a thread being torn down may have no locals left; it is not counted.
+    let _ = COUNTER.try_with(|counter| {
+        if let Some(n) = counter.get() {
+            n.fetch_add(1, Ordering::Relaxed);
+        }
+    });
+}
+
+struct Counting;
+
+// SAFETY: every method forwards to `System` with the caller's arguments unchanged, so the
+// caller's obligations are passed on as they are; `count` neither allocates nor unwinds.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        count();
+        // SAFETY: as for the trait method.
+        unsafe { System.alloc(layout) }
+    }
+
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        count();
+        // SAFETY: as for the trait method.
+        unsafe { System.alloc_zeroed(layout) }
+    }
+
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        count();
+        // SAFETY: as for the trait method.
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        // SAFETY: as for the trait method.
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// A rayon pool (as many threads as the global one) whose threads count their allocations
+/// into a counter of the pool's own.
+struct CountingPool {
+    pool: rayon::ThreadPool,
+    counter: &'static AtomicU64,
+}
+
+impl CountingPool {
+    fn new() -> Self {
+        // Leaked: the pool's threads may outlive the test that built it.
+        let counter: &'static AtomicU64 = Box::leak(Box::new(AtomicU64::new(0)));
+        let pool = rayon::ThreadPoolBuilder::new()
+            .start_handler(move |_| COUNTER.with(|c| c.set(Some(counter))))
+            .build()
+            .unwrap_or_else(|e| panic!("cannot build a thread pool: {e}"));
+        Self { pool, counter }
+    }
+
+    /// Runs `f` on the pool.
+    fn run<R: Send>(&self, f: impl FnOnce() -> R + Send) -> R {
+        self.pool.install(f)
+    }
+
+    /// Allocations made by `f`, run on the pool, on any of the pool's threads.
+    fn allocations(&self, f: impl FnOnce() + Send) -> u64 {
+        let before = self.counter.load(Ordering::SeqCst);
+        self.pool.install(f);
+        self.counter.load(Ordering::SeqCst) - before
+    }
+}
+
+#[test]
+fn a_warm_frame_allocates_nothing() {
+    let pool = CountingPool::new();
+    let all = [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact];
+    for name in ["seed.toml", "many.toml"] {
+        let scene =
+            Scene::load(format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"))).expect("scene loads");
+        let (w, h) = (160, 90);
+        let mut tracer = Tracer::new(&scene, 0.0);
+        let mut frame = StereoFrame::new();
+        // Supersampling's filter, into a buffer kept from frame to frame (as the viewer's).
+        let mut filtered = Vec::new();
+        let variants: Vec<Options> =
+            all.iter().flat_map(|&mode| [false, true].map(|retrace_edges| Options { mode, retrace_edges })).collect();
+        let mut frames_at = |times: std::ops::Range<u32>| {
+            for k in times {
+                tracer.update(&scene, k as f32 / 30.0);
+                for &opts in &variants {
+                    frame.render(&tracer, &scene.camera, w, h, opts);
+                }
+                stereo::downsample(&frame.right().rgb, (w, h), &mut filtered, (w / 2, h / 2));
+                stereo::downsample_mask(frame.mask(), (w, h), &mut filtered, (w / 2, h / 2));
+            }
+        };
+        // Warm up: the buffers grow to the frame's size, the pool starts its threads, and
+        // every worker's scratch grows (twice, as rayon may hand a band to either thread).
+        pool.run(|| frames_at(0..3));
+        // The orbiting sphere moves on: the structures are rebuilt, into the same buffers.
+        let frames = 3 * variants.len() as u64;
+        let rounds: Vec<u64> = (1..4).map(|round| pool.allocations(|| frames_at(3 * round..3 * round + 3))).collect();
+        let fewest = rounds.iter().copied().min().unwrap_or(0);
+        assert!(fewest <= frames / 8, "{name}: rounds of {frames} warm frames allocated {rounds:?} times");
+    }
+}
+
+#[test]
+fn a_warm_reused_frame_allocates_nothing() {
+    let pool = CountingPool::new();
+    let scene =
+        Scene::load(format!("{}/../../assets/scenes/seed.toml", env!("CARGO_MANIFEST_DIR"))).expect("scene loads");
+    let (w, h) = (160, 90);
+    let mut tracer = Tracer::new(&scene, 0.0);
+    for mode in [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact] {
+        let opts = Options { mode, retrace_edges: true };
+        let mut frame = StereoFrame::new();
+        frame.set_reuse(Some(&scene));
+        let mut frames_at = |times: std::ops::Range<u32>, reused: bool| {
+            for k in times {
+                tracer.update(&scene, k as f32 / 60.0);
+                let stats = frame.render(&tracer, &scene.camera, w, h, opts);
+                assert!(stats.reuse.reused || !reused, "{mode}: every frame after the first reuses");
+            }
+        };
+        // Warm up: the first frame marks, the next ones reuse.
+        pool.run(|| frames_at(0..6, false));
+        let frames = 24;
+        let rounds: Vec<u64> = (1..4)
+            .map(|round| {
+                let first = 6 + round * frames;
+                pool.allocations(|| frames_at(first..first + frames, true))
+            })
+            .collect();
+        let fewest = rounds.iter().copied().min().unwrap_or(0);
+        assert!(fewest <= u64::from(frames) / 8, "{mode}: rounds of {frames} reused frames allocated {rounds:?} times");
+    }
+}

@@ -1,0 +1,234 @@
+//! Command-line arguments (clap), of the window and of the headless commands alike.
+//! `stereotrace` alone opens the window.
+
+use std::path::PathBuf;
+
+use clap::{Args, Parser, Subcommand, ValueEnum};
+use stereo::{Layout, Mode};
+
+use crate::crop::Crop;
+
+/// Default scene, relative to the workspace root (also found next to the executable's
+/// workspace when run from elsewhere; see `setup::resolve_scene`).
+pub const DEFAULT_SCENE: &str = "assets/scenes/seed.toml";
+
+/// Largest image side accepted, per eye, in pixels.
+pub const MAX_SIDE: u32 = 16_384;
+
+/// stereotrace — a real-time CPU ray tracer that renders a stereo pair and makes the right
+/// eye by reprojecting the left (Adelson & Hodges 1993).
+///
+/// Without a subcommand it opens the viewer window.
+#[derive(Debug, Parser)]
+#[command(name = "stereotrace", version, about, long_about = None)]
+pub struct Cli {
+    #[command(subcommand)]
+    pub command: Option<Command>,
+    #[command(flatten)]
+    pub window: WindowArgs,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Render one stereo frame headless to PNG files.
+    Render(RenderArgs),
+    /// Render the same frames in every mode and report time, rays and quality.
+    Bench(BenchArgs),
+    /// Every mode over a range of one parameter: cost and quality per step, as CSV and a plot.
+    Sweep(SweepArgs),
+}
+
+/// Options of the viewer window.
+#[derive(Debug, Args)]
+pub struct WindowArgs {
+    /// Scene file (TOML).
+    #[arg(long, value_name = "PATH", global = false)]
+    pub scene: Option<PathBuf>,
+    /// Initial window width in logical pixels (both eyes together).
+    #[arg(long, value_name = "W", default_value_t = 1600, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)))]
+    pub width: u32,
+    /// Initial window height in logical pixels.
+    #[arg(long, value_name = "H", default_value_t = 600, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)))]
+    pub height: u32,
+    /// Exit after this many presented frames (for tests).
+    #[arg(long, value_name = "N")]
+    pub frames: Option<u64>,
+    /// Write the last presented frame, UI included, to this PNG on exit (for tests).
+    #[arg(long, value_name = "PATH")]
+    pub dump: Option<PathBuf>,
+    /// Start with the orbit paused at this time, in seconds.
+    #[arg(long, value_name = "T")]
+    pub time: Option<f32>,
+    /// Start with live PSNR on (the right eye measured against a full trace every frame).
+    #[arg(long)]
+    pub live_psnr: bool,
+    /// Start at this render scale, in percent of the eye's size on screen (25 to 200; above
+    /// 100 supersampled, 200 = 2 × 2 samples per pixel).
+    #[arg(long, value_name = "PERCENT", value_parser = clap::value_parser!(u32).range(25..=200))]
+    pub render_scale: Option<u32>,
+    /// Start with reuse off: every frame traced afresh, even while only the orbit moves.
+    #[arg(long)]
+    pub no_reuse: bool,
+}
+
+/// Camera and render overrides shared by `render` and `bench`.
+#[derive(Debug, Args, Clone)]
+pub struct FrameArgs {
+    /// Scene file (TOML).
+    #[arg(long, value_name = "PATH", default_value = DEFAULT_SCENE)]
+    pub scene: PathBuf,
+    /// Width of each eye in pixels.
+    #[arg(long, value_name = "W", default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)))]
+    pub width: u32,
+    /// Height of each eye in pixels.
+    #[arg(long, value_name = "H", default_value_t = 720, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)))]
+    pub height: u32,
+    /// Interpupillary distance e (scene units); default from the scene.
+    #[arg(long, value_name = "E", allow_negative_numbers = true)]
+    pub ipd: Option<f32>,
+    /// Distance d from the eyes to the zero-parallax window; default from the scene.
+    #[arg(long, value_name = "D", allow_negative_numbers = true)]
+    pub distance: Option<f32>,
+    /// Reflection depth (bounces); default from the scene.
+    #[arg(long, value_name = "N")]
+    pub depth: Option<u32>,
+    /// Scene time in seconds (positions the revolving spheres).
+    #[arg(long, value_name = "T", default_value_t = 0.0, allow_negative_numbers = true)]
+    pub time: f32,
+}
+
+/// `stereotrace render`.
+#[derive(Debug, Args)]
+#[expect(clippy::struct_excessive_bools, reason = "each bool is one command-line flag")]
+pub struct RenderArgs {
+    #[command(flatten)]
+    pub frame: FrameArgs,
+    /// How the right eye is made.
+    #[arg(long, value_name = "MODE", default_value = "exact", value_parser = parse_mode)]
+    pub mode: Mode,
+    /// For copy and reshade: also retrace pixels on object edges.
+    #[arg(long)]
+    pub retrace_edges: bool,
+    /// Left-eye PNG to write.
+    #[arg(long, value_name = "L.png")]
+    pub left: Option<PathBuf>,
+    /// Right-eye PNG to write.
+    #[arg(long, value_name = "R.png")]
+    pub right: Option<PathBuf>,
+    /// Debug-mask PNG to write (how each right pixel was made).
+    #[arg(long, value_name = "M.png")]
+    pub mask: Option<PathBuf>,
+    /// PNG of where the right eye differs from a full trace: red over 2/255 on some channel,
+    /// amber by 1 or 2 levels, the reference in pale grey where identical.
+    #[arg(long, value_name = "D.png")]
+    pub diff: Option<PathBuf>,
+    /// Write only this rectangle (pixels: left column, top row, width, height) of --left,
+    /// --right, --mask and --diff.
+    #[arg(long, value_name = "X,Y,W,H", conflicts_with_all = ["out", "frames"])]
+    pub crop: Option<Crop>,
+    /// Combined stereo image to write, in --layout.
+    #[arg(long, value_name = "PAIR.png")]
+    pub out: Option<PathBuf>,
+    /// Layout of the combined image(s): side-by-side (left eye left), cross-eyed, anaglyph (red-cyan).
+    #[arg(long, value_name = "LAYOUT", default_value = "side-by-side", value_parser = parse_layout)]
+    pub layout: Layout,
+    /// Exchange the eyes in the combined image(s).
+    #[arg(long)]
+    pub swap_eyes: bool,
+    /// Render an animation of N frames of the orbit, as numbered combined PNGs in --out-dir.
+    #[arg(long, value_name = "N", requires = "out_dir", conflicts_with = "json", value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub frames: Option<u32>,
+    /// Frames per second of the animation: scene time advances 1/F s per frame.
+    #[arg(long, value_name = "F", default_value_t = 30.0)]
+    pub fps: f32,
+    /// Trace every pixel of every animation frame, rather than only those that can have
+    /// changed since the frame before (the output is the same either way).
+    #[arg(long, requires = "frames")]
+    pub no_reuse: bool,
+    /// Folder for the animation's frames (created if missing).
+    #[arg(long, value_name = "DIR", requires = "frames")]
+    pub out_dir: Option<PathBuf>,
+    /// Print the frame report as JSON on stdout (includes quality against a full trace).
+    #[arg(long)]
+    pub json: bool,
+    /// Anti-aliasing: trace S × S samples per pixel (S = 1 to 4 per axis), so every stage runs
+    /// at (W·S) × (H·S), and box-filter them down to W × H in linear light.
+    #[arg(long, value_name = "S", default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SUPERSAMPLE)))]
+    pub supersample: u32,
+}
+
+/// Largest `render --supersample` factor, per axis.
+pub const MAX_SUPERSAMPLE: u32 = 4;
+
+/// `stereotrace bench`.
+#[derive(Debug, Args)]
+pub struct BenchArgs {
+    #[command(flatten)]
+    pub frame: FrameArgs,
+    /// Frames per mode; the report gives medians.
+    #[arg(long, value_name = "N", default_value_t = 5, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub frames: u32,
+    /// Frames of the animation rows: per mode, N consecutive frames 1/60 s apart with the
+    /// head still, traced fresh and with reuse (0 leaves the rows out).
+    #[arg(long, value_name = "N", default_value_t = 60, value_parser = clap::value_parser!(u32).range(0..=10_000))]
+    pub animate: u32,
+    /// Print one JSON object instead of the table.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `stereotrace sweep`.
+#[derive(Debug, Args)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    pub frame: FrameArgs,
+    /// The parameter swept: the IPD e, the zero-parallax distance d, the reflection depth, or
+    /// the scene time (s).
+    #[arg(long, value_name = "PARAM", value_enum)]
+    pub param: SweepParam,
+    /// First value of the parameter.
+    #[arg(long, value_name = "A", allow_negative_numbers = true)]
+    pub from: f64,
+    /// Last value of the parameter (≥ --from).
+    #[arg(long, value_name = "B", allow_negative_numbers = true)]
+    pub to: f64,
+    /// Number of values, evenly spaced from A to B inclusive.
+    #[arg(long, value_name = "N", default_value_t = 11, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub steps: u32,
+    /// Modes to run, comma-separated: full, copy, copy+edges, reshade, reshade+edges, exact
+    /// [default: full,copy,reshade,exact].
+    #[arg(long, value_name = "LIST", value_delimiter = ',')]
+    pub modes: Option<Vec<String>>,
+    /// Frames per step; times are medians over them (every frame of a step is the same scene
+    /// state, so rays and quality are the same on each).
+    #[arg(long, value_name = "N", default_value_t = 3, value_parser = clap::value_parser!(u32).range(1..=1000))]
+    pub frames: u32,
+    /// CSV file to write, a row per step and mode; without it the CSV goes to stdout.
+    #[arg(long, value_name = "F.csv")]
+    pub csv: Option<PathBuf>,
+    /// Plot to write: PNG, or SVG when the name ends in .svg.
+    #[arg(long, value_name = "F.png|F.svg")]
+    pub plot: Option<PathBuf>,
+}
+
+/// The parameter `sweep` varies.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SweepParam {
+    /// The interpupillary distance e (scene units, ≥ 0).
+    Ipd,
+    /// The distance d from the eyes to the zero-parallax window (scene units, > 0).
+    Distance,
+    /// The reflection depth (whole bounces, 0 to 16).
+    Depth,
+    /// The scene time in seconds (positions the revolving spheres).
+    Time,
+}
+
+fn parse_mode(s: &str) -> Result<Mode, String> {
+    s.parse()
+}
+
+fn parse_layout(s: &str) -> Result<Layout, String> {
+    s.parse()
+}

@@ -1,0 +1,125 @@
+//! The headless commands refuse bad input before any work: exit code 2 (1 for a failure
+//! that is not the input's) and a message that names the argument, the file or the
+//! variable, and the value; nothing is written.
+
+use crate::common::{stereotrace, stereotrace_with, tmp};
+
+#[test]
+fn a_bad_scene_file_names_file_line_and_field_and_exits_2() {
+    let bad = tmp("bad.toml");
+    std::fs::write(&bad, "[[spheres]]\ncenter = [0.0, 0.0, 15.0]\nradius = -2.0\n").unwrap();
+    let out = stereotrace(&["render", "--scene", bad.to_str().unwrap(), "--json"]);
+    assert_eq!(out.status.code(), Some(2), "bad input");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("bad.toml:1: spheres[0].radius = -2: must be > 0"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn bad_arguments_exit_2_without_writing() {
+    let out = stereotrace(&["render", "--width", "0", "--json"]);
+    assert_eq!(out.status.code(), Some(2), "--width 0");
+    let out = stereotrace(&["render", "--ipd", "-1", "--json"]);
+    assert_eq!(out.status.code(), Some(2), "--ipd -1");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--ipd -1"), "{err}");
+    let missing = tmp("no/such/dir/l.png");
+    let out = stereotrace(&["render", "--width", "8", "--height", "8", "--left", missing.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2), "an output in a missing directory");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("does not exist"), "{err}");
+    assert!(!missing.exists(), "nothing written");
+}
+
+/// `STEREOTRACE_LANES` accepts 4 (the fallback, which the report names) and refuses the rest.
+#[test]
+fn the_lanes_variable_forces_the_fallback_and_refuses_other_values() {
+    let args = ["render", "--width", "16", "--height", "8", "--json"];
+    let out = stereotrace_with(&[("STEREOTRACE_LANES", "4")], &args);
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("the JSON report");
+    assert_eq!(report["lanes"], 4, "the fallback ran");
+    let out = stereotrace_with(&[("STEREOTRACE_LANES", "16")], &args);
+    assert_eq!(out.status.code(), Some(2), "a width the tracer does not have is bad input");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("STEREOTRACE_LANES=16: must be 4"), "{err}");
+}
+
+/// The memory check, with the limit injected (`STEREOTRACE_MEMORY_AVAILABLE`) so the answer
+/// does not depend on this machine's free memory.
+#[test]
+fn a_frame_too_large_for_the_memory_is_refused_before_any_work() {
+    let limit = |bytes: &str| [("STEREOTRACE_MEMORY_AVAILABLE", bytes.to_owned())];
+    let run = |env: &[(&str, String)], args: &[&str]| {
+        let env: Vec<(&str, &str)> = env.iter().map(|(k, v)| (*k, v.as_str())).collect();
+        stereotrace_with(&env, args)
+    };
+    let out = run(&limit("17179869184"), &["render", "--width", "16384", "--height", "16384", "--json"]);
+    assert_eq!(out.status.code(), Some(2), "refused as bad input");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        err.contains("--width 16384 --height 16384: the frame needs 52.0 GiB but only 16.0 GiB of memory is available"),
+        "{err}"
+    );
+    // 208 bytes per eye pixel (three films, the source map and the mask, and what temporal
+    // reuse keeps): 64 × 64 needs 851968.
+    let small = ["render", "--width", "64", "--height", "64", "--json"];
+    assert!(run(&limit("851968"), &small).status.success(), "exactly enough memory");
+    let out = run(&limit("851967"), &small);
+    assert_eq!(out.status.code(), Some(2), "one byte short: {}", String::from_utf8_lossy(&out.stderr));
+    let out = run(&limit("lots"), &small);
+    assert_eq!(out.status.code(), Some(2), "a limit that is no number");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("STEREOTRACE_MEMORY_AVAILABLE=lots: must be a whole number of bytes"), "{err}");
+}
+
+#[test]
+fn limits_are_refused_before_any_work() {
+    let out = stereotrace(&["render", "--width", "20000", "--json"]);
+    assert_eq!(out.status.code(), Some(2), "over the documented maximum side");
+    let out = stereotrace(&["render", "--mode", "fast", "--json"]);
+    assert_eq!(out.status.code(), Some(2), "an unknown mode");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("expected one of full, copy, reshade, exact"), "{err}");
+    let out = stereotrace(&["render", "--layout", "over-under", "--out", "x.png"]);
+    assert_eq!(out.status.code(), Some(2), "an unknown layout");
+    let dir = tmp("anim-bad-fps");
+    let out = stereotrace(&["render", "--frames", "2", "--fps", "0", "--out-dir", dir.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2), "--fps 0");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("--fps 0"), "{err}");
+    let out = stereotrace(&["render", "--scene", "no/such/scene.toml", "--json"]);
+    assert_eq!(out.status.code(), Some(2), "a missing scene");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("no/such/scene.toml: cannot read scene file"), "{err}");
+}
+
+#[test]
+fn an_unwritable_output_fails_cleanly_and_leaves_no_partial_file() {
+    // /proc accepts no new files, even for root.
+    let out = stereotrace(&["render", "--width", "8", "--height", "8", "--left", "/proc/stereotrace-left.png"]);
+    assert_eq!(out.status.code(), Some(1), "not bad input, a failure");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("cannot write /proc/stereotrace-left.png"), "{err}");
+    let leftovers: Vec<_> = std::fs::read_dir("/proc")
+        .unwrap()
+        .filter_map(Result::ok)
+        .filter(|e| e.file_name().to_string_lossy().contains("stereotrace-left"))
+        .collect();
+    assert!(leftovers.is_empty(), "no partial file: {leftovers:?}");
+}
+
+#[test]
+fn a_supersample_factor_outside_1_to_4_exits_2() {
+    for bad in ["0", "5", "1.5", "two"] {
+        let out = stereotrace(&["render", "--supersample", bad, "--json"]);
+        assert_eq!(out.status.code(), Some(2), "--supersample {bad}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(&format!("invalid value '{bad}' for '--supersample <S>'")), "{err}");
+        assert!(out.stdout.is_empty(), "nothing rendered for --supersample {bad}");
+    }
+    let out = stereotrace(&["render", "--width", "16384", "--height", "16384", "--supersample", "4", "--json"]);
+    assert_eq!(out.status.code(), Some(2), "2³² samples per eye");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("65536 × 65536 samples per eye; an eye must have fewer than 4294967295 samples"), "{err}");
+}
