@@ -74,7 +74,8 @@ impl Molecule {
         &self.chains
     }
 
-    /// The chains' ids, in the order first met: PDB column 22, mmCIF `label_asym_id`; GRO and
+    /// The chains' ids, in the order first met: PDB column 22 (blank: `""`), mmCIF
+    /// `label_asym_id` (`auth_asym_id` when absent); GRO and
     /// XYZ files have one chain, `""`.
     #[must_use]
     pub fn chain_ids(&self) -> &[String] {
@@ -173,7 +174,8 @@ impl Molecule {
     ///
     /// # Errors
     /// [`Error::TooManyAtoms`] when the assembly would exceed `limits.max_atoms` (checked
-    /// before allocating); [`Error::Malformed`] when there is no assembly `index`.
+    /// before allocating); [`Error::NoAtoms`] when its chains hold none;
+    /// [`Error::Malformed`] when there is no assembly `index`.
     pub fn expand_assembly(&self, index: usize, limits: &Limits) -> Result<Molecule, Error> {
         let (Some(assembly), Some(total)) = (self.assemblies.get(index), self.assembly_len(index)) else {
             return Err(Error::Malformed {
@@ -189,6 +191,9 @@ impl Molecule {
                 what: " after assembly expansion",
                 limit: limits.max_atoms,
             });
+        }
+        if total == 0 {
+            return Err(Error::NoAtoms { file: self.source.clone(), why: "the assembly's chains hold none" });
         }
         let total = total as usize;
         let mut positions = Vec::with_capacity(total);

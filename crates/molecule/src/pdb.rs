@@ -217,7 +217,7 @@ pub(crate) fn read(lines: &mut Lines<'_>, limits: &Limits, want_assembly: bool) 
             })?;
         }
         let element = element_of(&mut atoms, text, hetero, line);
-        let chain = atoms.chain(columns(text, 21..22), line)?;
+        let chain = atoms.chain(columns(text, 21..22).trim_ascii(), line)?;
         atoms.push(xyz, element, chain)?;
     }
     if lines.line() == 0 {
