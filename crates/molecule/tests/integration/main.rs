@@ -29,8 +29,15 @@ pub fn real_file(path: &Path, required_in_ci: bool) -> Option<PathBuf> {
         "{} is absent under CI: .ci/run installs pymol-data, which provides it",
         path.display()
     );
-    eprintln!("\n*** SKIPPED: {} is absent; install it to run this test ***\n", path.display());
+    loud(&format!("\n*** SKIPPED: {} is absent; install it to run this test ***\n", path.display()));
     None
+}
+
+/// Writes to the process's standard error directly, past the test harness's capture of
+/// `eprintln!`, so a skip or a timing shows in a plain `cargo test`.
+pub fn loud(text: &str) {
+    use std::io::Write;
+    let _ = writeln!(std::io::stderr().lock(), "{text}");
 }
 
 /// A fresh directory of this test binary's own under the system's temporary directory.

@@ -8,7 +8,7 @@ use std::time::Instant;
 use glam::Vec3;
 use molecule::{Element, Format, ReadOptions};
 
-use crate::{real_file, scratch_dir, two_btv, ONE_TII};
+use crate::{loud, real_file, scratch_dir, two_btv, ONE_TII};
 
 /// The ATOM and HETATM records of a PDB text, counted as `grep -c` would.
 fn atom_records(text: &str) -> usize {
@@ -117,7 +117,7 @@ fn two_btv_asymmetric_unit_and_assembly() {
     let start = Instant::now();
     let virus = molecule::read(&path, &ReadOptions { assembly: true, ..ReadOptions::default() }).unwrap();
     let assembly_time = start.elapsed();
-    println!("2BTV: read {read_time:?} (49,061 atoms), with the assembly {assembly_time:?} (2,943,660 atoms)");
+    loud(&format!("2BTV: read {read_time:?} (49,061 atoms), with the assembly {assembly_time:?} (2,943,660 atoms)"));
     assert_eq!(virus.len(), 2_943_660, "60 copies");
     assert_eq!(virus.applied_assembly().map(|a| a.id.as_str()), Some("1"), "says which assembly");
     assert!(virus.heap_bytes() <= 16 * virus.len(), "{} bytes an atom", virus.heap_bytes() / virus.len());
@@ -134,6 +134,6 @@ fn two_btv_asymmetric_unit_and_assembly() {
     assert!(got.abs_diff_eq(expected, 2e-3), "copy 2 of atom 1: {got} vs {expected}");
     assert_eq!(virus.positions()[0], unit.positions()[0], "operator 1 is the identity");
     let s = virus.bounding_sphere(1.0).unwrap();
-    println!("2BTV assembly bounding sphere: centre {}, radius {} Å", s.centre, s.radius);
+    loud(&format!("2BTV assembly bounding sphere: centre {}, radius {} Å", s.centre, s.radius));
     assert!((300.0..450.0).contains(&s.radius), "a core about 70 nm across: radius {} Å", s.radius);
 }
