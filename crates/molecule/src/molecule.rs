@@ -1,0 +1,441 @@
+//! The compact result of a read: one array per attribute (structure of arrays), about 15
+//! bytes an atom, and the builder the readers fill it through.
+
+use std::collections::HashMap;
+
+use glam::Vec3;
+
+use crate::assembly::Assembly;
+use crate::bounds::{self, Bounds, Sphere};
+use crate::element::Element;
+use crate::error::{Error, Warning};
+use crate::options::{Format, Limits};
+
+/// The atoms of a structure file, in the crate's left-handed space, Ångström.
+///
+/// Atom `i` is at `positions()[i]`, is an `elements()[i]` and belongs to chain
+/// `chain_ids()[chains()[i]]`. A position is the file's (x, y, z) as (x, y, −z): see the
+/// crate doc for why that keeps the molecule's chirality. Each atom costs 12 + 1 + 2 = 15
+/// bytes; [`Molecule::heap_bytes`] counts what the arrays hold.
+#[derive(Clone, Debug)]
+pub struct Molecule {
+    source: String,
+    format: Format,
+    positions: Vec<Vec3>,
+    elements: Vec<Element>,
+    chains: Vec<u16>,
+    chain_ids: Vec<String>,
+    assemblies: Vec<Assembly>,
+    applied: Option<usize>,
+    warnings: Vec<Warning>,
+    warnings_total: usize,
+}
+
+impl Molecule {
+    /// The file (as named to the read) the atoms came from.
+    #[must_use]
+    pub fn source(&self) -> &str {
+        &self.source
+    }
+
+    /// The file's format.
+    #[must_use]
+    pub fn format(&self) -> Format {
+        self.format
+    }
+
+    /// The number of atoms.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Whether there are no atoms (a read never returns such a molecule).
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.positions.is_empty()
+    }
+
+    /// The atoms' centres, Ångström, in the crate's left-handed space.
+    #[must_use]
+    pub fn positions(&self) -> &[Vec3] {
+        &self.positions
+    }
+
+    /// The atoms' elements.
+    #[must_use]
+    pub fn elements(&self) -> &[Element] {
+        &self.elements
+    }
+
+    /// Each atom's chain, an index into [`Molecule::chain_ids`].
+    #[must_use]
+    pub fn chains(&self) -> &[u16] {
+        &self.chains
+    }
+
+    /// The chains' ids, in the order first met: PDB column 22 (blank: `""`), mmCIF
+    /// `label_asym_id` (`auth_asym_id` when absent); GRO and
+    /// XYZ files have one chain, `""`.
+    #[must_use]
+    pub fn chain_ids(&self) -> &[String] {
+        &self.chain_ids
+    }
+
+    /// The biological assemblies the file lists (empty for GRO and XYZ).
+    #[must_use]
+    pub fn assemblies(&self) -> &[Assembly] {
+        &self.assemblies
+    }
+
+    /// The assembly these atoms are, when one was expanded; `None` for the file's atoms as
+    /// they are.
+    #[must_use]
+    pub fn applied_assembly(&self) -> Option<&Assembly> {
+        self.applied.and_then(|i| self.assemblies.get(i))
+    }
+
+    /// The warnings kept, at most [`Limits::max_warnings`], in file order.
+    #[must_use]
+    pub fn warnings(&self) -> &[Warning] {
+        &self.warnings
+    }
+
+    /// How many warnings the read raised, kept or not.
+    #[must_use]
+    pub fn warnings_total(&self) -> usize {
+        self.warnings_total
+    }
+
+    /// The bytes the per-atom arrays hold on the heap (their capacities), the figure the
+    /// memory budget is about.
+    #[must_use]
+    pub fn heap_bytes(&self) -> usize {
+        self.positions.capacity() * size_of::<Vec3>()
+            + self.elements.capacity() * size_of::<Element>()
+            + self.chains.capacity() * size_of::<u16>()
+    }
+
+    /// The box around every atom's sphere, radius = element radius × `radius_scale`; `None`
+    /// when there are no atoms.
+    #[must_use]
+    pub fn bounds(&self, radius_scale: f32) -> Option<Bounds> {
+        bounds::bounds(&self.positions, &self.elements, radius_scale)
+    }
+
+    /// A sphere around every atom's sphere (centred on the box's centre); `None` when there
+    /// are no atoms.
+    #[must_use]
+    pub fn bounding_sphere(&self, radius_scale: f32) -> Option<Sphere> {
+        bounds::bounding_sphere(&self.positions, &self.elements, radius_scale)
+    }
+
+    /// The positions and elements, giving up the rest.
+    #[must_use]
+    pub fn into_arrays(self) -> (Vec<Vec3>, Vec<Element>) {
+        (self.positions, self.elements)
+    }
+
+    /// The number of atoms assembly `index` has, without building it; `None` when there is
+    /// no such assembly.
+    #[must_use]
+    pub fn assembly_len(&self, index: usize) -> Option<u64> {
+        let assembly = self.assemblies.get(index)?;
+        let per_chain = self.atoms_per_chain();
+        let total = assembly
+            .parts
+            .iter()
+            .map(|part| {
+                let atoms: u64 =
+                    self.chain_mask(&part.chains).iter().zip(&per_chain).filter(|(on, _)| **on).map(|(_, n)| n).sum();
+                atoms * part.operators.len() as u64
+            })
+            .sum();
+        Some(total)
+    }
+
+    fn atoms_per_chain(&self) -> Vec<u64> {
+        let mut counts = vec![0_u64; self.chain_ids.len()];
+        for &chain in &self.chains {
+            if let Some(n) = counts.get_mut(usize::from(chain)) {
+                *n += 1;
+            }
+        }
+        counts
+    }
+
+    fn chain_mask(&self, chains: &[String]) -> Vec<bool> {
+        self.chain_ids.iter().map(|id| chains.iter().any(|c| c == id)).collect()
+    }
+
+    /// The molecule that assembly `index` makes: every part's operators applied to its
+    /// chains, written straight into new compact arrays (part by part, operator by operator,
+    /// atoms in file order). Warnings and assemblies are carried over.
+    ///
+    /// # Errors
+    /// [`Error::TooManyAtoms`] when the assembly would exceed `limits.max_atoms` (checked
+    /// before allocating); [`Error::NoAtoms`] when its chains hold none;
+    /// [`Error::Malformed`] when there is no assembly `index`.
+    pub fn expand_assembly(&self, index: usize, limits: &Limits) -> Result<Molecule, Error> {
+        let (Some(assembly), Some(total)) = (self.assemblies.get(index), self.assembly_len(index)) else {
+            return Err(Error::Malformed {
+                file: self.source.clone(),
+                line: 0,
+                why: format!("no assembly {index}: the file lists {}", self.assemblies.len()),
+            });
+        };
+        if total > limits.max_atoms as u64 {
+            return Err(Error::TooManyAtoms {
+                file: self.source.clone(),
+                count: total,
+                what: " after assembly expansion",
+                limit: limits.max_atoms,
+            });
+        }
+        if total == 0 {
+            return Err(Error::NoAtoms { file: self.source.clone(), why: "the assembly's chains hold none" });
+        }
+        let total = total as usize;
+        let mut positions = Vec::with_capacity(total);
+        let mut elements = Vec::with_capacity(total);
+        let mut chains = Vec::with_capacity(total);
+        for part in &assembly.parts {
+            let mask = self.chain_mask(&part.chains);
+            let selected = |i: &usize| mask.get(usize::from(self.chains[*i])).copied().unwrap_or(false);
+            let indices: Vec<usize> = (0..self.len()).filter(selected).collect();
+            let source: Vec<Vec3> = indices.iter().map(|&i| self.positions[i]).collect();
+            let source_elements: Vec<Element> = indices.iter().map(|&i| self.elements[i]).collect();
+            let source_chains: Vec<u16> = indices.iter().map(|&i| self.chains[i]).collect();
+            for operator in &part.operators {
+                positions.extend(source.iter().map(|&p| operator.apply(p)));
+                elements.extend_from_slice(&source_elements);
+                chains.extend_from_slice(&source_chains);
+            }
+        }
+        Ok(Molecule {
+            source: self.source.clone(),
+            format: self.format,
+            positions,
+            elements,
+            chains,
+            chain_ids: self.chain_ids.clone(),
+            assemblies: self.assemblies.clone(),
+            applied: Some(index),
+            warnings: self.warnings.clone(),
+            warnings_total: self.warnings_total,
+        })
+    }
+
+    /// Adds a warning to a finished molecule, under the same cap the read used.
+    pub(crate) fn warn(&mut self, line: u64, message: String, max_warnings: usize) {
+        self.warnings_total += 1;
+        if self.warnings.len() < max_warnings {
+            self.warnings.push(Warning { file: self.source.clone(), line, message });
+        }
+    }
+}
+
+/// Collects atoms while a reader walks a file: enforces the atom limit on every atom, gives
+/// chains small indices, and keeps the first warnings.
+pub(crate) struct Builder<'a> {
+    file: &'a str,
+    limits: Limits,
+    positions: Vec<Vec3>,
+    elements: Vec<Element>,
+    chains: Vec<u16>,
+    chain_ids: Vec<String>,
+    chain_lookup: HashMap<Box<[u8]>, u16>,
+    last_chain: Option<(Box<[u8]>, u16)>,
+    warnings: Vec<Warning>,
+    warnings_total: usize,
+}
+
+impl<'a> Builder<'a> {
+    pub(crate) fn new(file: &'a str, limits: &Limits) -> Self {
+        Self {
+            file,
+            limits: *limits,
+            positions: Vec::new(),
+            elements: Vec::new(),
+            chains: Vec::new(),
+            chain_ids: Vec::new(),
+            chain_lookup: HashMap::new(),
+            last_chain: None,
+            warnings: Vec::new(),
+            warnings_total: 0,
+        }
+    }
+
+    /// Reserves room for `atoms` more, never more than the atom limit nor `cap_hint` (a count
+    /// read from a file is not trusted with memory).
+    pub(crate) fn reserve(&mut self, atoms: usize, cap_hint: usize) {
+        let n = atoms.min(self.limits.max_atoms).min(cap_hint);
+        self.positions.reserve(n);
+        self.elements.reserve(n);
+        self.chains.reserve(n);
+    }
+
+    /// The index of chain `id`, made on first sight.
+    pub(crate) fn chain(&mut self, id: &[u8], line: u64) -> Result<u16, Error> {
+        if let Some((last, index)) = &self.last_chain {
+            if **last == *id {
+                return Ok(*index);
+            }
+        }
+        let index = if let Some(&index) = self.chain_lookup.get(id) {
+            index
+        } else {
+            let Ok(index) = u16::try_from(self.chain_ids.len()) else {
+                return Err(Error::Malformed {
+                    file: self.file.to_owned(),
+                    line,
+                    why: format!("more than {} chains", u16::MAX),
+                });
+            };
+            self.chain_ids.push(String::from_utf8_lossy(id).into_owned());
+            self.chain_lookup.insert(id.into(), index);
+            index
+        };
+        self.last_chain = Some((id.into(), index));
+        Ok(index)
+    }
+
+    /// Adds an atom at file coordinates (x, y, z), Ångström: it is stored at (x, y, −z).
+    #[inline]
+    pub(crate) fn push(&mut self, file_xyz: [f32; 3], element: Element, chain: u16) -> Result<(), Error> {
+        if self.positions.len() >= self.limits.max_atoms {
+            return Err(Error::TooManyAtoms {
+                file: self.file.to_owned(),
+                count: self.positions.len() as u64 + 1,
+                what: "",
+                limit: self.limits.max_atoms,
+            });
+        }
+        let [x, y, z] = file_xyz;
+        self.positions.push(Vec3::new(x, y, -z));
+        self.elements.push(element);
+        self.chains.push(chain);
+        Ok(())
+    }
+
+    /// Keeps a warning about `line` (0: the whole file) while under the cap; `message` is
+    /// only formatted then.
+    pub(crate) fn warn(&mut self, line: u64, message: impl FnOnce() -> String) {
+        self.warnings_total += 1;
+        if self.warnings.len() < self.limits.max_warnings {
+            self.warnings.push(Warning { file: self.file.to_owned(), line, message: message() });
+        }
+    }
+
+    /// The finished molecule; [`Error::NoAtoms`] when there is none.
+    pub(crate) fn finish(
+        mut self,
+        format: Format,
+        assemblies: Vec<Assembly>,
+        none_why: &'static str,
+    ) -> Result<Molecule, Error> {
+        if self.positions.is_empty() {
+            return Err(Error::NoAtoms { file: self.file.to_owned(), why: none_why });
+        }
+        // Growth by doubling leaves up to half the capacity unused: give it back.
+        self.positions.shrink_to_fit();
+        self.elements.shrink_to_fit();
+        self.chains.shrink_to_fit();
+        Ok(Molecule {
+            source: self.file.to_owned(),
+            format,
+            positions: self.positions,
+            elements: self.elements,
+            chains: self.chains,
+            chain_ids: self.chain_ids,
+            assemblies,
+            applied: None,
+            warnings: self.warnings,
+            warnings_total: self.warnings_total,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use glam::Mat3;
+
+    use super::*;
+    use crate::assembly::{AssemblyPart, Operator};
+
+    fn two_chains() -> Molecule {
+        let mut b = Builder::new("t.pdb", &Limits::default());
+        let a = b.chain(b"A", 1).unwrap();
+        b.push([1.0, 2.0, 3.0], Element::C, a).unwrap();
+        let c = b.chain(b"B", 2).unwrap();
+        b.push([0.0, 0.0, 1.0], Element::O, c).unwrap();
+        let a_again = b.chain(b"A", 3).unwrap();
+        assert_eq!(a_again, a, "a chain keeps its index");
+        b.push([4.0, 5.0, 6.0], Element::N, a).unwrap();
+        let shift = |id: &str, x: f32| Operator {
+            id: id.into(),
+            rotation: Mat3::IDENTITY,
+            translation: Vec3::new(x, 0.0, 0.0),
+        };
+        let assembly = Assembly {
+            id: "1".into(),
+            parts: vec![
+                AssemblyPart { chains: vec!["A".into()], operators: vec![shift("1", 0.0), shift("2", 10.0)] },
+                AssemblyPart { chains: vec!["B".into(), "Z".into()], operators: vec![shift("3", 100.0)] },
+            ],
+        };
+        b.finish(Format::Pdb, vec![assembly], "none").unwrap()
+    }
+
+    #[test]
+    fn atoms_are_stored_at_x_y_minus_z() {
+        let m = two_chains();
+        assert_eq!(m.positions()[0], Vec3::new(1.0, 2.0, -3.0), "file (1, 2, 3)");
+        assert_eq!(m.chain_ids(), ["A", "B"], "chains in order met");
+        assert_eq!(m.chains(), [0, 1, 0], "chain per atom");
+        assert_eq!(m.heap_bytes(), 3 * 15, "15 bytes an atom once shrunk");
+    }
+
+    #[test]
+    fn an_assembly_copies_each_part_once_per_operator() {
+        let m = two_chains();
+        assert_eq!(m.assembly_len(0), Some(2 * 2 + 1), "two A atoms twice, one B atom once");
+        assert_eq!(m.assembly_len(1), None, "no second assembly");
+        let big = m.expand_assembly(0, &Limits::default()).unwrap();
+        let xs: Vec<f32> = big.positions().iter().map(|p| p.x).collect();
+        assert_eq!(xs, [1.0, 4.0, 11.0, 14.0, 100.0], "part by part, operator by operator");
+        assert_eq!(big.elements(), [Element::C, Element::N, Element::C, Element::N, Element::O], "elements follow");
+        assert_eq!(big.chains(), [0, 0, 0, 0, 1], "chains follow");
+        assert_eq!(big.applied_assembly().map(|a| a.id.as_str()), Some("1"), "says which");
+        assert_eq!(big.heap_bytes(), 5 * 15, "exact allocation");
+    }
+
+    #[test]
+    fn an_assembly_above_the_atom_limit_is_refused_before_allocating() {
+        let limits = Limits { max_atoms: 4, ..Limits::default() };
+        let e = two_chains().expand_assembly(0, &limits).unwrap_err();
+        assert!(matches!(e, Error::TooManyAtoms { count: 5, limit: 4, .. }), "{e}");
+        assert_eq!(e.to_string(), "t.pdb: 5 atoms after assembly expansion, above the limit of 4", "message");
+    }
+
+    #[test]
+    fn the_atom_limit_holds_while_reading() {
+        let mut b = Builder::new("t.xyz", &Limits { max_atoms: 1, ..Limits::default() });
+        b.push([0.0; 3], Element::C, 0).unwrap();
+        let e = b.push([0.0; 3], Element::C, 0).unwrap_err();
+        assert!(matches!(e, Error::TooManyAtoms { count: 2, limit: 1, .. }), "{e}");
+    }
+
+    #[test]
+    fn warnings_are_capped_but_counted() {
+        let mut b = Builder::new("t.pdb", &Limits { max_warnings: 2, ..Limits::default() });
+        for line in 1..=5 {
+            b.warn(line, || format!("number {line}"));
+        }
+        b.push([0.0; 3], Element::C, 0).unwrap();
+        let m = b.finish(Format::Pdb, Vec::new(), "none").unwrap();
+        assert_eq!(m.warnings().len(), 2, "capped");
+        assert_eq!(m.warnings_total(), 5, "counted");
+        assert_eq!(m.warnings()[1].to_string(), "t.pdb:2: number 2", "file:line: message");
+    }
+}
