@@ -74,51 +74,13 @@ pub(crate) fn spawn_bound(reach: f32) -> f32 {
 
 /// A secondary ray leaving the surface point `p` (unit outward normal `n`) along `dir`.
 ///
-/// Every shadow and reflection ray goes through here. The origin is pushed off the surface
-/// along the normal, on the side `dir` leaves towards (`leaves_outwards`), by a few ULPs
-/// of p's largest coordinate: s = K · ulp(‖p‖∞) with K = `SPAWN_ULPS_OUT` = 16 outwards
-/// and `SPAWN_ULPS_IN` = 128 inwards, so that origin = p ± s·n. Per component that is
-/// bit operations (the largest exponent of the three, see `ulp_of_largest`), one select, and
-/// a multiply and an add, as Wächter and Binder's integer-ULP offset ("A Fast and Robust Method
-/// for Avoiding Self-Intersection", Ray Tracing Gems ch. 6), but scaled by the largest
-/// coordinate rather than each one's own: p's error is shared by its components (it comes
-/// from t, below), so a coordinate near zero is no more accurate than the others.
-///
-/// **Error analysis** (first order; u = 2⁻²⁴, so u·‖p‖∞ < ulp(‖p‖∞) ≤ 2u·‖p‖∞). A hit point
-/// p = o + t·d of a ray (origin o, direction d) on the sphere (c, r), with oc = o − c, and
-/// n = normalize(p − c):
-/// - the stable test ([`crate::intersect_sphere`]) rounds oc, b = oc·d, the perpendicular
-///   oc − b·d, Δ = r² − |perp|² and the root, so t errs by up to ≈ 3u|oc| + 7.5u·r²/√Δ + …;
-///   but an error in t moves p along d, off the surface only by its component
-///   |d·n| = √Δ/r, which cancels the 1/√Δ growth at grazing. Adding the rounding of oc
-///   (u|oc|), d being unit only to |η| ≲ 6u (a reflected direction: |η|·|t|) and the
-///   rounding of o + t·d (u(|t| + |p|)), with |t| ≤ |oc| + r: p lies off the sphere by
-///   ≲ 43u·max(|oc|, r) + u|p| (≲ 36u·r + u|p| when o is inside the sphere);
-/// - n is normalised from p − c, so it is within a few u of the radial direction at p, and
-///   an offset s·n moves the origin off the sphere by s to second order;
-/// - re-testing the spawned ray against its sphere decides the origin's side from the sign
-///   of |oc′|² − r², which errs within ≈ 3.5u·r + u|p| of the surface (that rounding, oc′'s,
-///   and the rounding of p ± s·n).
-///
-/// *Outward* rays never meet their own sphere: every lookup skips it for them
-/// ([`crate::Tracer`]'s queries, the cube maps and the cones), so the offset does not have to
-/// clear it. Against another sphere no offset settles a point within rounding of both
-/// surfaces (where two spheres touch, one normal points into the other), so the outward
-/// offset is small: 16 ULPs clear p's rounding when p is placed from the centre
-/// (p = c + r·n: ≈ 6.5u·r + 2u|p| ≤ 16 ulp(‖p‖∞) for r ≤ 1.9‖p‖∞), so that even the bare
-/// sphere test reports no hit, and they move shadow edges and reflections by at most
-/// 2·10⁻⁶‖p‖∞ (times tan θ for light at θ from the normal), far below a pixel.
-///
-/// *Inward* rays (an eye inside a sphere, and the mirror rays inside it after that) must
-/// start strictly inside the sphere. The ray that found p started inside too, so the budget
-/// is ≲ 36u·r + u|p| + 3.5u·r + u|p| ≤ (40·r/‖p‖∞ + 3.5) ulp(‖p‖∞), which 128 ULPs cover
-/// for r ≤ 3.1‖p‖∞: wherever p lies outside the cube of half-side r/3.1 about the world
-/// origin, for instance everywhere on a dome centred on the origin (‖p‖∞ ≥ r/√3). Measured
-/// over 3·10⁶ random inward rays at scales 10⁻³ to 10⁴, the worst case needed 6 ULPs for
-/// r < ‖p‖∞, 32 for r < 8‖p‖∞ and 56 for r < 64‖p‖∞. The sphere must also be wider than
-/// the offset, r > 64 ulp(‖p‖∞) (≈ 10⁻⁵‖p‖∞), or the origin passes through it. Outside
-/// these bounds the inward offset can fall short or overshoot; scene files keep the eyes
-/// outside every sphere, so only a scene built in code gets there.
+/// Every shadow and reflection ray goes through here. The origin moves along ±n, to the side
+/// `dir` leaves towards ([`leaves_outwards`]), by 16 ULPs of p's largest coordinate outwards
+/// (`SPAWN_ULPS_OUT`) or 128 inwards (`SPAWN_ULPS_IN`): Wächter and Binder's integer-ULP
+/// offset (Ray Tracing Gems ch. 6), scaled by the largest coordinate. An outward ray is never
+/// tested against its own sphere, so the offset need not clear it; an inward ray starts
+/// strictly inside its sphere within stated bounds on the scene. The error analysis that
+/// sizes both offsets, and those bounds: `docs/design/spawn-offset.md`.
 #[inline]
 #[must_use]
 pub fn spawn_ray(p: Vec3, n: Vec3, dir: Vec3) -> Ray {

@@ -73,7 +73,7 @@ impl Tracer {
         Some(self.shade_hit(&ray, hit.t, hit.object, 0, &mut RayCounts::default()).0)
     }
 
-    /// The plain path's re-shading (a test oracle for [`crate::SecondView::reshade`]): the
+    /// The plain path's re-shading (a test oracle for [`crate::PixelBatch::reshade`]): the
     /// surface that `ray` (another view's) met at `t` on `object`, lit by the lights
     /// `lights` names, seen along the unit direction `d`, packed.
     #[cfg(test)]

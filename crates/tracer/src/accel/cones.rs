@@ -12,7 +12,7 @@
 //! the packet's cones, and then with the same lane arithmetic as the BVH, so the answer is
 //! the BVH's. In the seed scene most mirror rays leave into the sky and skip every packet.
 //! A sphere's own surface is not in its list: a ray leaving it outwards cannot meet it
-//! again (see [`crate::Tracer::intersect_from`], which sends inward rays to the BVH).
+//! again (see [`super::Aggregate::intersect`], which sends inward rays to the BVH).
 //!
 //! The lists grow as the square of the sphere count, so they are built only up to
 //! [`MAX_SPHERES`]; larger scenes use the BVH.

@@ -5,7 +5,7 @@
 //! the short list of spheres whose bound covers it (the "tile binning" of sort-middle
 //! rasterisers, used here to cull a ray tracer's first hits). A pixel whose tile lists no
 //! sphere is background without a single sphere test; the others test just their tile's
-//! spheres, four pixels at a time: the four rays share the eye as origin, so each sphere's
+//! spheres, a vector of pixels at a time: the rays share the eye as origin, so each sphere's
 //! origin terms are computed once per frame and the rays fill the SIMD lanes. Secondary
 //! rays, which start anywhere, go through the BVH.
 //!

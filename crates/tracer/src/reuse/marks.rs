@@ -1,24 +1,11 @@
 //! Per-pixel marks of where each pixel's ray tree meets the moving spheres' swept volumes
 //! (`swept.rs`): a bit per pixel (set: the tree meets some volume) for fast scans, and the
-//! [`Touch`] (which ring, which arc of it) of the marked pixels.
-//!
-//! After a frame at t₀, the pixels that can differ at t₁ are the marked ones whose touch
-//! meets a moving sphere's wedge at t₀ or at t₁ ([`Marks::select`]); every other pixel is
-//! the same at t₁, byte for byte (the lemma of `swept.rs`).
-//!
-//! `select` runs every frame, over both eyes' marks. A marked pixel's arc is far from the
-//! wedges more often than not (the seed scene marks a fifth of its pixels, and a frame
-//! selects a fifth of those), so the marks keep an index: `near`, the pixels that may
-//! meet a **window** about each ring's wedges, several frames' motion wide. While the
-//! wedges stay in their windows, `select` tests only the pixels of `near`; when they leave
-//! them, it builds the index again around where they are. It is exact, not a heuristic:
-//!
-//! - when built, `near` holds every marked pixel whose touch meets its ring's window;
-//! - since then, a touch changes only through [`MarksRow::set`], which puts every pixel it
-//!   marks in `near` (after a pass that may rewrite every pixel, [`Rewrite::All`], or a
-//!   resize, the index is built again: not for exactness, but lest it hold every mark);
-//! - so a marked pixel outside `near` has the touch it had at the build, which met no
-//!   window, and meets no wedge inside the windows: `select` would not choose it.
+//! [`Touch`] (which ring, which arc of it) of the marked pixels. After a frame at t₀, the
+//! pixels that can differ at t₁ are the marked ones whose touch meets a moving sphere's
+//! wedge at t₀ or at t₁ ([`Marks::select`]). So that `select` need not test every mark each
+//! frame, the marks keep an index, `near`: the pixels that may meet a window about each
+//! ring's wedges, rebuilt when the wedges leave it. Why the index selects exactly what a scan
+//! of every mark would: `docs/design/reuse-exactness.md`.
 
 use rayon::prelude::*;
 

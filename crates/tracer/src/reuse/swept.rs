@@ -1,36 +1,14 @@
 //! Where moving spheres can ever be: a conservative swept volume per orbit, and the test of
-//! a ray segment against it. The ground of exact temporal reuse (after Adelson & Hodges
-//! 1995, "Generating exact ray-traced animation frames by reprojection", IEEE CG&A 15(3),
-//! made exact): a ray that never meets any moving sphere's swept volume meets the same
-//! spheres, at the same parameters, at every instant.
-//!
-//! An `orbit` sphere of radius r revolves in a horizontal circle of radius R about a centre
-//! c (`scene.rs`), so it sweeps a torus. Its bound is the washer that holds the torus: the
-//! slab |y − c.y| ≤ r between two horizontal planes, intersected with the annulus
-//! R − r ≤ ρ ≤ R + r, ρ the distance from the vertical axis through c. Unlike one ball
-//! about the whole circle, the washer leaves out what stands inside the ring (the seed
-//! scene's white sphere) and what is above or below it. Every limit is widened by a margin
-//! ([`SweptRing::margin`]) far above the float error of the sphere's position and of the
-//! test itself, so rounding can only make the test say "meets" more often.
-//!
-//! A ray tree that meets a washer meets it somewhere: [`Touch`] keeps the arc of the
-//! ring's angle its segments cross. Angles are measured as *diamond angles*, a monotone
-//! stand-in for the angle that needs one division instead of an `atan2`: 0..4 for a whole
-//! turn, exactly 2 for half of one, so arcs compare and join as angles do. The sphere at one instant fills only a wedge of the
-//! washer ([`SweptRing::wedge`]), so a tree whose arc misses the wedges of two instants
-//! meets the sphere at neither, and is the same tree at both.
-//!
-//! ## Why reuse is exact
-//!
-//! *Lemma.* Let a pixel's ray tree at time t₀ meet no moving sphere's wedge at t₀ or t₁.
-//! Then its tree, colour and record at t₁ are those at t₀. Sketch, by induction down the
-//! tree: the primary ray does not depend on time. A segment of the tree at t₀ meets no
-//! moving sphere at t₀ (each sphere lies in its wedge, asserted whenever a tracer places
-//! it), so it meets the still spheres only, at the same parameters at t₁; and it meets no
-//! moving sphere at t₁ either, since its part in the washer lies outside that wedge too. So
-//! its hit, normal, shadow rays and mirror ray are the same operations on the same values
-//! at t₁; each of those is again a segment of the tree, and the induction goes on. A tree
-//! that meets no washer at all is the same at every instant.
+//! a ray segment against it. An `orbit` sphere of radius r revolving on a circle of radius R
+//! sweeps a torus; its bound is the washer that holds it (the slab |y − c.y| ≤ r and the
+//! annulus R − r ≤ ρ ≤ R + r), every limit widened by a margin far above the float error, so
+//! rounding only makes the test say "meets" more often. [`Touch`] keeps the arc of the
+//! ring's angle (in *diamond angles*, a monotone, division-only stand-in for `atan2`) that
+//! a ray tree crosses; the sphere at one instant fills only a wedge of its washer
+//! ([`SweptRing::wedge`]). A tree whose arc misses the wedges of two instants meets the
+//! sphere at neither, and is the same tree at both: the ground of exact temporal reuse
+//! (after Adelson & Hodges 1995). The construction and the lemma, with their proofs:
+//! `docs/design/swept-volumes.md` and `docs/design/reuse-exactness.md`.
 
 use glam::Vec3;
 
@@ -253,7 +231,7 @@ const SLACK_UNITS: u32 = 107_374;
 #[inline]
 fn diamond(y: f32, x: f32) -> f32 {
     // r = |y| / (|x| + |y|), the first quadrant's value, mirrored into the others (the
-    // lanes of `wavefront/marks.rs` compute the same).
+    // lanes of `reuse/lanes.rs` compute the same).
     let (ax, ay) = (x.abs(), y.abs());
     let sum = ax + ay;
     let r = if sum > 0.0 { ay / sum } else { 0.0 };

@@ -15,153 +15,24 @@
 //! Values are read as they stream past, into reused buffers: no per-atom allocation. Only
 //! the first data block is read. A loop whose values do not fill its last row is an error.
 
+mod columns;
+mod operators;
+mod tokens;
+
 use std::collections::HashMap;
 
-use crate::assembly::{Assembly, AssemblyPart, Operator};
+use crate::assembly::Operator;
 use crate::element::{element_from_bare_name, Element};
 use crate::error::{quote, Error};
 use crate::field::parse_f32;
 use crate::input::Lines;
 use crate::molecule::{Builder, Molecule};
 use crate::options::{Format, Limits};
+use columns::{AtomColumn, Category};
+use tokens::{is_null, tokens, Token};
 
 /// The most operators an `oper_expression` may expand to.
 const MAX_OPERATORS: usize = 1 << 16;
-
-/// A CIF token.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Token<'t> {
-    /// `_category.item`.
-    Tag(&'t [u8]),
-    /// A value: bare, quoted (quotes removed) or a text field.
-    Value(&'t [u8]),
-    /// `loop_`.
-    Loop,
-    /// `data_name`.
-    Data,
-}
-
-/// Splits one line (not part of a text field) into tokens.
-fn tokens<'t>(line: &'t [u8], mut each: impl FnMut(Token<'t>) -> Result<(), String>) -> Result<(), String> {
-    let mut i = 0;
-    while i < line.len() {
-        let Some(start) = line.get(i..).and_then(|rest| rest.iter().position(|b| !b.is_ascii_whitespace())) else {
-            break;
-        };
-        i += start;
-        let first = line.get(i).copied().unwrap_or(b' ');
-        if first == b'#' {
-            break;
-        }
-        if first == b'\'' || first == b'"' {
-            // A quote ends a quoted value only when whitespace or the line's end follows it.
-            let rest = line.get(i + 1..).unwrap_or_default();
-            let close = rest
-                .iter()
-                .enumerate()
-                .position(|(k, &b)| b == first && rest.get(k + 1).is_none_or(u8::is_ascii_whitespace))
-                .ok_or_else(|| format!("unterminated quoted value {}", quote(line.get(i..).unwrap_or_default())))?;
-            each(Token::Value(rest.get(..close).unwrap_or_default()))?;
-            i += close + 2;
-            continue;
-        }
-        let rest = line.get(i..).unwrap_or_default();
-        let len = rest.iter().position(u8::is_ascii_whitespace).unwrap_or(rest.len());
-        let word = rest.get(..len).unwrap_or_default();
-        i += len;
-        let lower = |prefix: &[u8]| {
-            word.len() >= prefix.len() && word.get(..prefix.len()).is_some_and(|w| w.eq_ignore_ascii_case(prefix))
-        };
-        let token = if first == b'_' {
-            Token::Tag(word)
-        } else if word.eq_ignore_ascii_case(b"loop_") {
-            Token::Loop
-        } else if lower(b"data_") {
-            Token::Data
-        } else if lower(b"save_") || lower(b"global_") || lower(b"stop_") {
-            return Err(format!("{} (save frames and global blocks are not read)", quote(word)));
-        } else {
-            Token::Value(word)
-        };
-        each(token)?;
-    }
-    Ok(())
-}
-
-/// `?` (unknown) and `.` (inapplicable) both mean no value.
-fn is_null(value: &[u8]) -> bool {
-    matches!(value, b"?" | b".")
-}
-
-/// The categories read.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Category {
-    AtomSite,
-    OperList,
-    AssemblyGen,
-    Other,
-}
-
-impl Category {
-    fn of(tag: &[u8]) -> (Self, &[u8]) {
-        let (category, item) = match tag.iter().position(|&b| b == b'.') {
-            Some(dot) => (tag.get(..dot).unwrap_or_default(), tag.get(dot + 1..).unwrap_or_default()),
-            None => (tag, &b""[..]),
-        };
-        let category = if category.eq_ignore_ascii_case(b"_atom_site") {
-            Self::AtomSite
-        } else if category.eq_ignore_ascii_case(b"_pdbx_struct_oper_list") {
-            Self::OperList
-        } else if category.eq_ignore_ascii_case(b"_pdbx_struct_assembly_gen") {
-            Self::AssemblyGen
-        } else {
-            Self::Other
-        };
-        (category, item)
-    }
-}
-
-/// What an `_atom_site` column holds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum AtomColumn {
-    Skip,
-    X,
-    Y,
-    Z,
-    Symbol,
-    Name,
-    Residue,
-    Alt,
-    Asym,
-    AuthAsym,
-    Model,
-}
-
-impl AtomColumn {
-    fn of(item: &[u8]) -> Self {
-        const ITEMS: [(&[u8], AtomColumn); 10] = [
-            (b"Cartn_x", AtomColumn::X),
-            (b"Cartn_y", AtomColumn::Y),
-            (b"Cartn_z", AtomColumn::Z),
-            (b"type_symbol", AtomColumn::Symbol),
-            (b"label_atom_id", AtomColumn::Name),
-            (b"label_comp_id", AtomColumn::Residue),
-            (b"label_alt_id", AtomColumn::Alt),
-            (b"label_asym_id", AtomColumn::Asym),
-            (b"auth_asym_id", AtomColumn::AuthAsym),
-            (b"pdbx_PDB_model_num", AtomColumn::Model),
-        ];
-        ITEMS.iter().find(|(name, _)| name.eq_ignore_ascii_case(item)).map_or(Self::Skip, |&(_, column)| column)
-    }
-
-    fn field(self) -> &'static str {
-        match self {
-            Self::X => "Cartn_x",
-            Self::Y => "Cartn_y",
-            _ => "Cartn_z",
-        }
-    }
-}
 
 /// One `_atom_site` row as its values stream past; the buffers are reused row after row.
 #[derive(Default)]
@@ -405,41 +276,6 @@ impl Reader<'_> {
         }
     }
 
-    fn operator_row(&mut self, line: u64) -> Result<(), Error> {
-        let Some(table) = &self.table else { return Ok(()) };
-        let find = |name: &str| {
-            table
-                .items
-                .iter()
-                .position(|i| i.eq_ignore_ascii_case(name.as_bytes()))
-                .and_then(|at| table.text_row.get(at))
-        };
-        let id = String::from_utf8_lossy(find("id").map(Vec::as_slice).unwrap_or_default()).into_owned();
-        let mut rows = [[0.0_f64; 4]; 3];
-        for (i, row) in rows.iter_mut().enumerate() {
-            for (j, value) in row.iter_mut().enumerate() {
-                let (name, field) = if j == 3 {
-                    (format!("vector[{}]", i + 1), "vector")
-                } else {
-                    (format!("matrix[{}][{}]", i + 1, j + 1), "matrix")
-                };
-                let text =
-                    find(&name).ok_or_else(|| self.malformed(line, format!("_pdbx_struct_oper_list has no {name}")))?;
-                *value = f64::from(parse_f32(text).map_err(|why| Error::Field {
-                    file: self.file.to_owned(),
-                    line,
-                    record: "_pdbx_struct_oper_list",
-                    field,
-                    value: quote(text),
-                    why,
-                })?);
-            }
-        }
-        self.operator_order.push(id.clone());
-        self.operators.insert(id.clone(), Operator::from_file_rows(id, rows));
-        Ok(())
-    }
-
     fn atom_row(&mut self, line: u64) -> Result<(), Error> {
         let missing = [AtomColumn::X, AtomColumn::Y, AtomColumn::Z].into_iter().zip(self.row.has).find(|(_, has)| !has);
         if let Some((column, _)) = missing {
@@ -494,76 +330,6 @@ impl Reader<'_> {
             buffer.clear();
         }
         Ok(())
-    }
-
-    /// The assemblies `_pdbx_struct_assembly_gen` builds from `_pdbx_struct_oper_list`.
-    fn assemblies(&self) -> Result<Vec<Assembly>, Error> {
-        let mut assemblies: Vec<Assembly> = Vec::new();
-        for generator in &self.generators {
-            let operators = self.expand(&generator.expression, generator.line)?;
-            let part = AssemblyPart { chains: generator.chains.clone(), operators };
-            match assemblies.iter_mut().find(|a| a.id == generator.assembly) {
-                Some(assembly) => assembly.parts.push(part),
-                None => assemblies.push(Assembly { id: generator.assembly.clone(), parts: vec![part] }),
-            }
-        }
-        Ok(assemblies)
-    }
-
-    /// The operators of an `oper_expression`: groups `(a,b-c)` multiplied left to right, the
-    /// left factor applying last.
-    fn expand(&self, expression: &str, line: u64) -> Result<Vec<Operator>, Error> {
-        let bad = |why: String| {
-            self.malformed(line, format!("_pdbx_struct_assembly_gen oper_expression = {expression:?}: {why}"))
-        };
-        let mut groups: Vec<Vec<&Operator>> = Vec::new();
-        let text = expression.trim();
-        let mut rest = text;
-        while !rest.is_empty() {
-            let (group, after) = if let Some(inner) = rest.strip_prefix('(') {
-                let close = inner.find(')').ok_or_else(|| bad("unclosed (".to_owned()))?;
-                (inner.get(..close).unwrap_or_default(), inner.get(close + 1..).unwrap_or_default())
-            } else if groups.is_empty() && !rest.contains('(') {
-                (rest, "")
-            } else {
-                return Err(bad("expected (".to_owned()));
-            };
-            let mut operators = Vec::new();
-            for item in group.split(',').map(str::trim) {
-                let range = item
-                    .split_once('-')
-                    .and_then(|(a, b)| Some((a.trim().parse::<u64>().ok()?, b.trim().parse::<u64>().ok()?)));
-                match range {
-                    Some((first, last)) => {
-                        if last < first || last - first >= self.operators.len() as u64 {
-                            return Err(bad(format!(
-                                "range {item} does not match the {} operators listed",
-                                self.operators.len()
-                            )));
-                        }
-                        for id in first..=last {
-                            operators.push(self.operator(&id.to_string(), &bad)?);
-                        }
-                    }
-                    None => operators.push(self.operator(item, &bad)?),
-                }
-            }
-            groups.push(operators);
-            rest = after.trim_start();
-        }
-        let Some(last) = groups.pop() else { return Err(bad("no operator".to_owned())) };
-        let mut product: Vec<Operator> = last.into_iter().cloned().collect();
-        while let Some(left) = groups.pop() {
-            if left.len().saturating_mul(product.len()) > MAX_OPERATORS {
-                return Err(bad(format!("more than {MAX_OPERATORS} operators")));
-            }
-            product = left.iter().flat_map(|l| product.iter().map(|r| l.after(r))).collect();
-        }
-        Ok(product)
-    }
-
-    fn operator(&self, id: &str, bad: &dyn Fn(String) -> Error) -> Result<&Operator, Error> {
-        self.operators.get(id).ok_or_else(|| bad(format!("operator {id:?} is not in _pdbx_struct_oper_list")))
     }
 }
 
@@ -667,40 +433,9 @@ pub(crate) fn read(lines: &mut Lines<'_>, limits: &Limits, want_assembly: bool) 
 mod tests {
     use super::*;
 
-    fn read_text(text: &str, want_assembly: bool) -> Result<Molecule, Error> {
-        let mut lines = Lines::new("t.cif", Box::new(text.as_bytes()), &Limits::default())?;
-        read(&mut lines, &Limits::default(), want_assembly)
-    }
-
-    fn all_tokens(line: &str) -> Result<Vec<String>, String> {
-        let mut out = Vec::new();
-        tokens(line.as_bytes(), |t| {
-            out.push(match t {
-                Token::Tag(t) => format!("tag {}", String::from_utf8_lossy(t)),
-                Token::Value(v) => format!("value {}", String::from_utf8_lossy(v)),
-                Token::Loop => "loop".to_owned(),
-                Token::Data => "data".to_owned(),
-            });
-            Ok(())
-        })?;
-        Ok(out)
-    }
-
-    #[test]
-    fn the_tokenizer_knows_quotes_comments_and_reserved_words() {
-        assert_eq!(
-            all_tokens("loop_ _a.b 'it''s' \"x y\" O5' # comment").unwrap(),
-            ["loop", "tag _a.b", "value it''s", "value x y", "value O5'"],
-            "a quote inside a value does not end it unless whitespace follows"
-        );
-        assert_eq!(all_tokens("data_1TII").unwrap(), ["data"], "data block");
-        assert!(all_tokens("'open").unwrap_err().contains("unterminated"), "unterminated quote");
-        assert!(all_tokens("save_frame").unwrap_err().contains("save frames"), "save frames refused");
-    }
-
     /// Four atoms of 1TII's chain D (pymol-data's 1tii.pdb, atoms 1 to 4), as mmCIF writes them,
     /// a fifth atom in model 2, and a 2-operator assembly for chain A.
-    const SMALL: &str = "\
+    pub(super) const SMALL: &str = "\
 data_1TII
 #
 _entry.id 1TII
@@ -748,6 +483,11 @@ _pdbx_struct_oper_list.vector[3]
 #
 ";
 
+    pub(super) fn read_text(text: &str, want_assembly: bool) -> Result<Molecule, Error> {
+        let mut lines = Lines::new("t.cif", Box::new(text.as_bytes()), &Limits::default())?;
+        read(&mut lines, &Limits::default(), want_assembly)
+    }
+
     #[test]
     fn atom_site_gives_atoms_of_the_first_model() {
         let m = read_text(SMALL, false).unwrap();
@@ -772,29 +512,6 @@ _pdbx_struct_oper_list.vector[3]
             big.positions()[4].abs_diff_eq(glam::Vec3::new(-32.053, 9.336, -22.867), 1e-5),
             "{}",
             big.positions()[4]
-        );
-    }
-
-    #[test]
-    fn oper_expressions_expand_ranges_lists_and_products() {
-        let mut text = SMALL.replace("(1,2)", "(1-2)(2)");
-        let m = read_text(&text, true).unwrap();
-        let ops = &m.assemblies()[0].parts[0].operators;
-        assert_eq!(ops.iter().map(|o| o.id.as_str()).collect::<Vec<_>>(), ["1x2", "2x2"], "product, left applies last");
-        // The 2-fold about z with a shift of 5 along z, twice: the turns cancel, the shifts add
-        // (file +10 along z, ours -10).
-        let twice = ops[1].apply(glam::Vec3::ONE);
-        assert!(twice.abs_diff_eq(glam::Vec3::new(1.0, 1.0, -9.0), 1e-5), "a screw axis twice: {twice}");
-        text = SMALL.replace("(1,2)", "(1-5)");
-        let e = read_text(&text, true).unwrap_err();
-        assert!(e.to_string().contains("range 1-5 does not match the 2 operators"), "{e}");
-        text = SMALL.replace("(1,2)", "(1,7)");
-        let e = read_text(&text, true).unwrap_err();
-        assert!(e.to_string().contains(r#"operator "7" is not in _pdbx_struct_oper_list"#), "{e}");
-        let m = read_text(&text, false).unwrap();
-        assert!(
-            m.assemblies().is_empty() && m.warnings().iter().any(|w| w.message.starts_with("assemblies ignored")),
-            "only a warning"
         );
     }
 

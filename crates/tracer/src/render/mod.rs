@@ -5,27 +5,23 @@
 //! marked for temporal reuse). One row loop serves them all. A [`Renderer`] owns the
 //! buffers an eye needs besides its image (the screen bins of its primary rays,
 //! `accel/screen.rs`), so a warm renderer allocates nothing; [`Renderer::batch`] hands the
-//! same bins to whoever makes an eye's pixels in batches of its own (`batch/`).
+//! same bins to whoever makes an eye's pixels in batches of its own (`batch/`). A row's
+//! tracing is in `row.rs`.
 
-use std::ops::Range;
+mod row;
 
-use fearless_simd::{dispatch, prelude::*, Simd};
-use glam::Vec3;
 use rayon::iter::Either;
 use rayon::prelude::*;
 
-use crate::accel::screen::{ScreenBins, TILE};
-use crate::batch::{by_lanes, BinnedView, PixelBatch};
-use crate::bits::{self, PixelBits};
+use crate::accel::screen::ScreenBins;
+use crate::batch::{BinnedView, PixelBatch};
+use crate::bits::PixelBits;
 use crate::camera::EyeView;
 use crate::film::{Film, Record};
-use crate::ray::Ray;
 use crate::reuse::{Marker, Marks, MarksRow, Rewrite, Swept};
-use crate::simd::F;
 use crate::stats::RayCounts;
-use crate::surface::{Hit, Shading, NO_OBJECT};
 use crate::tracer::Tracer;
-use crate::wavefront::{with_wavefront, Wavefront};
+use row::{trace_row, FilmRow, KeysRow, RgbRow};
 
 /// Renders one eye's views, keeping its screen bins from frame to frame.
 #[derive(Clone, Debug, Default)]
@@ -80,257 +76,6 @@ impl<'a> Target<'a> {
     #[must_use]
     pub fn marking(self, marks: &'a mut Marks, swept: &'a Swept) -> Self {
         Self { marking: Some((marks, swept)), ..self }
-    }
-}
-
-/// What a hit pixel's record keys are: depth, hit parameter, object, light bits.
-type Keys = (f32, f32, u32, u32);
-
-/// Where a row's samples go.
-trait RowSink {
-    /// Pixels `span` saw only background, of colour `rgb`.
-    fn background(&mut self, span: Range<usize>, rgb: u32);
-    /// Pixel `i` saw a sphere: its colour, and (called only by a sink that keeps them) its
-    /// record's keys and its shading entry.
-    fn hit(&mut self, i: usize, rgb: u32, keys: impl FnOnce() -> Keys, shading: impl FnOnce() -> Shading);
-}
-
-/// One row of a [`Film`] without its shading entries: colour, depth, hit parameter, object
-/// and light bits.
-struct KeysRow<'a> {
-    rgb: &'a mut [u32],
-    z: &'a mut [f32],
-    t: &'a mut [f32],
-    object: &'a mut [u32],
-    lights: &'a mut [u32],
-}
-
-impl KeysRow<'_> {
-    /// Writes pixel `i`'s colour and keys.
-    #[inline]
-    fn keep(&mut self, i: usize, rgb: u32, (z, t, object, lights): Keys) {
-        self.rgb[i] = rgb;
-        self.z[i] = z;
-        self.t[i] = t;
-        self.object[i] = object;
-        self.lights[i] = lights;
-    }
-}
-
-impl RowSink for KeysRow<'_> {
-    #[inline]
-    fn background(&mut self, span: Range<usize>, rgb: u32) {
-        self.rgb[span.clone()].fill(rgb);
-        self.z[span.clone()].fill(f32::INFINITY);
-        self.object[span.clone()].fill(NO_OBJECT);
-        self.lights[span].fill(0);
-    }
-
-    #[inline]
-    fn hit(&mut self, i: usize, rgb: u32, keys: impl FnOnce() -> Keys, _: impl FnOnce() -> Shading) {
-        self.keep(i, rgb, keys());
-    }
-}
-
-/// One row of a [`Film`]: the keys and the shading entries.
-struct FilmRow<'a> {
-    keys: KeysRow<'a>,
-    shading: &'a mut [Shading],
-}
-
-impl RowSink for FilmRow<'_> {
-    #[inline]
-    fn background(&mut self, span: Range<usize>, rgb: u32) {
-        // The shading entries of a miss are left as they are: nothing reads them (see
-        // `Film::surface`).
-        self.keys.background(span, rgb);
-    }
-
-    #[inline]
-    fn hit(&mut self, i: usize, rgb: u32, keys: impl FnOnce() -> Keys, shading: impl FnOnce() -> Shading) {
-        self.keys.keep(i, rgb, keys());
-        self.shading[i] = shading();
-    }
-}
-
-/// One row of colour only.
-struct RgbRow<'a>(&'a mut [u32]);
-
-impl RowSink for RgbRow<'_> {
-    #[inline]
-    fn background(&mut self, span: Range<usize>, rgb: u32) {
-        self.0[span].fill(rgb);
-    }
-
-    #[inline]
-    fn hit(&mut self, i: usize, rgb: u32, _: impl FnOnce() -> Keys, _: impl FnOnce() -> Shading) {
-        self.0[i] = rgb;
-    }
-}
-
-/// A row's marks to keep, and the hook that makes them.
-type Marking<'a, 'm> = (MarksRow<'a>, &'m Marker<'m>);
-
-/// Traces row `j` of `eye`, `w` pixels wide, into `sink`; the rays cast. With `marks`, each
-/// traced pixel is marked with where its ray tree meets the moving spheres' swept volumes.
-/// `only` (a row of [`PixelBits`]) says which pixels are traced, `None` all.
-///
-/// A whole row goes tile by tile: a tile whose bin is empty is background without a sphere
-/// test, the others find their first hits a vector of pixels at a time. The hits are then
-/// shaded together, as one batch of this thread's wavefront, in the same lanes. Chosen
-/// pixels of a row go a lane group at a time, through the very rays and shading.
-fn trace_row(
-    eye: &BinnedView<'_>,
-    j: u32,
-    w: usize,
-    sink: &mut impl RowSink,
-    marks: Option<Marking<'_, '_>>,
-    only: Option<&[u64]>,
-) -> RayCounts {
-    with_wavefront(|wavefront| match only {
-        None => dispatch!(crate::simd::level(), simd => trace_row_in(simd, wavefront, eye, j, w, sink, marks)),
-        Some(only) => trace_only(wavefront, eye, j, sink, marks, only),
-    })
-}
-
-/// [`trace_row`] of every pixel with the lanes of `simd`.
-fn trace_row_in<S: Simd>(
-    simd: S,
-    wavefront: &mut Wavefront,
-    eye: &BinnedView<'_>,
-    j: u32,
-    w: usize,
-    sink: &mut impl RowSink,
-    mut marks: Option<Marking<'_, '_>>,
-) -> RayCounts {
-    let mut counts = RayCounts { primary: w as u64, ..RayCounts::default() };
-    let (tile, lanes) = (TILE as usize, F::<S>::LEN);
-    let (tracer, view) = (eye.tracer, eye.view);
-    if let Some((marks, _)) = marks.as_mut() {
-        marks.clear();
-    }
-    // A pixel that sees only background is marked where its ray meets a swept volume,
-    // together with the others in `emit`.
-    let marker = marks.as_ref().map(|(_, marker)| *marker);
-    let background = |wavefront: &mut Wavefront, i: usize| {
-        if marker.is_some_and(|m| m.may_meet(i as u32, j)) {
-            wavefront.marks.push_background(i as u32);
-        }
-    };
-    let (mut t, mut ids, mut d) = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
-    for span in (0..w.div_ceil(tile)).map(|t| t * tile..((t + 1) * tile).min(w)) {
-        if eye.bins.is_empty_at(span.start as u32, j) {
-            sink.background(span.clone(), tracer.scene.background_rgb);
-            if marker.is_some() {
-                for i in span {
-                    background(wavefront, i);
-                }
-            }
-            continue;
-        }
-        for i0 in span.clone().step_by(lanes) {
-            // A vector whose rays all hit goes into the batch whole; any other, lane by lane.
-            let whole = i0 + lanes <= span.end;
-            let Some((tv, idv, dv)) = simd.vectorize(
-                #[inline(always)]
-                || {
-                    let hits = eye.hits_lanes(simd, i0 as u32, j);
-                    if whole && hits.0.abs().simd_lt(F::<S>::splat(simd, f32::INFINITY)).all_true() {
-                        wavefront.push_lanes(simd, view.origin, hits, i0 as u32, None);
-                        return None;
-                    }
-                    Some(hits)
-                },
-            ) else {
-                continue;
-            };
-            tv.store_slice(&mut t[..lanes]);
-            idv.store_slice(&mut ids[..lanes]);
-            for a in 0..3 {
-                dv[a].store_slice(&mut d[a][..lanes]);
-            }
-            for l in 0..(span.end - i0).min(lanes) {
-                let dir = Vec3::new(d[0][l], d[1][l], d[2][l]);
-                if t[l].is_finite() {
-                    wavefront.push_hit(
-                        &Ray::new(view.origin, dir),
-                        Hit { t: t[l], object: ids[l] },
-                        None,
-                        (i0 + l) as u32,
-                    );
-                } else {
-                    sink.background(i0 + l..i0 + l + 1, tracer.scene.background_rgb);
-                    background(wavefront, i0 + l);
-                }
-            }
-        }
-    }
-    wavefront.shade_in(simd, tracer, &mut counts);
-    emit(wavefront, (eye, j), sink, marks);
-    counts
-}
-
-/// [`trace_row`] of the pixels `only` names: full primary rays a lane group at a time (the
-/// rays and hits of every other pass, bit for bit), shaded as one batch.
-fn trace_only(
-    wavefront: &mut Wavefront,
-    eye: &BinnedView<'_>,
-    j: u32,
-    sink: &mut impl RowSink,
-    mut marks: Option<Marking<'_, '_>>,
-    only: &[u64],
-) -> RayCounts {
-    let mut counts = RayCounts::default();
-    if only.iter().all(|&word| word == 0) {
-        return counts;
-    }
-    let batch = PixelBatch::new(*eye, marks.as_ref().map(|(_, marker)| **marker));
-    if let Some((marks, _)) = marks.as_mut() {
-        marks.clear_only(Some(only));
-    }
-    by_lanes(bits::ones(only), PixelBatch::lanes(), |base, mask| {
-        counts.primary += u64::from(mask.count_ones());
-        batch.push_traced(wavefront, base, j, mask, &mut |i, rgb, touch| {
-            sink.background(i as usize..i as usize + 1, rgb);
-            if let Some((marks, _)) = marks.as_mut() {
-                marks.set(i, touch);
-            }
-        });
-    });
-    wavefront.shade(eye.tracer, &mut counts);
-    emit(wavefront, (eye, j), sink, marks);
-    counts
-}
-
-/// Hands each sample of the shaded batch to `sink`, and marks it (when marking) with where
-/// its ray tree meets the swept volumes.
-fn emit(
-    wavefront: &mut Wavefront,
-    (eye, j): (&BinnedView<'_>, u32),
-    sink: &mut impl RowSink,
-    marks: Option<Marking<'_, '_>>,
-) {
-    let view = eye.view;
-    if let Some((mut marks, marker)) = marks {
-        wavefront.mark(marker, &eye.tracer.scene.lights, |i| marker.may_meet(i, j));
-        for e in 0..wavefront.len() {
-            let touch = wavefront.marks.touch(e);
-            if touch.is_some() {
-                marks.set(wavefront.tag(e), touch);
-            }
-        }
-        wavefront.marks.mark_background(marker, view, j, &mut |i, touch| marks.set(i, touch));
-    }
-    for e in 0..wavefront.len() {
-        let keys = || {
-            let (point, t, object, lights) = wavefront.keys(e);
-            (view.head_z(point), t, object, lights)
-        };
-        let shading = || {
-            let s = wavefront.surface(e);
-            Shading { point: s.point, normal: s.normal, diffuse: s.diffuse }
-        };
-        sink.hit(wavefront.tag(e) as usize, wavefront.rgb(e), keys, shading);
     }
 }
 
@@ -462,17 +207,20 @@ impl Renderer {
 
 #[cfg(test)]
 mod tests {
+    use fearless_simd::dispatch;
     use glam::Vec3;
 
+    use super::row::trace_row_in;
     use super::*;
     use crate::camera::{Camera, Eye};
     use crate::film::Record;
     use crate::material::Material;
     use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere};
     use crate::surface::Surface;
+    use crate::wavefront::with_wavefront;
 
     fn seed() -> Scene {
-        Scene::from_toml(include_str!("../../../assets/scenes/seed.toml"), "seed.toml").expect("seed scene")
+        Scene::from_toml(include_str!("../../../../assets/scenes/seed.toml"), "seed.toml").expect("seed scene")
     }
 
     #[test]
