@@ -328,7 +328,9 @@ mod tests {
         // The lanes reproduce glam's Mat3 * Vec3 and normalize bit for bit.
         let c = Camera { yaw_deg: 33.0, pitch_deg: -12.0, position: Vec3::new(1.0, 2.0, -3.0), ..camera() };
         let v = c.view(Eye::Right, 1280, 720);
-        for (i, j) in [(0, 0), (17, 301), (640, 360), (1276, 719)] {
+        // A grid over the whole view, and its corners.
+        let grid = (0..720).step_by(7).flat_map(|j| (0..1280).step_by(5).map(move |i| (i, j)));
+        for (i, j) in grid.chain([(0, 0), (17, 301), (640, 360), (1276, 719), (1279, 719)]) {
             let x = ((i as f32 + 0.5) * v.inv_width - 0.5) * v.window_width;
             let y = (0.5 - (j as f32 + 0.5) * v.inv_height) * v.window_height;
             let want = (v.world_from_head * Vec3::new(x - v.eye_x, y, v.distance)).normalize();
