@@ -9,8 +9,9 @@
 //! the screen bins (`screen.rs`), close in spirit to Haines and Greenberg's light buffer (1986).
 //!
 //! **The bound.** A shadow ray leaves p + ε·n (see [`crate::spawn_ray`]; ε is at most the
-//! bound on spawn offsets the tracer hands to [`LightBins::build`]) along the exact direction to the light, so it stays within ε
-//! of the segment from p to the light, which lies on the ray from the light through p. A
+//! bound on spawn offsets the tracer hands to [`LightBins::build`]) along the exact
+//! direction to the light, so it stays within ε of the segment from p to the light, which
+//! lies on the ray from the light through p. A
 //! sphere it hits therefore meets that ray once grown by ε. For a cube face with major axis
 //! m and minor axis a, the ray's direction w has u = w_a / |w_m|; projecting onto the
 //! (a, m) plane, a ray that hits the grown ball hits its disc, so its angle from the
