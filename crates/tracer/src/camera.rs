@@ -88,13 +88,24 @@ impl Camera {
     /// The view of one eye for a `width` × `height` image.
     #[must_use]
     pub fn view(&self, eye: Eye, width: u32, height: u32) -> EyeView {
+        self.view_with_margin(eye, width, height, (0, 0))
+    }
+
+    /// The view of one eye for a `width` × `height` image traced with a guard band of
+    /// `margin` = (mx, my) more pixels on each side: the view is (width + 2·mx) ×
+    /// (height + 2·my) pixels, and its pixel (i, j) has the very ray (bit for bit) of pixel
+    /// (i − mx, j − my) of [`Camera::view`]`(eye, width, height)`. A timewarp shows the
+    /// `width` × `height` part, and turns the head into the band.
+    #[must_use]
+    pub fn view_with_margin(&self, eye: Eye, width: u32, height: u32, margin: (u32, u32)) -> EyeView {
         let window_width = self.window_width();
         let window_height = window_width * height as f32 / width as f32;
         let rot = self.world_from_head();
         EyeView {
             eye,
-            width,
-            height,
+            width: width + 2 * margin.0,
+            height: height + 2 * margin.1,
+            margin,
             origin: self.eye_position(eye),
             eye_x: eye.sign() * 0.5 * self.ipd,
             distance: self.distance,
@@ -166,6 +177,9 @@ pub struct EyeView {
     pub width: u32,
     /// Image height in pixels.
     pub height: u32,
+    /// The guard band: pixels traced beyond the shown image on each side, (columns, rows)
+    /// ([`Camera::view_with_margin`]); (0, 0) for a view without one.
+    pub margin: (u32, u32),
     /// The eye's world position; every primary ray starts here.
     pub origin: Vec3,
     pub(crate) eye_x: f32,
@@ -180,10 +194,47 @@ pub struct EyeView {
 }
 
 impl EyeView {
-    /// Pixels per window unit, horizontally (W / window width).
+    /// Pixels per window unit, horizontally (W / window width, W the shown width).
     #[must_use]
     pub fn pixels_per_unit(&self) -> f32 {
-        self.width as f32 / self.window_width
+        (self.width - 2 * self.margin.0) as f32 / self.window_width
+    }
+
+    /// The shown image's size: the view's, less its guard band.
+    #[must_use]
+    pub fn shown_size(&self) -> (u32, u32) {
+        (self.width - 2 * self.margin.0, self.height - 2 * self.margin.1)
+    }
+
+    /// The shared window's size (world units): the shown image's extent on the plane of
+    /// zero parallax.
+    #[must_use]
+    pub fn window_size(&self) -> Vec2 {
+        Vec2::new(self.window_width, self.window_height)
+    }
+
+    /// This eye's offset along the head's x axis from the midpoint of the eyes (∓e/2).
+    #[must_use]
+    pub fn eye_offset(&self) -> f32 {
+        self.eye_x
+    }
+
+    /// The distance d from the eyes to the window.
+    #[must_use]
+    pub fn distance(&self) -> f32 {
+        self.distance
+    }
+
+    /// The rotation taking head-space directions to world space.
+    #[must_use]
+    pub fn world_from_head(&self) -> Mat3 {
+        self.world_from_head
+    }
+
+    /// The head's position: the midpoint of the eyes (world space).
+    #[must_use]
+    pub fn head_position(&self) -> Vec3 {
+        self.head_position
     }
 
     /// The camera ray through the centre of pixel (i, j).
@@ -236,6 +287,8 @@ impl EyeView {
     #[inline(always)]
     pub(crate) fn primary_dirs_rows<S: Simd>(&self, simd: S, columns: F<S>, rows: F<S>) -> [F<S>; 3] {
         let splat = |x: f32| F::<S>::splat(simd, x);
+        // The shown image's column and row (exact: whole numbers; x − 0 is x).
+        let (columns, rows) = (columns - splat(self.margin.0 as f32), rows - splat(self.margin.1 as f32));
         let x = ((columns + splat(0.5)) * splat(self.inv_width) - splat(0.5)) * splat(self.window_width);
         let y = (splat(0.5) - (rows + splat(0.5)) * splat(self.inv_height)) * splat(self.window_height);
         let (hx, hy, hz) = (x - splat(self.eye_x), y, splat(self.distance));
@@ -265,9 +318,10 @@ impl EyeView {
         }
         let x = self.eye_x + (h.x - self.eye_x) * self.distance / w;
         let y = h.y * self.distance / w;
+        let (w, h) = self.shown_size();
         Some(Vec2::new(
-            (x / self.window_width + 0.5) * self.width as f32,
-            (0.5 - y / self.window_height) * self.height as f32,
+            (x / self.window_width + 0.5) * w as f32 + self.margin.0 as f32,
+            (0.5 - y / self.window_height) * h as f32 + self.margin.1 as f32,
         ))
     }
 }
@@ -336,6 +390,29 @@ mod tests {
             let want = (v.world_from_head * Vec3::new(x - v.eye_x, y, v.distance)).normalize();
             assert_eq!(v.primary_ray(i, j).dir, want, "({i}, {j})");
             assert_eq!(dispatch!(crate::simd::level(), simd => lane(simd, &v, i, j)), want, "({i}, {j}) in lanes");
+        }
+    }
+
+    #[test]
+    fn a_guard_band_keeps_every_shown_pixels_ray_and_projection() {
+        let c = Camera { yaw_deg: 12.0, pitch_deg: 5.0, position: Vec3::new(0.5, -1.0, 2.0), ..camera() };
+        for eye in [Eye::Left, Eye::Right] {
+            let (plain, banded) = (c.view(eye, 160, 90), c.view_with_margin(eye, 160, 90, (24, 10)));
+            assert_eq!((banded.width, banded.height, banded.shown_size()), (208, 110, (160, 90)));
+            assert_eq!(banded.pixels_per_unit(), plain.pixels_per_unit(), "the same pitch");
+            for j in 0..90 {
+                for i in 0..160 {
+                    let (a, b) = (plain.primary_ray(i, j), banded.primary_ray(i + 24, j + 10));
+                    assert_eq!(a, b, "{eye:?} ({i}, {j}): the very ray");
+                }
+            }
+            // A point projects to the same pixel, shifted by the band.
+            let p = plain.primary_ray(37, 61).at(20.0);
+            let (a, b) = (plain.project(p).unwrap(), banded.project(p).unwrap());
+            assert!((b - a - Vec2::new(24.0, 10.0)).length() < 1e-3, "{a} and {b}");
+            // And the band's own pixels look beyond the shown window.
+            let outside = banded.project(banded.primary_ray(2, 3).at(20.0)).unwrap();
+            assert!((outside - Vec2::new(2.5, 3.5)).length() < 2e-3, "{outside}");
         }
     }
 

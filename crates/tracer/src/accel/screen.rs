@@ -125,9 +125,10 @@ fn screen_bound(view: &EyeView, center: Vec3, radius: f32, margin: f64) -> Bound
     let d = f64::from(view.distance);
     let (u0, u1) = tangent_slopes(p.x, p.z, r);
     let (v0, v1) = tangent_slopes(p.y, p.z, r);
-    let (w, h) = (f64::from(view.width), f64::from(view.height));
-    let column = |u: f64| ((f64::from(view.eye_x) + u * d) / f64::from(view.window_width) + 0.5) * w - 0.5;
-    let row = |v: f64| (0.5 - v * d / f64::from(view.window_height)) * h - 0.5;
+    let (w, h) = view.shown_size();
+    let (w, h, mx, my) = (f64::from(w), f64::from(h), f64::from(view.margin.0), f64::from(view.margin.1));
+    let column = |u: f64| ((f64::from(view.eye_x) + u * d) / f64::from(view.window_width) + 0.5) * w - 0.5 + mx;
+    let row = |v: f64| (0.5 - v * d / f64::from(view.window_height)) * h - 0.5 + my;
     Bound::Pixels([column(u0), row(v1), column(u1), row(v0)])
 }
 
@@ -258,10 +259,17 @@ mod tests {
     /// Every pixel's first hit through the bins is the BVH's, a vector of lanes at a time
     /// (the last group short where the row ends), and the rays are the view's.
     fn assert_same_as_bvh(scene: &Scene, camera: &Camera, t: f32, w: u32, h: u32) {
+        assert_same_with_margin(scene, camera, t, (w, h), (0, 0));
+    }
+
+    /// [`assert_same_as_bvh`] for views with a guard band of `margin` (the view is the
+    /// bigger by twice the margin).
+    fn assert_same_with_margin(scene: &Scene, camera: &Camera, t: f32, (w, h): (u32, u32), margin: (u32, u32)) {
         let tracer = Tracer::new(scene, t);
         let lanes = crate::simd::lane_width() as u32;
         for eye in [Eye::Left, Eye::Right] {
-            let view = camera.view(eye, w, h);
+            let view = camera.view_with_margin(eye, w, h, margin);
+            let (w, h) = (view.width, view.height);
             let mut bins = ScreenBins::default();
             bins.build((&tracer.scene.centers, &tracer.scene.radii), &view);
             let mut hits = 0;
@@ -299,6 +307,15 @@ mod tests {
         for name in ["seed.toml", "many.toml", "thousand.toml", "window.toml"] {
             let scene = scene(name);
             assert_same_as_bvh(&scene, &scene.camera, 1.3, 160, 90);
+        }
+    }
+
+    #[test]
+    fn bins_hold_for_a_guard_band() {
+        for name in ["seed.toml", "many.toml"] {
+            let scene = scene(name);
+            let camera = Camera { yaw_deg: 8.0, ..scene.camera };
+            assert_same_with_margin(&scene, &camera, 0.4, (96, 54), (13, 7));
         }
     }
 

@@ -372,6 +372,38 @@ mod tests {
     }
 
     #[test]
+    fn a_guard_band_renders_the_shown_image_byte_for_byte_within_it() {
+        let scene = seed();
+        let tracer = Tracer::new(&scene, 0.6);
+        let (w, h, margin) = (90u32, 52u32, (31u32, 16u32));
+        // Turned so that the scene runs off the window's edge into the band.
+        let camera = Camera { yaw_deg: 16.0, pitch_deg: -6.0, ..scene.camera };
+        let mut renderer = Renderer::new();
+        for eye in [Eye::Left, Eye::Right] {
+            let (mut plain, mut banded) = (Film::new(1, 1), Film::new(1, 1));
+            renderer.render(&tracer, &camera.view(eye, w, h), Pixels::All, Target::film(&mut plain, Record::Full));
+            let view = camera.view_with_margin(eye, w, h, margin);
+            renderer.render(&tracer, &view, Pixels::All, Target::film(&mut banded, Record::Full));
+            let bw = view.width as usize;
+            for j in 0..h as usize {
+                for i in 0..w as usize {
+                    let (k, kb) = (j * w as usize + i, (j + margin.1 as usize) * bw + i + margin.0 as usize);
+                    assert_eq!(plain.rgb[k], banded.rgb[kb], "{eye:?} ({i}, {j}) colour");
+                    assert_eq!(plain.z[k].to_bits(), banded.z[kb].to_bits(), "{eye:?} ({i}, {j}) depth");
+                    assert_eq!(plain.surface(k), banded.surface(kb), "{eye:?} ({i}, {j}) record");
+                }
+            }
+            let band_hits = (0..banded.rgb.len()).filter(|&k| {
+                let (i, j) = (k % bw, k / bw);
+                let inside = (margin.0 as usize..margin.0 as usize + w as usize).contains(&i)
+                    && (margin.1 as usize..margin.1 as usize + h as usize).contains(&j);
+                !inside && banded.object[k] != crate::surface::NO_OBJECT
+            });
+            assert!(band_hits.count() > 0, "{eye:?}: the band sees spheres beyond the window");
+        }
+    }
+
+    #[test]
     fn zero_ipd_gives_identical_eyes() {
         let mut scene = seed();
         scene.camera.ipd = 0.0;
