@@ -38,8 +38,10 @@ fn chosen() -> (Level, usize) {
     })
 }
 
-/// The level the lane kernels run at.
-pub(crate) fn level() -> Level {
+/// The level the lane kernels run at: the one instruction-set choice of the process, for
+/// other crates' kernels too (`fearless_simd::dispatch!(tracer::simd_level(), …)`).
+#[must_use]
+pub fn level() -> Level {
     chosen().0
 }
 
