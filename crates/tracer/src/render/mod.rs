@@ -21,7 +21,7 @@ use crate::film::{Film, Record};
 use crate::reuse::{Marker, Marks, MarksRow, Rewrite, Swept};
 use crate::stats::RayCounts;
 use crate::tracer::Tracer;
-use row::{trace_row, FilmRow, KeysRow, RgbRow};
+use row::{depth_row, trace_row, FilmRow, KeysRow, RgbRow};
 
 /// Renders one eye's views, keeping its screen bins from frame to frame.
 #[derive(Clone, Debug, Default)]
@@ -54,6 +54,7 @@ pub struct Target<'a> {
 enum Image<'a> {
     Film(&'a mut Film, Record),
     Colour(&'a mut Vec<u32>),
+    Depth(&'a mut Vec<f32>),
 }
 
 impl<'a> Target<'a> {
@@ -68,6 +69,15 @@ impl<'a> Target<'a> {
     #[must_use]
     pub fn colour(rgb: &'a mut Vec<u32>) -> Self {
         Self { image: Image::Colour(rgb), marking: None }
+    }
+
+    /// Depth only, into `z` (resized to the view): each pixel's first hit as
+    /// [`crate::EyeView::head_z`] gives it (the film's `z`, bit for bit), +∞ for a miss; no
+    /// shading, so it costs the primary rays alone. What a timewarp of an eye made without a
+    /// film of its own reads. Counts the primary rays; marks nothing.
+    #[must_use]
+    pub fn depth(z: &'a mut Vec<f32>) -> Self {
+        Self { image: Image::Depth(z), marking: None }
     }
 
     /// Also marks in `marks` (resized to the view) where each traced pixel's ray tree —
@@ -127,6 +137,17 @@ impl Renderer {
             debug_assert_eq!((bits.width(), bits.height()), (view.width, view.height), "a selection of another size");
         }
         match image {
+            Image::Depth(z) => {
+                debug_assert!(matches!(pixels, Pixels::All) && marks.is_none(), "a depth pass traces every pixel");
+                z.resize(w * h, f32::INFINITY);
+                if w == 0 || h == 0 {
+                    return RayCounts::default();
+                }
+                self.bins.build((&tracer.scene.centers, &tracer.scene.radii), view);
+                let eye = BinnedView { tracer, view, bins: &self.bins };
+                z.par_chunks_mut(w).enumerate().for_each(|(j, z)| depth_row(&eye, j as u32, z));
+                RayCounts { primary: (w * h) as u64, ..RayCounts::default() }
+            }
             Image::Colour(rgb) => {
                 rgb.resize(w * h, 0);
                 if w == 0 || h == 0 {
@@ -400,6 +421,30 @@ mod tests {
                 !inside && banded.object[k] != crate::surface::NO_OBJECT
             });
             assert!(band_hits.count() > 0, "{eye:?}: the band sees spheres beyond the window");
+        }
+    }
+
+    #[test]
+    fn a_depth_pass_is_the_films_depth_bit_for_bit() {
+        for (name, t) in [("seed.toml", 0.8), ("many.toml", 0.0), ("window.toml", 0.3)] {
+            let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
+            let scene = Scene::load(path).expect("scene loads");
+            let tracer = Tracer::new(&scene, t);
+            let mut renderer = Renderer::new();
+            for view in
+                [scene.camera.view(Eye::Right, 83, 45), scene.camera.view_with_margin(Eye::Left, 83, 45, (9, 5))]
+            {
+                let (mut film, mut z) = (Film::new(1, 1), Vec::new());
+                renderer.render(&tracer, &view, Pixels::All, Target::film(&mut film, Record::Keys));
+                let counts = renderer.render(&tracer, &view, Pixels::All, Target::depth(&mut z));
+                let bits = |z: &[f32]| z.iter().map(|z| z.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&z), bits(&film.z), "{name}: the film's depth");
+                assert_eq!(counts.primary, u64::from(view.width * view.height), "{name}: a primary ray per pixel");
+                assert!(
+                    z.iter().any(|z| z.is_finite()) && z.iter().any(|z| z.is_infinite()),
+                    "{name}: hits and misses"
+                );
+            }
         }
     }
 

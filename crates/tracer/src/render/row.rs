@@ -268,3 +268,42 @@ fn emit(
         sink.hit(wavefront.tag(e) as usize, wavefront.rgb(e), keys, shading);
     }
 }
+
+/// Row `j` of `eye`'s depth (`z`, the row's width): each pixel's first hit through the
+/// screen bins, a vector of pixels at a time, as [`crate::EyeView::head_z`] of the hit point
+/// `o + t·d` (the operations the wavefront makes it with), +∞ for a miss.
+pub(super) fn depth_row(eye: &BinnedView<'_>, j: u32, z: &mut [f32]) {
+    dispatch!(crate::simd::level(), simd => simd.vectorize(
+        #[inline(always)]
+        || depth_row_in(simd, eye, j, z),
+    ));
+}
+
+#[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
+#[inline(always)]
+fn depth_row_in<S: Simd>(simd: S, eye: &BinnedView<'_>, j: u32, z: &mut [f32]) {
+    let (tile, lanes, w) = (TILE as usize, F::<S>::LEN, z.len());
+    let (view, o) = (eye.view, eye.view.origin);
+    let (mut t, mut d) = ([0f32; 16], [[0f32; 16]; 3]);
+    for span in (0..w.div_ceil(tile)).map(|t| t * tile..((t + 1) * tile).min(w)) {
+        if eye.bins.is_empty_at(span.start as u32, j) {
+            z[span].fill(f32::INFINITY);
+            continue;
+        }
+        for i0 in span.clone().step_by(lanes) {
+            let (tv, _, dv) = eye.hits_lanes(simd, i0 as u32, j);
+            tv.store_slice(&mut t[..lanes]);
+            for a in 0..3 {
+                dv[a].store_slice(&mut d[a][..lanes]);
+            }
+            for l in 0..(span.end - i0).min(lanes) {
+                z[i0 + l] = if t[l].is_finite() {
+                    let p = Vec3::new(o.x + t[l] * d[0][l], o.y + t[l] * d[1][l], o.z + t[l] * d[2][l]);
+                    view.head_z(p)
+                } else {
+                    f32::INFINITY
+                };
+            }
+        }
+    }
+}
