@@ -10,7 +10,7 @@
 
 use std::time::Instant;
 
-use tracer::{Camera, Eye, EyeView, Film, PixelBatch, PixelBits, Record, Renderer, Scene, Tracer};
+use tracer::{Camera, Eye, EyeView, Film, PixelBatch, PixelBits, Pixels, Record, Renderer, Scene, Target, Tracer};
 
 use crate::fill::{fill, reproject_and_fill_exact, Fill};
 use crate::image::Image;
@@ -39,6 +39,10 @@ pub struct StereoFrame {
     stats: FrameStats,
     /// Temporal reuse: what the last frame was, and what this one may keep of it.
     reuse: Temporal,
+    /// Whether frames keep both eyes' depth ([`StereoFrame::set_depths`]), and the right
+    /// eye's.
+    depths: bool,
+    right_z: Vec<f32>,
 }
 
 /// Pixels per eye of a `width` × `height` frame, which must be fewer than `u32::MAX`: the
@@ -103,6 +107,24 @@ impl StereoFrame {
         self.reuse.is_on()
     }
 
+    /// Keeps both eyes' depth from now on (off for a new frame), as a timewarp reads it: the
+    /// left film keeps its depth in every mode, and the right eye gets a depth pass of its
+    /// own (its first hits alone, no shading: [`StereoFrame::right_depth`]).
+    pub fn set_depths(&mut self, on: bool) {
+        self.depths = on;
+    }
+
+    /// The right eye's head-space depth per pixel (as the left film's `z`), when frames
+    /// keep depths ([`StereoFrame::set_depths`]); empty otherwise.
+    #[must_use]
+    pub fn right_depth(&self) -> &[f32] {
+        if self.depths {
+            &self.right_z
+        } else {
+            &[]
+        }
+    }
+
     /// The pixels of the left and the right eye that the last frame made, as opposed to
     /// kept from the frame before; `None` when it made all of them (it did not reuse).
     #[must_use]
@@ -123,16 +145,37 @@ impl StereoFrame {
     /// If an eye has `u32::MAX` pixels or more: the source map names a left pixel by a
     /// `u32`. (Such a frame would need hundreds of gigabytes.)
     pub fn render(&mut self, tracer: &Tracer, camera: &Camera, width: u32, height: u32, opts: Options) -> FrameStats {
-        let n = pixel_count(width, height);
-        let size = (width, height);
-        let (lv, rv) = (camera.view(Eye::Left, width, height), camera.view(Eye::Right, width, height));
-        let asked = Asked { camera: *camera, width, height, opts };
+        self.render_banded(tracer, camera, (width, height), (0, 0), opts)
+    }
+
+    /// [`StereoFrame::render`] with a guard band: each eye is traced `margin` = (mx, my)
+    /// pixels wider on each side than the `width` × `height` it shows
+    /// ([`tracer::Camera::view_with_margin`]), so its images are (width + 2·mx) ×
+    /// (height + 2·my), the shown part bit for bit the frame without the band. A timewarp
+    /// turns the head into the band.
+    ///
+    /// # Panics
+    ///
+    /// As [`StereoFrame::render`], for the traced size.
+    pub fn render_banded(
+        &mut self,
+        tracer: &Tracer,
+        camera: &Camera,
+        (width, height): (u32, u32),
+        margin: (u32, u32),
+        opts: Options,
+    ) -> FrameStats {
+        let lv = camera.view_with_margin(Eye::Left, width, height, margin);
+        let rv = camera.view_with_margin(Eye::Right, width, height, margin);
+        let size = (lv.width, lv.height);
+        let n = pixel_count(size.0, size.1);
+        let asked = Asked { camera: *camera, width, height, margin, opts };
         let made = self.reuse.begin(tracer, asked);
         let mut stats = FrameStats::default();
 
         // Stage 1: the left eye, keeping only what the mode's later stages read of its record.
         let t = Instant::now();
-        let record = if opts.mode == Mode::Full { Record::Colour } else { Record::Keys };
+        let record = if opts.mode == Mode::Full && !self.depths { Record::Colour } else { Record::Keys };
         let (pixels, target) = self.reuse.left(&mut self.left, record, made, size);
         stats.left.rays = self.left_renderer.render(tracer, &lv, pixels, target);
         stats.stages.trace_left = ms_since(t);
@@ -189,6 +232,12 @@ impl StereoFrame {
             );
         }
         stats.right.ms = stats.stages.reproject + stats.stages.retrace + stats.stages.reshade;
+        if self.depths {
+            // The right eye's depth, for a timewarp: its first hits alone.
+            let t = Instant::now();
+            self.right_renderer.render(tracer, &rv, Pixels::All, Target::depth(&mut self.right_z));
+            stats.stages.depth = ms_since(t);
+        }
         stats.pixels = self.pixel_counts(made, removed);
         let reused = made == Made::Reused;
         let left_made = if reused { self.reuse.left_retraced.count() } else { n as u64 };

@@ -120,6 +120,9 @@ pub struct StageTimes {
     /// Filling the reprojected pixels by reshade or exact shading (0 in copy mode, whose
     /// gather is part of `retrace`).
     pub reshade: f64,
+    /// The right eye's depth pass, for a timewarp (0 unless the frame keeps depths; not part
+    /// of the right eye's time).
+    pub depth: f64,
 }
 
 /// How much of a frame was made anew rather than kept from the last one.

@@ -27,6 +27,7 @@ pub(crate) struct Asked {
     pub camera: Camera,
     pub width: u32,
     pub height: u32,
+    pub margin: (u32, u32),
     pub opts: Options,
 }
 

@@ -340,3 +340,39 @@ fn a_terminator_down_the_left_edge_is_retraced() {
     }
     assert!(boundary >= 10, "the first column's shadow boundary: {boundary} pixels");
 }
+
+#[test]
+fn a_banded_frame_shows_the_plain_frame_and_keeps_both_depths() {
+    // The shown part of a frame traced with a guard band is the frame without one: the left
+    // eye in every mode, the right eye where the mode is exact or full (reprojecting modes
+    // may reproject band pixels into the shown part, where the plain frame retraces). The
+    // depths are the films' own.
+    let scene = seed();
+    let tracer = Tracer::new(&scene, 0.3);
+    let camera = Camera { yaw_deg: 9.0, ..scene.camera };
+    let (w, h, (mx, my)) = (120u32, 68u32, (17u32, 9u32));
+    for mode in Mode::ALL {
+        let opts = Options { mode, retrace_edges: false };
+        let (mut plain, mut banded) = (StereoFrame::new(), StereoFrame::new());
+        banded.set_depths(true);
+        plain.render(&tracer, &camera, w, h, opts);
+        let stats = banded.render_banded(&tracer, &camera, (w, h), (mx, my), opts);
+        let bw = (w + 2 * mx) as usize;
+        let inside = |k: usize| (k / (w as usize) + my as usize) * bw + k % (w as usize) + mx as usize;
+        for k in 0..(w * h) as usize {
+            assert_eq!(plain.left().rgb[k], banded.left().rgb[inside(k)], "{mode:?} left pixel {k}");
+            if matches!(mode, Mode::Exact | Mode::Full) {
+                assert_eq!(plain.right().rgb[k], banded.right().rgb[inside(k)], "{mode:?} right pixel {k}");
+            }
+        }
+        // Both eyes' depths: the left film's z, and the right eye's first hits.
+        let bits = |z: &[f32]| z.iter().map(|z| z.to_bits()).collect::<Vec<_>>();
+        for (eye, got) in [(Eye::Left, &banded.left().z[..]), (Eye::Right, banded.right_depth())] {
+            let mut want = Vec::new();
+            let view = camera.view_with_margin(eye, w, h, (mx, my));
+            Renderer::new().render(&tracer, &view, Pixels::All, Target::depth(&mut want));
+            assert_eq!(bits(got), bits(&want), "{mode:?}: the {eye:?} eye's depth");
+        }
+        assert!(stats.stages.depth > 0.0 && plain.right_depth().is_empty(), "{mode:?}: only asked for");
+    }
+}
