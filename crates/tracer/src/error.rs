@@ -27,6 +27,19 @@ pub enum SceneError {
         /// What the parser said, including the field where it knows it.
         message: String,
     },
+    /// A structure file (PDB, mmCIF, GRO, XYZ) could not be read; its message names the
+    /// file, the line and the field.
+    #[error(transparent)]
+    Structure(#[from] molecule::Error),
+    /// The path is not a scene file this program reads: not a regular file, too large, or of
+    /// another type.
+    #[error("{path}: {reason}")]
+    NotAScene {
+        /// The path given.
+        path: PathBuf,
+        /// What is wrong with it.
+        reason: String,
+    },
     /// The file parsed but a value is out of its allowed range.
     #[error("{path}:{line}: {field} = {value}: {reason}")]
     Invalid {

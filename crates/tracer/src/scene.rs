@@ -1,8 +1,11 @@
-//! The scene as plain data: camera, render settings, point lights and spheres.
+//! The scene as plain data: camera, render settings, point lights, spheres and molecular
+//! structures.
 //!
-//! Loaded from TOML by [`Scene::load`] (see `scene_file.rs` for the format and its checks).
-//! Spheres may revolve: an `orbit` sphere is at `center + radius · (sin θ, 0, −cos θ)` with
-//! θ = phase + 2π·t/period.
+//! Loaded by [`Scene::load`] from TOML (see `scene_file.rs` for the format and its checks)
+//! or from a structure file (`structure.rs`). Spheres may revolve: an `orbit` sphere is at
+//! `center + radius · (sin θ, 0, −cos θ)` with θ = phase + 2π·t/period. A structure's atoms
+//! are spheres too, numbered after the scene's own, stored compactly (a position and an
+//! element each) as molecules have millions of them.
 
 use glam::Vec3;
 
@@ -86,6 +89,35 @@ impl Default for RenderSettings {
     }
 }
 
+/// A molecular structure placed in a scene: its atoms are still spheres, each an element's
+/// van der Waals radius times [`Structure::radius_scale`] and its colour (Jmol's CPK
+/// colours, linear) unless [`Structure::color`] gives one for all.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Structure {
+    /// Where it was read from, as given.
+    pub source: String,
+    /// Atom centres, scene space (the file's coordinates mapped to left-handed space, then
+    /// placed).
+    pub positions: Vec<Vec3>,
+    /// Each atom's element.
+    pub elements: Vec<molecule::Element>,
+    /// Atom radius = the element's van der Waals radius × this: 1 for the van der Waals
+    /// ("spheres") look of VMD and PyMOL, 0.25 for CPK balls.
+    pub radius_scale: f32,
+    /// Every atom's material; its colour is the element's unless `color` is set.
+    pub material: Material,
+    /// One colour for every atom instead of the element's.
+    pub color: Option<Vec3>,
+}
+
+impl Structure {
+    /// The material of an atom of `element`.
+    #[must_use]
+    pub fn material_of(&self, element: molecule::Element) -> Material {
+        Material { color: self.color.unwrap_or_else(|| element.linear_colour()), ..self.material }
+    }
+}
+
 /// A whole scene.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Scene {
@@ -97,14 +129,34 @@ pub struct Scene {
     pub lights: Vec<Light>,
     /// Spheres; their index is the object id in the visible-surface record.
     pub spheres: Vec<SceneSphere>,
+    /// Molecular structures; their atoms are the spheres after [`Scene::spheres`], in order.
+    pub structures: Vec<Structure>,
 }
 
 impl Scene {
-    /// Geometry of sphere `k` at time `t`.
+    /// How many spheres the scene has: its own and every structure's atoms.
+    #[must_use]
+    pub fn sphere_count(&self) -> usize {
+        self.spheres.len() + self.structures.iter().map(|s| s.positions.len()).sum::<usize>()
+    }
+
+    /// Geometry of sphere `k` at time `t` (an atom's for `k` past the scene's own spheres).
+    ///
+    /// # Panics
+    /// If `k` is not below [`Scene::sphere_count`].
     #[must_use]
     pub fn sphere_at(&self, k: usize, t: f32) -> Sphere {
-        let s = &self.spheres[k];
-        Sphere { center: s.motion.center_at(t), radius: s.radius }
+        if let Some(s) = self.spheres.get(k) {
+            return Sphere { center: s.motion.center_at(t), radius: s.radius };
+        }
+        let mut k = k - self.spheres.len();
+        for s in &self.structures {
+            if let (Some(&center), Some(&element)) = (s.positions.get(k), s.elements.get(k)) {
+                return Sphere { center, radius: element.radius() * s.radius_scale };
+            }
+            k -= s.positions.len();
+        }
+        panic!("sphere {k} past the scene's {} spheres", self.sphere_count());
     }
 
     /// Whether any sphere moves (the viewer only animates such scenes).

@@ -14,7 +14,8 @@ use toml::Spanned;
 use crate::camera::{Camera, Eye};
 use crate::error::SceneError;
 use crate::material::Material;
-use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
+use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere, Structure, MAX_DEPTH_LIMIT, MAX_LIGHTS};
+use crate::structure::{read_structure, StructureOptions};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -25,6 +26,23 @@ struct SceneFile {
     lights: Vec<Spanned<LightDef>>,
     #[serde(default)]
     spheres: Vec<Spanned<SphereDef>>,
+    #[serde(default)]
+    structures: Vec<Spanned<StructureDef>>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct StructureDef {
+    path: String,
+    radius_scale: Option<f32>,
+    #[serde(default)]
+    assembly: bool,
+    offset: Option<[f32; 3]>,
+    color: Option<[f32; 3]>,
+    diffuse: Option<f32>,
+    specular: Option<f32>,
+    shininess: Option<f32>,
+    reflectivity: Option<f32>,
 }
 
 #[derive(Deserialize)]
@@ -169,12 +187,42 @@ fn format_vec(v: [f32; 3]) -> String {
     format!("[{}, {}, {}]", v[0], v[1], v[2])
 }
 
+/// The largest TOML scene file read (a hundred thousand spheres take about 15 MiB).
+pub const MAX_TOML_BYTES: u64 = 64 << 20;
+
+/// The most spheres a scene may have, its own and its structures' atoms together (the
+/// structure readers' own limit).
+pub const MAX_SPHERES: usize = 16 << 20;
+
 impl Scene {
-    /// Reads and validates a scene file.
+    /// Reads and validates a scene file: TOML (`.toml`), or a structure file (`.pdb`,
+    /// `.ent`, `.cif`, `.mmcif`, `.gro`, `.xyz`, each optionally `.gz`) framed as a scene of
+    /// its own (`structure.rs`). A path that is not a regular file, a TOML file above
+    /// [`MAX_TOML_BYTES`] and a scene of more than [`MAX_SPHERES`] spheres are refused
+    /// before they are read.
     pub fn load(path: impl AsRef<Path>) -> Result<Self, SceneError> {
         let path = path.as_ref();
-        let src =
-            std::fs::read_to_string(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
+        if molecule::Format::from_path(path).is_some() {
+            return Self::from_structure_file(path);
+        }
+        let meta = std::fs::metadata(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
+        let not_a_scene = |reason: String| SceneError::NotAScene { path: path.to_path_buf(), reason };
+        if !meta.is_file() {
+            return Err(not_a_scene(format!("not a regular file ({})", file_kind(&meta))));
+        }
+        if meta.len() > MAX_TOML_BYTES {
+            return Err(not_a_scene(format!(
+                "{} bytes, above the limit of {MAX_TOML_BYTES} for a TOML scene",
+                meta.len()
+            )));
+        }
+        if path.extension().is_some_and(|e| !e.eq_ignore_ascii_case("toml")) {
+            return Err(not_a_scene(
+                "not a scene file: name it .toml, or a structure .pdb, .ent, .cif, .mmcif, .gro or .xyz (optionally .gz)"
+                    .to_owned(),
+            ));
+        }
+        let src = read_bounded(path, MAX_TOML_BYTES)?;
         Self::from_toml(&src, path)
     }
 
@@ -258,18 +306,81 @@ impl Scene {
             });
         }
 
-        if file.spheres.is_empty() {
-            return Err(ck.invalid(src.len(), "spheres", "[]", "a scene needs at least one [[spheres]] table"));
-        }
         let mut spheres = Vec::with_capacity(file.spheres.len());
         for (k, s) in file.spheres.iter().enumerate() {
             spheres.push(sphere(&ck, k, s.span().start, s.get_ref())?);
         }
 
-        let scene = Scene { camera, render, lights, spheres };
+        let structures = structures(&ck, &file.structures, spheres.len())?;
+        if spheres.is_empty() && structures.is_empty() {
+            return Err(ck.invalid(
+                src.len(),
+                "spheres",
+                "[]",
+                "a scene needs at least one [[spheres]] or [[structures]] table",
+            ));
+        }
+        let scene = Scene { camera, render, lights, spheres, structures };
         check_camera_outside_spheres(&ck, &file, &scene)?;
         Ok(scene)
     }
+}
+
+/// The `[[structures]]` tables, read and placed, refusing a scene of more than
+/// [`MAX_SPHERES`] spheres (`spheres` of its own).
+fn structures(ck: &Checker, defs: &[Spanned<StructureDef>], spheres: usize) -> Result<Vec<Structure>, SceneError> {
+    let mut structures = Vec::with_capacity(defs.len());
+    let mut count = spheres;
+    for (k, s) in defs.iter().enumerate() {
+        let structure = structure(ck, k, s.span().start, s.get_ref())?;
+        count += structure.positions.len();
+        if count > MAX_SPHERES {
+            let why = format!("the scene would have {count} spheres, above the limit of {MAX_SPHERES}");
+            return Err(ck.invalid(s.span().start, &format!("structures[{k}].path"), &s.get_ref().path, &why));
+        }
+        structures.push(structure);
+    }
+    Ok(structures)
+}
+
+/// A `[[structures]]` table: the file (relative to the scene file's folder) read and placed.
+fn structure(ck: &Checker, k: usize, at: usize, s: &StructureDef) -> Result<Structure, SceneError> {
+    let f = |name: &str| format!("structures[{k}].{name}");
+    let d = StructureOptions::default();
+    let unit =
+        |name: &str, v: Option<f32>, dv: f32| ck.range(at, &f(name), v.unwrap_or(dv), 0.0, 1.0, "must be 0 to 1");
+    let radius_scale = ck.finite(at, &f("radius_scale"), s.radius_scale.unwrap_or(d.radius_scale))?;
+    if radius_scale <= 0.0 {
+        return Err(ck.invalid(
+            at,
+            &f("radius_scale"),
+            radius_scale,
+            "must be > 0 (1 for van der Waals spheres, 0.25 for CPK balls)",
+        ));
+    }
+    let m = d.material;
+    let options = StructureOptions {
+        radius_scale,
+        assembly: s.assembly,
+        offset: s.offset.map(|o| ck.vec3(at, &f("offset"), o)).transpose()?.unwrap_or(Vec3::ZERO),
+        material: Material {
+            color: m.color,
+            diffuse: unit("diffuse", s.diffuse, m.diffuse)?,
+            specular: unit("specular", s.specular, m.specular)?,
+            shininess: ck.range(
+                at,
+                &f("shininess"),
+                s.shininess.unwrap_or(m.shininess),
+                1.0,
+                10_000.0,
+                "must be 1 to 10000",
+            )?,
+            reflectivity: unit("reflectivity", s.reflectivity, m.reflectivity)?,
+        },
+        color: s.color.map(|c| ck.color(at, &f("color"), c, 1.0)).transpose()?,
+    };
+    let file = ck.path.parent().unwrap_or_else(|| Path::new("")).join(&s.path);
+    read_structure(&file, &options).map_err(|e| ck.invalid(at, &f("path"), &s.path, &e.to_string()))
 }
 
 fn sphere(ck: &Checker, k: usize, at: usize, s: &SphereDef) -> Result<SceneSphere, SceneError> {
@@ -326,9 +437,22 @@ fn sphere(ck: &Checker, k: usize, at: usize, s: &SphereDef) -> Result<SceneSpher
 }
 
 /// An eye inside a sphere sees only its inside: reject it rather than render black.
-/// Orbiting spheres are checked over a full revolution.
+/// Orbiting spheres are checked over a full revolution, atoms where they are.
 fn check_camera_outside_spheres(ck: &Checker, file: &SceneFile, scene: &Scene) -> Result<(), SceneError> {
     let eyes = [scene.camera.eye_position(Eye::Left), scene.camera.eye_position(Eye::Right)];
+    for (k, s) in scene.structures.iter().enumerate() {
+        for (&p, &element) in s.positions.iter().zip(&s.elements) {
+            let r = element.radius() * s.radius_scale;
+            if let Some(eye) = eyes.into_iter().find(|e| (*e - p).length() <= r) {
+                return Err(ck.invalid(
+                    file.structures[k].span().start,
+                    &format!("structures[{k}].offset"),
+                    format_vec(file.structures[k].get_ref().offset.unwrap_or_default()),
+                    &format!("the camera's eye at {eye} is inside an atom at {p}; move the camera or the structure"),
+                ));
+            }
+        }
+    }
     for (k, s) in scene.spheres.iter().enumerate() {
         let samples = if matches!(s.motion, Motion::Orbit { .. }) { 360 } else { 1 };
         for n in 0..samples {
@@ -354,6 +478,40 @@ fn check_camera_outside_spheres(ck: &Checker, file: &SceneFile, scene: &Scene) -
         }
     }
     Ok(())
+}
+
+/// What kind of file-system object `meta` describes, for messages.
+fn file_kind(meta: &std::fs::Metadata) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    let t = meta.file_type();
+    if t.is_dir() {
+        "a directory"
+    } else if t.is_fifo() {
+        "a FIFO"
+    } else if t.is_char_device() || t.is_block_device() {
+        "a device"
+    } else if t.is_socket() {
+        "a socket"
+    } else {
+        "not a regular file"
+    }
+}
+
+/// The text of the file at `path`, refusing more than `limit` bytes however the file grew
+/// since its size was looked at.
+fn read_bounded(path: &Path, limit: u64) -> Result<String, SceneError> {
+    use std::io::Read;
+    let io = |source| SceneError::Io { path: path.to_path_buf(), source };
+    let file = std::fs::File::open(path).map_err(io)?;
+    let mut src = String::new();
+    file.take(limit + 1).read_to_string(&mut src).map_err(io)?;
+    if src.len() as u64 > limit {
+        return Err(SceneError::NotAScene {
+            path: path.to_path_buf(),
+            reason: format!("more than the limit of {limit} bytes for a TOML scene"),
+        });
+    }
+    Ok(src)
 }
 
 fn parse_error(ck: &Checker, e: &toml::de::Error, path: PathBuf) -> SceneError {

@@ -165,7 +165,7 @@ impl Tracer {
                 sum += ndl * light.color;
             }
         }
-        let m = &self.scene.materials[object as usize];
+        let m = self.scene.material(object as usize);
         (m.color * (self.scene.settings.ambient + m.diffuse * sum), bits)
     }
 
@@ -173,7 +173,7 @@ impl Tracer {
     /// the lights the bits `lights` name: the one scalar formula, for the plain path and for
     /// the wavefront's leftover entries.
     pub(crate) fn highlight(&self, object: u32, p: Vec3, n: Vec3, d: Vec3, lights: u32) -> Vec3 {
-        let (m, exponent) = (&self.scene.materials[object as usize], self.scene.exponents[object as usize]);
+        let (m, exponent) = (self.scene.material(object as usize), self.scene.exponent(object as usize));
         let mut out = Vec3::ZERO;
         if m.specular > 0.0 {
             for (k, light) in self.scene.lights.iter().enumerate() {
@@ -194,7 +194,7 @@ impl Tracer {
     /// reflection, seen along `d`, at reflection depth `depth`.
     fn view_dependent(&self, surface: &Surface, d: Vec3, depth: u32, counts: &mut RayCounts) -> Vec3 {
         let &Surface { point: p, normal: n, object, lights, .. } = surface;
-        let m = &self.scene.materials[object as usize];
+        let m = self.scene.material(object as usize);
         let mut out = self.highlight(object, p, n, d, lights);
         if m.reflectivity > 0.0 && depth < self.scene.settings.max_depth {
             counts.reflection += 1;
@@ -222,6 +222,7 @@ mod tests {
             render,
             lights,
             spheres: vec![SceneSphere { radius: 1.0, motion: Motion::Static(Vec3::new(0.0, 0.0, 10.0)), material }],
+            structures: Vec::new(),
         }
     }
 

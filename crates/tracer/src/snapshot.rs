@@ -7,15 +7,20 @@ use glam::Vec3;
 
 use crate::color::pack_rgb;
 use crate::material::{Exponent, Material};
-use crate::scene::{Light, RenderSettings, Scene};
+use crate::scene::{Light, Motion, RenderSettings, Scene};
 
 /// The scene at one instant, a column per property (sphere k is entry k of each).
+///
+/// Materials are a palette: a molecule's million atoms share a dozen elements' materials, so
+/// each sphere keeps an index into it (20 bytes a sphere in all).
 #[derive(Clone, Debug, Default)]
 pub struct Snapshot {
     pub(crate) centers: Vec<Vec3>,
     pub(crate) radii: Vec<f32>,
-    pub(crate) materials: Vec<Material>,
-    /// How each material's highlight exponent is evaluated.
+    /// Each sphere's material, an index into `palette`.
+    pub(crate) material_ids: Vec<u32>,
+    /// The materials, and how each one's highlight exponent is evaluated.
+    pub(crate) palette: Vec<Material>,
     pub(crate) exponents: Vec<Exponent>,
     pub(crate) lights: Vec<Light>,
     pub(crate) settings: RenderSettings,
@@ -26,21 +31,70 @@ pub struct Snapshot {
 impl Snapshot {
     /// Re-resolves `scene` at time `t`, reusing the columns.
     pub(crate) fn update(&mut self, scene: &Scene, t: f32) {
-        self.centers.clear();
+        let n = scene.sphere_count();
         self.radii.clear();
-        self.materials.clear();
-        self.exponents.clear();
+        self.radii.reserve(n);
+        self.centers.clear();
+        self.centers.reserve(n);
+        self.material_ids.clear();
+        self.material_ids.reserve(n);
+        self.palette.clear();
         for (k, s) in scene.spheres.iter().enumerate() {
-            let g = scene.sphere_at(k, t);
-            self.centers.push(g.center);
-            self.radii.push(g.radius);
-            self.materials.push(s.material);
-            self.exponents.push(Exponent::of(s.material.shininess));
+            self.centers.push(s.motion.center_at(t));
+            self.radii.push(s.radius);
+            self.material_ids.push(k as u32);
+            self.palette.push(s.material);
         }
+        for s in &scene.structures {
+            // Each element's palette entry and radius, once per structure.
+            let mut entry = [u32::MAX; 256];
+            let mut radius = [0.0f32; 256];
+            for (&p, &element) in s.positions.iter().zip(&s.elements) {
+                let e = usize::from(element.atomic_number());
+                if entry[e] == u32::MAX {
+                    entry[e] = self.palette.len() as u32;
+                    radius[e] = element.radius() * s.radius_scale;
+                    self.palette.push(s.material_of(element));
+                }
+                self.centers.push(p);
+                self.radii.push(radius[e]);
+                self.material_ids.push(entry[e]);
+            }
+        }
+        self.exponents.clear();
+        self.exponents.extend(self.palette.iter().map(|m| Exponent::of(m.shininess)));
         self.lights.clear();
         self.lights.extend_from_slice(&scene.lights);
         self.settings = scene.render;
         self.background_rgb = pack_rgb(self.settings.background);
+    }
+
+    /// Moves the orbiting spheres of `scene`, the scene this was last updated from, to time
+    /// `t`; returns whether any sphere moved (a still scene: none, at no cost).
+    pub(crate) fn advance(&mut self, scene: &Scene, t: f32) -> bool {
+        debug_assert_eq!(self.centers.len(), scene.sphere_count(), "advanced with another scene");
+        let mut moved = false;
+        for (k, s) in scene.spheres.iter().enumerate() {
+            if let Motion::Orbit { .. } = s.motion {
+                self.centers[k] = s.motion.center_at(t);
+                moved = true;
+            }
+        }
+        moved
+    }
+
+    /// Sphere `k`'s material.
+    #[inline]
+    #[must_use]
+    pub fn material(&self, k: usize) -> &Material {
+        &self.palette[self.material_ids[k] as usize]
+    }
+
+    /// How sphere `k`'s highlight exponent is evaluated.
+    #[inline]
+    #[must_use]
+    pub(crate) fn exponent(&self, k: usize) -> Exponent {
+        self.exponents[self.material_ids[k] as usize]
     }
 
     /// Each sphere's centre, by id.
@@ -53,12 +107,6 @@ impl Snapshot {
     #[must_use]
     pub fn radii(&self) -> &[f32] {
         &self.radii
-    }
-
-    /// Each sphere's material, by id.
-    #[must_use]
-    pub fn materials(&self) -> &[Material] {
-        &self.materials
     }
 
     /// The lights.

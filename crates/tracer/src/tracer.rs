@@ -33,6 +33,20 @@ impl Tracer {
     /// Re-resolves the scene at time `t`, reusing this tracer's buffers.
     pub fn update(&mut self, scene: &Scene, t: f32) {
         self.scene.update(scene, t);
+        self.build(scene);
+    }
+
+    /// The same scene (its spheres, structures, lights and settings as at the last
+    /// [`Tracer::update`]) at time `t`: only the orbiting spheres move, and the structures
+    /// are rebuilt only if one did. A still scene (a molecule) costs nothing, however large.
+    pub fn advance(&mut self, scene: &Scene, t: f32) {
+        if self.scene.advance(scene, t) {
+            self.build(scene);
+        }
+    }
+
+    /// Rebuilds the aggregate for the snapshot, with the spawn offset of `scene`'s reach.
+    fn build(&mut self, scene: &Scene) {
         // How far a spawned ray's origin can lie off its sphere: sphere points and the eyes
         // lie within `reach` of the origin in every coordinate.
         let s = &self.scene;
@@ -105,7 +119,7 @@ mod tests {
         let lights = [[1.0, 1.0, 1.0], [1.0, -1.0, -1.0], [-1.0, 1.0, -1.0], [-1.0, -1.0, 1.0]]
             .map(|v| Light { position: c + Vec3::from(v).normalize() * (20.0 * r), color: Vec3::ONE })
             .to_vec();
-        Scene { camera: Camera::default(), render: RenderSettings::default(), lights, spheres }
+        Scene { camera: Camera::default(), render: RenderSettings::default(), lights, spheres, structures: Vec::new() }
     }
 
     /// 500 unit normals spread over the sphere (a Fibonacci lattice).
@@ -233,6 +247,7 @@ mod tests {
                 render: RenderSettings::default(),
                 lights: vec![Light { position: light, color: Vec3::ONE }],
                 spheres: vec![sphere(receiver), sphere(occluder)],
+                structures: Vec::new(),
             };
             let tracer = Tracer::new(&scene, 0.0);
             // The scene's scale: its largest coordinate.

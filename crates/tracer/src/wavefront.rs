@@ -455,7 +455,7 @@ fn highlights(tracer: &Tracer, level: &mut Level, from: usize) {
 fn mirrors(tracer: &Tracer, level: &mut Level, next: &mut Level, counts: &mut RayCounts, from: usize) {
     for e in from..level.len() {
         let object = level.object[e];
-        if tracer.scene.materials[object as usize].reflectivity <= 0.0 {
+        if tracer.scene.material(object as usize).reflectivity <= 0.0 {
             continue;
         }
         counts.reflection += 1;
@@ -495,7 +495,7 @@ fn radiance(tracer: &Tracer, level: &mut Level, from: usize) {
     for e in from..level.len() {
         let (d, s) = (get3(&level.diffuse, e), get3(&level.spec, e));
         let radiance = if level.reflects[e] {
-            let kr = tracer.scene.materials[level.object[e] as usize].reflectivity;
+            let kr = tracer.scene.material(level.object[e] as usize).reflectivity;
             d + (s + kr * get3(&level.mirror, e))
         } else {
             d + s

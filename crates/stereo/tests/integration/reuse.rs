@@ -161,6 +161,7 @@ fn scene_strategy() -> impl Strategy<Value = Scene> {
         .prop_map(|(mut spheres, orbits, lights, max_depth, ipd)| {
             spheres.extend(orbits);
             Scene {
+                structures: Vec::new(),
                 camera: Camera { ipd, distance: 12.0, fov_deg: 45.0, ..Camera::default() },
                 render: RenderSettings { max_depth, ..RenderSettings::default() },
                 lights,

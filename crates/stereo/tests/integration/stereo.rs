@@ -80,6 +80,7 @@ fn sphere(center: Vec3, radius: f32, color: Vec3) -> SceneSphere {
 fn a_hidden_far_surface_never_overwrites_the_near_one() {
     // A near sphere in front of a large far one, IPD exaggerated so the disocclusion is wide.
     let scene = Scene {
+        structures: Vec::new(),
         camera: Camera { ipd: 2.0, distance: 10.0, fov_deg: 40.0, ..Camera::default() },
         render: RenderSettings::default(),
         lights: vec![Light { position: Vec3::new(-5.0, 8.0, -5.0), color: Vec3::ONE }],
@@ -196,6 +197,7 @@ fn arb_scene() -> impl Strategy<Value = Scene> {
         0u32..4,
     )
         .prop_map(|(spheres, lights, ipd, distance, fov_deg, max_depth)| Scene {
+            structures: Vec::new(),
             camera: Camera { ipd, distance, fov_deg, ..Camera::default() },
             render: RenderSettings { max_depth, ..RenderSettings::default() },
             lights,
@@ -287,6 +289,7 @@ fn a_near_sphere_only_the_right_eye_sees_is_retraced() {
     // The right eye sees part of it where the left eye saw only background, so the
     // reprojection alone would paint background there.
     let scene = Scene {
+        structures: Vec::new(),
         camera: Camera { ipd: 0.444, distance: 28.84, fov_deg: 57.5, ..Camera::default() },
         render: RenderSettings { max_depth: 0, ..RenderSettings::default() },
         lights: vec![],
@@ -318,6 +321,7 @@ fn a_terminator_down_the_left_edge_is_retraced() {
     // neighbour beyond the edge must be that column's key for the boundary to be seen.
     let material = Material { color: Vec3::new(0.0, 1.0, 0.5), ..Material::default() };
     let scene = Scene {
+        structures: Vec::new(),
         camera: Camera { ipd: 0.245_735_5, distance: 16.059_79, fov_deg: 27.517_273, ..Camera::default() },
         render: RenderSettings { max_depth: 0, ..RenderSettings::default() },
         lights: vec![Light { position: Vec3::new(-9.760_212, 0.0, -5.802_552), color: Vec3::ONE }],

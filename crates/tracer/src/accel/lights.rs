@@ -299,6 +299,7 @@ mod tests {
             render: RenderSettings::default(),
             lights: vec![Light { position: light, color: Vec3::ONE }],
             spheres,
+            structures: Vec::new(),
         };
         let light = Vec3::new(1.0, 4.0, 3.0);
         let occluder = sphere(light + 2.01 * Vec3::new(0.45, -1.0, -0.19).normalize(), 2.0);

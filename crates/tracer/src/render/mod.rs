@@ -260,6 +260,7 @@ mod tests {
             render: RenderSettings { max_depth: 3, ..RenderSettings::default() },
             spheres: vec![SceneSphere { radius: 1.5, motion: Motion::Static(Vec3::new(0.3, -0.2, 10.0)), material }],
             lights,
+            structures: Vec::new(),
         };
         let tracer = Tracer::new(&scene, 0.0);
         let (w, h) = (64, 48);

@@ -102,7 +102,8 @@ impl Swept {
         let v3 = |out: &mut Vec<u32>, v: Vec3| out.extend(v.to_array().map(f32::to_bits));
         out.push(s.centers.len() as u32);
         let mut rings = self.rings.iter().peekable();
-        for (k, (&c, m)) in s.centers.iter().zip(&s.materials).enumerate() {
+        for (k, &c) in s.centers.iter().enumerate() {
+            let m = s.material(k);
             match rings.next_if(|ring| ring.object as usize == k) {
                 Some(ring) => {
                     v3(out, ring.center);

@@ -46,7 +46,7 @@ pub(crate) fn per_object<S: Simd>(simd: S, (objects, one): (&[u32], Option<u32>)
 /// A per-entry value of the material of each lane's sphere.
 #[inline(always)]
 fn material<S: Simd>(simd: S, tracer: &Tracer, objects: &[u32], f: impl Fn(&crate::material::Material) -> f32) -> F<S> {
-    per_object(simd, (objects, one_object(objects)), |o| f(&tracer.scene.materials[o]))
+    per_object(simd, (objects, one_object(objects)), |o| f(tracer.scene.material(o)))
 }
 
 /// The per-lane values of a vector's spheres and materials, gathered once.
@@ -67,11 +67,11 @@ impl<S: Simd> Gathered<S> {
     #[inline(always)]
     fn of(simd: S, tracer: &Tracer, objects: &[u32]) -> Self {
         let at = (objects, one_object(objects));
-        let whole = |o: usize| match tracer.scene.exponents[o] {
+        let whole = |o: usize| match tracer.scene.exponent(o) {
             Exponent::Whole(e) => e,
             Exponent::Real => 0,
         };
-        let is_real = |o: usize| matches!(tracer.scene.exponents[o], Exponent::Real);
+        let is_real = |o: usize| matches!(tracer.scene.exponent(o), Exponent::Real);
         let (exponent, exponent_bits, real) = if let Some(o) = at.1 {
             let real = if is_real(o as usize) { (1u64 << objects.len()) - 1 } else { 0 };
             (U::<S>::splat(simd, whole(o as usize)), whole(o as usize), real)
@@ -81,7 +81,7 @@ impl<S: Simd> Gathered<S> {
             let real = objects.iter().enumerate().fold(0u64, |r, (l, &o)| r | u64::from(is_real(o as usize)) << l);
             (exponent, bits, real)
         };
-        let m = |o: usize| &tracer.scene.materials[o];
+        let m = |o: usize| tracer.scene.material(o);
         Self {
             center: each3(|a| per_object(simd, at, |o| tracer.scene.centers[o][a])),
             color: each3(|a| per_object(simd, at, |o| m(o).color[a])),
@@ -239,7 +239,7 @@ fn highlight_vector<S: Simd>(
             while lanes_real != 0 {
                 let lane = lanes_real.trailing_zeros() as usize;
                 lanes_real &= lanes_real - 1;
-                let shininess = tracer.scene.materials[objects[lane] as usize].shininess;
+                let shininess = tracer.scene.material(objects[lane] as usize).shininess;
                 powers[lane] = ndh.as_slice()[lane].powf(shininess);
             }
             acc = F::<S>::from_slice(simd, &powers[..lanes]);

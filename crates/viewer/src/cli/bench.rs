@@ -178,7 +178,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             "frames": args.frames,
             "threads": threads,
             "lanes": tracer::lane_width(),
-            "spheres": setup.scene.spheres.len(),
+            "spheres": setup.scene.sphere_count(),
             "mono_ms": mono_ms,
             "modes": modes,
         });

@@ -88,6 +88,10 @@ pub struct Settings {
     pub light: Option<Vec3>,
     /// Scene seconds per wall second for the revolving spheres (0..[`MAX_ORBIT_SPEED`]).
     pub orbit_speed: f32,
+    /// The scene's size against the bundled scenes' (1 for scenes of spheres; a molecule in
+    /// Ångström is larger): the IPD, distance and light sliders reach, and the head walks,
+    /// this many times as far ([`Scene::head_speed`] over [`HEAD_SPEED`]).
+    pub scale: f32,
 }
 
 impl Settings {
@@ -112,6 +116,7 @@ impl Settings {
             pitch_deg: 0.0,
             light: None,
             orbit_speed: 1.0,
+            scale: scene.head_speed() / HEAD_SPEED,
         };
         s.reset_camera(scene);
         s.reset_light(scene);
@@ -121,12 +126,31 @@ impl Settings {
     /// Restores the head pose, IPD, distance and reflection depth from the scene (clamped to
     /// the sliders' ranges).
     pub fn reset_camera(&mut self, scene: &Scene) {
-        self.ipd = scene.camera.ipd.clamp(0.0, MAX_IPD);
-        self.distance = scene.camera.distance.clamp(DISTANCE_RANGE.0, DISTANCE_RANGE.1);
+        let (max_ipd, (near, far)) = (self.max_ipd(), self.distance_range());
+        self.ipd = scene.camera.ipd.clamp(0.0, max_ipd);
+        self.distance = scene.camera.distance.clamp(near, far);
         self.depth = scene.render.max_depth.min(MAX_REFLECTION_DEPTH);
         self.position = scene.camera.position;
         self.yaw_deg = scene.camera.yaw_deg;
         self.pitch_deg = scene.camera.pitch_deg.clamp(-MAX_PITCH, MAX_PITCH);
+    }
+
+    /// The IPD slider's top, scene units: [`MAX_IPD`] at the scene's scale.
+    #[must_use]
+    pub fn max_ipd(&self) -> f32 {
+        MAX_IPD * self.scale
+    }
+
+    /// The distance slider's range, scene units: [`DISTANCE_RANGE`] at the scene's scale.
+    #[must_use]
+    pub fn distance_range(&self) -> (f32, f32) {
+        (DISTANCE_RANGE.0 * self.scale, DISTANCE_RANGE.1 * self.scale)
+    }
+
+    /// How far the light sliders reach, scene units: [`LIGHT_RANGE`] at the scene's scale.
+    #[must_use]
+    pub fn light_range(&self) -> f32 {
+        LIGHT_RANGE * self.scale
     }
 
     /// Puts the first light back where the scene has it (even beyond the sliders' reach).
@@ -155,12 +179,12 @@ impl Settings {
         self.position += rot * Vec3::new(right, 0.0, forward);
     }
 
-    /// Walks the head for `seconds` at [`HEAD_SPEED`] in the direction (`forward`, `right`,
+    /// Walks the head for `seconds` at [`HEAD_SPEED`] (at the scene's scale) in the direction (`forward`, `right`,
     /// `up`), each −1..=1 (movement keys held): forward and right along the head's own axes,
     /// up straight along world +y (Q and E, as in a fly camera).
     pub fn walk(&mut self, (forward, right, up): (f32, f32, f32), seconds: f32) {
         if forward != 0.0 || right != 0.0 || up != 0.0 {
-            let step = HEAD_SPEED * seconds;
+            let step = HEAD_SPEED * self.scale * seconds;
             self.move_head(forward * step, right * step);
             self.position.y += up * step;
         }
@@ -171,6 +195,7 @@ impl Settings {
     /// everything else — above all the head pose the user walked to, and the sliders —
     /// stays as it is.
     pub fn follow_reload(&mut self, old: &Scene, new: &Scene) {
+        self.scale = new.head_speed() / HEAD_SPEED;
         let mut from_file = *self;
         from_file.reset_camera(new);
         from_file.reset_light(new);

@@ -16,10 +16,7 @@ use stereo::{mask_color, Layout, Mode, KEPT_COLOR, KEPT_LEGEND, MASK_LEGEND};
 
 use crate::window::frame_times::{FrameTimes, SERIES_LEN, SERIES_NAMES};
 use crate::window::input::KEYS;
-use crate::window::settings::{
-    Settings, DISTANCE_RANGE, LIGHT_RANGE, MAX_IPD, MAX_ORBIT_SPEED, MAX_REFLECTION_DEPTH, MAX_RENDER_SCALE,
-    MIN_RENDER_SCALE,
-};
+use crate::window::settings::{Settings, MAX_ORBIT_SPEED, MAX_REFLECTION_DEPTH, MAX_RENDER_SCALE, MIN_RENDER_SCALE};
 use crate::window::worker::FrameInfo;
 
 /// The hint shown until Tab is first pressed.
@@ -180,8 +177,10 @@ fn scene(ui: &mut egui::Ui, r: &SceneReadout<'_>, actions: &mut Actions) {
 }
 
 fn controls(ui: &mut egui::Ui, s: &mut Settings, readout: &Readout<'_>, actions: &mut Actions) {
-    ui.add(Slider::new(&mut s.ipd, 0.0..=MAX_IPD).text("IPD")).on_hover_text("interpupillary distance e, scene units");
-    ui.add(Slider::new(&mut s.distance, DISTANCE_RANGE.0..=DISTANCE_RANGE.1).logarithmic(true).text("depth d"))
+    let max_ipd = s.max_ipd();
+    ui.add(Slider::new(&mut s.ipd, 0.0..=max_ipd).text("IPD")).on_hover_text("interpupillary distance e, scene units");
+    let (near, far) = s.distance_range();
+    ui.add(Slider::new(&mut s.distance, near..=far).logarithmic(true).text("depth d"))
         .on_hover_text("distance from the eyes to the zero-parallax window");
     ui.add(Slider::new(&mut s.depth, 0..=MAX_REFLECTION_DEPTH).text("reflections"))
         .on_hover_text("reflection depth (bounces)");
@@ -292,7 +291,7 @@ fn screenshots(ui: &mut egui::Ui, r: &Readout<'_>, folder: &mut String) {
 }
 
 fn light(ui: &mut egui::Ui, s: &mut Settings, r: &Readout<'_>, actions: &mut Actions) {
-    let range = -LIGHT_RANGE..=LIGHT_RANGE;
+    let range = -s.light_range()..=s.light_range();
     if s.light.is_some() {
         ui.horizontal(|ui| {
             ui.label("first light's position");

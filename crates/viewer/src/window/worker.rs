@@ -275,6 +275,10 @@ impl Drop for Worker {
 fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
     let mut tracer = Tracer::new(&scene, 0.0);
     let mut scene_light = scene.lights.first().map(|l| l.position);
+    // The first light's position the tracer was built with; `None`: build it afresh (a new
+    // scene). Otherwise a frame only advances the tracer in time: a still scene, however
+    // large, costs nothing there.
+    let mut built: Option<Option<Vec3>> = None;
     let mut frame = StereoFrame::new();
     let mut reference = Reference::default();
     let mut back = Finished::default();
@@ -290,10 +294,9 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
                 }
                 if let Some(r) = inbox.request.take() {
                     if let Some(new) = inbox.scene.take() {
-                        // The tracer is rebuilt from the scene for every frame below.
                         scene = new;
                         scene_light = scene.lights.first().map(|l| l.position);
-                        last = None;
+                        (last, built) = (None, None);
                     }
                     break r;
                 }
@@ -316,7 +319,13 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
         if let (Some(light), Some(home)) = (scene.lights.first_mut(), scene_light) {
             light.position = request.light.unwrap_or(home);
         }
-        tracer.update(&scene, request.time);
+        let light = scene.lights.first().map(|l| l.position);
+        if built == Some(light) {
+            tracer.advance(&scene, request.time);
+        } else {
+            tracer.update(&scene, request.time);
+            built = Some(light);
+        }
         tracer.set_max_depth(request.depth);
         let eye = (request.width, request.height);
         let samples = if request.samples == eye || setup::viewer_frame_fits(request.samples, eye, memory) {

@@ -5,6 +5,7 @@ use egui_kittest::Harness;
 use tracer::Scene;
 
 use super::*;
+use crate::window::settings::{LIGHT_RANGE, MAX_IPD};
 
 fn scene() -> Scene {
     let src = "[camera]\nipd = 0.5\ndistance = 9.0\n[render]\nmax_depth = 12\n\

@@ -1,0 +1,130 @@
+//! A scene made from a molecular structure file (`molecule` reads PDB, mmCIF, GRO and XYZ):
+//! every atom a sphere, and a camera, lights and settings chosen so that the stereo pair is
+//! framed and comfortable at once.
+//!
+//! **Framing.** The structure's bounding sphere (centre c, radius R, atom radii included)
+//! fills the view: the head looks along +z at c from the distance D at which the sphere
+//! touches the top and bottom of a 4:3 eye (the default window's) with 5 % to spare.
+//!
+//! **The stereo rule** (the stereographers' 1/30 rule): the IPD is 1/30 of the distance from
+//! the eyes to the nearest atom, D − R, and the zero-parallax window passes through c
+//! (d = D), so the front half of the structure stands out of the screen and the back half
+//! behind it. The largest parallax is then e·R/(D − R) = R/30 in front and about R/60
+//! behind, 1.3 % and 0.7 % of the window's width at the default field of view: well inside
+//! the 2–3 % comfort limit of stereo displays.
+//!
+//! **Lights.** A key light above, left of and in front of the structure and a dimmer fill
+//! light from the right, both on the viewer's side, so the side facing the eyes is lit and
+//! shadows fall behind.
+
+use std::path::Path;
+
+use glam::Vec3;
+
+use crate::camera::Camera;
+use crate::error::SceneError;
+use crate::material::Material;
+use crate::scene::{Light, RenderSettings, Scene, Structure};
+
+/// The look of atoms read from a structure file: matte with a soft highlight, no mirror.
+pub const ATOM_MATERIAL: Material =
+    Material { color: Vec3::ONE, diffuse: 0.75, specular: 0.3, shininess: 40.0, reflectivity: 0.0 };
+
+/// The radius scale of a structure file opened as a scene: van der Waals spheres.
+pub const DEFAULT_RADIUS_SCALE: f32 = 1.0;
+
+/// How a structure is read and drawn.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StructureOptions {
+    /// Atom radius = van der Waals radius × this.
+    pub radius_scale: f32,
+    /// Build the first biological assembly the file lists.
+    pub assembly: bool,
+    /// Added to every atom's position (scene units, Å).
+    pub offset: Vec3,
+    /// The atoms' material (its colour is the element's unless `color` is set).
+    pub material: Material,
+    /// One colour for every atom.
+    pub color: Option<Vec3>,
+}
+
+impl Default for StructureOptions {
+    fn default() -> Self {
+        Self {
+            radius_scale: DEFAULT_RADIUS_SCALE,
+            assembly: false,
+            offset: Vec3::ZERO,
+            material: ATOM_MATERIAL,
+            color: None,
+        }
+    }
+}
+
+/// Reads the structure file at `path` (bounded: see the `molecule` crate) into a
+/// [`Structure`], its atoms placed as `options` say.
+pub fn read_structure(path: &Path, options: &StructureOptions) -> Result<Structure, SceneError> {
+    let read = molecule::ReadOptions { assembly: options.assembly, ..molecule::ReadOptions::default() };
+    let molecule = molecule::read(path, &read)?;
+    let source = molecule.source().to_owned();
+    let (mut positions, elements) = molecule.into_arrays();
+    if options.offset != Vec3::ZERO {
+        for p in &mut positions {
+            *p += options.offset;
+        }
+    }
+    Ok(Structure {
+        source,
+        positions,
+        elements,
+        radius_scale: options.radius_scale,
+        material: options.material,
+        color: options.color,
+    })
+}
+
+impl Scene {
+    /// The scene of one structure file: its atoms, framed, with the stereo rule and lights
+    /// of the module doc.
+    pub fn from_structure_file(path: &Path) -> Result<Self, SceneError> {
+        Ok(Self::framing(read_structure(path, &StructureOptions::default())?))
+    }
+
+    /// A scene of `structure` alone, framed (see the module doc).
+    #[must_use]
+    pub fn framing(structure: Structure) -> Self {
+        let sphere = molecule::bounding_sphere(&structure.positions, &structure.elements, structure.radius_scale);
+        let (c, r) = sphere.map_or((Vec3::ZERO, 1.0), |s| (s.centre, s.radius.max(f32::MIN_POSITIVE)));
+        let fov_deg = Camera::default().fov_deg;
+        // The vertical half-angle of a 4:3 eye with this horizontal field of view.
+        let half_v = ((0.5 * fov_deg).to_radians().tan() * 0.75).atan();
+        let distance = 1.05 * r / half_v.sin();
+        let camera = Camera {
+            ipd: (distance - r) / 30.0,
+            distance,
+            fov_deg,
+            position: c - Vec3::Z * distance,
+            yaw_deg: 0.0,
+            pitch_deg: 0.0,
+        };
+        let lights = vec![
+            Light { position: c + Vec3::new(-0.8, 1.2, -2.0) * r, color: Vec3::splat(0.85) },
+            Light { position: c + Vec3::new(1.6, 0.2, -1.2) * r, color: Vec3::splat(0.35) },
+        ];
+        let render = RenderSettings { max_depth: 1, background: Vec3::new(0.02, 0.02, 0.03), ambient: 0.15 };
+        Self { camera, render, lights, spheres: Vec::new(), structures: vec![structure] }
+    }
+
+    /// A head speed (scene units a second) for walking through this scene: 2 for scenes of
+    /// spheres, and a quarter of a structure's bounding radius a second for molecules, so a
+    /// 5 Å peptide and a 700 Å virus both take a few seconds to cross.
+    #[must_use]
+    pub fn head_speed(&self) -> f32 {
+        let radius = self
+            .structures
+            .iter()
+            .filter_map(|s| molecule::bounding_sphere(&s.positions, &s.elements, s.radius_scale))
+            .map(|s| s.radius)
+            .fold(0.0f32, f32::max);
+        (0.25 * radius).max(2.0)
+    }
+}
