@@ -242,7 +242,7 @@ impl StereoFrame {
         let reused = made == Made::Reused;
         let left_made = if reused { self.reuse.left_retraced.count() } else { n as u64 };
         stats.reuse = Reuse { reused, made: left_made + right_made, pixels: 2 * n as u64 };
-        self.reuse.end(asked, made);
+        self.reuse.end(tracer, asked, made);
         self.stats = stats;
         stats
     }

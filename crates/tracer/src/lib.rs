@@ -103,6 +103,6 @@ pub use simd::{lane_width, level as simd_level, LANES_VAR};
 pub use snapshot::Snapshot;
 pub use sphere::{intersect_sphere, Sphere};
 pub use stats::RayCounts;
-pub use structure::{read_structure, StructureOptions, ATOM_MATERIAL, DEFAULT_RADIUS_SCALE};
+pub use structure::{read_structure, LoadOptions, StructureOptions, ATOM_MATERIAL, DEFAULT_RADIUS_SCALE};
 pub use surface::{Hit, Shading, Surface, NO_OBJECT};
 pub use tracer::Tracer;

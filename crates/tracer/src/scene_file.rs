@@ -15,7 +15,7 @@ use crate::camera::{Camera, Eye};
 use crate::error::SceneError;
 use crate::material::Material;
 use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere, Structure, MAX_DEPTH_LIMIT, MAX_LIGHTS};
-use crate::structure::{read_structure, StructureOptions};
+use crate::structure::{read_structure, LoadOptions, StructureOptions};
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -201,9 +201,14 @@ impl Scene {
     /// [`MAX_TOML_BYTES`] and a scene of more than [`MAX_SPHERES`] spheres are refused
     /// before they are read.
     pub fn load(path: impl AsRef<Path>) -> Result<Self, SceneError> {
+        Self::load_with(path, LoadOptions::default())
+    }
+
+    /// [`Scene::load`], a structure file read as `options` say (they do not apply to TOML).
+    pub fn load_with(path: impl AsRef<Path>, options: LoadOptions) -> Result<Self, SceneError> {
         let path = path.as_ref();
         if molecule::Format::from_path(path).is_some() {
-            return Self::from_structure_file(path);
+            return Self::from_structure_file(path, options);
         }
         let meta = std::fs::metadata(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
         let not_a_scene = |reason: String| SceneError::NotAScene { path: path.to_path_buf(), reason };

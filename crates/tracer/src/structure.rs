@@ -82,11 +82,33 @@ pub fn read_structure(path: &Path, options: &StructureOptions) -> Result<Structu
     })
 }
 
+/// How a structure file opened as a scene is read ([`Scene::load_with`]); TOML scenes say
+/// it in their `[[structures]]` tables instead.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LoadOptions {
+    /// Build the file's first biological assembly (PDB `REMARK 350` BIOMT, mmCIF
+    /// `_pdbx_struct_assembly_gen`) rather than its atoms as they are.
+    pub assembly: bool,
+    /// Atom radius = van der Waals radius × this.
+    pub radius_scale: f32,
+}
+
+impl Default for LoadOptions {
+    fn default() -> Self {
+        Self { assembly: false, radius_scale: DEFAULT_RADIUS_SCALE }
+    }
+}
+
 impl Scene {
     /// The scene of one structure file: its atoms, framed, with the stereo rule and lights
     /// of the module doc.
-    pub fn from_structure_file(path: &Path) -> Result<Self, SceneError> {
-        Ok(Self::framing(read_structure(path, &StructureOptions::default())?))
+    pub fn from_structure_file(path: &Path, options: LoadOptions) -> Result<Self, SceneError> {
+        let read = StructureOptions {
+            assembly: options.assembly,
+            radius_scale: options.radius_scale,
+            ..StructureOptions::default()
+        };
+        Ok(Self::framing(read_structure(path, &read)?))
     }
 
     /// A scene of `structure` alone, framed (see the module doc).

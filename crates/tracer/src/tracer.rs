@@ -4,6 +4,8 @@
 //! Shading is in `shade.rs` (the plain path) and `wavefront.rs` (the batched one), both
 //! `impl` blocks and functions over this type's data, which only this crate sees.
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use crate::accel::{Aggregate, Origin};
 use crate::camera::Eye;
 use crate::ray::{spawn_bound, Ray};
@@ -19,7 +21,12 @@ pub struct Tracer {
     pub(crate) scene: Snapshot,
     /// The acceleration structures over `scene`.
     pub(crate) accel: Aggregate,
+    /// Which scene this is, save for the time ([`Tracer::generation`]).
+    generation: u64,
 }
+
+/// The last generation given out; each [`Tracer::update`] takes the next.
+static GENERATIONS: AtomicU64 = AtomicU64::new(0);
 
 impl Tracer {
     /// The scene at time `t` seconds.
@@ -34,6 +41,17 @@ impl Tracer {
     pub fn update(&mut self, scene: &Scene, t: f32) {
         self.scene.update(scene, t);
         self.build(scene);
+        self.generation = GENERATIONS.fetch_add(1, Ordering::Relaxed) + 1;
+    }
+
+    /// Which scene this tracer holds, save for the time: a number that changes with every
+    /// [`Tracer::update`] (and a new reflection depth) and with nothing else, so two frames
+    /// of equal generations differ only in where the orbiting spheres are
+    /// ([`Tracer::advance`]): what temporal reuse asks before it keeps a pixel. 0 for a
+    /// tracer never updated.
+    #[must_use]
+    pub fn generation(&self) -> u64 {
+        self.generation
     }
 
     /// The same scene (its spheres, structures, lights and settings as at the last
@@ -68,9 +86,13 @@ impl Tracer {
         &self.scene.settings
     }
 
-    /// Overrides the reflection depth (the viewer's slider).
+    /// Overrides the reflection depth (the viewer's slider); a new depth is a new
+    /// [`Tracer::generation`].
     pub fn set_max_depth(&mut self, depth: u32) {
-        self.scene.settings.max_depth = depth;
+        if depth != self.scene.settings.max_depth {
+            self.scene.settings.max_depth = depth;
+            self.generation = GENERATIONS.fetch_add(1, Ordering::Relaxed) + 1;
+        }
     }
 
     /// Number of spheres.
@@ -144,6 +166,24 @@ mod tests {
                 (p, (p - c).normalize(), ray.dir)
             })
         })
+    }
+
+    #[test]
+    fn the_generation_changes_with_the_scene_not_with_the_time() {
+        let scene = lone_sphere(Vec3::new(0.0, 0.0, 10.0), 1.0, 3);
+        let mut tracer = Tracer::new(&scene, 0.0);
+        let first = tracer.generation();
+        assert!(first > 0, "an updated tracer has a generation");
+        tracer.advance(&scene, 1.5);
+        assert_eq!(tracer.generation(), first, "another instant of the same scene");
+        tracer.set_max_depth(tracer.settings().max_depth);
+        assert_eq!(tracer.generation(), first, "the same depth");
+        tracer.set_max_depth(tracer.settings().max_depth + 1);
+        let deeper = tracer.generation();
+        assert_ne!(deeper, first, "another depth");
+        tracer.update(&scene, 1.5);
+        assert!(tracer.generation() != deeper && tracer.generation() != first, "an update, even of the same scene");
+        assert_ne!(Tracer::new(&scene, 0.0).generation(), tracer.generation(), "another tracer");
     }
 
     #[test]

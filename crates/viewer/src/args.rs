@@ -75,9 +75,18 @@ pub struct WindowArgs {
 /// Camera and render overrides shared by `render` and `bench`.
 #[derive(Debug, Args, Clone)]
 pub struct FrameArgs {
-    /// Scene file (TOML).
+    /// Scene file: TOML, or a structure (.pdb, .ent, .cif, .mmcif, .gro, .xyz, optionally
+    /// .gz) framed as a scene of its own.
     #[arg(long, value_name = "PATH", default_value = DEFAULT_SCENE)]
     pub scene: PathBuf,
+    /// For a structure file: build its first biological assembly (PDB BIOMT, mmCIF
+    /// assembly_gen) instead of the atoms as they are.
+    #[arg(long)]
+    pub assembly: bool,
+    /// For a structure file: atom radius = van der Waals radius × this (1: spheres, 0.25:
+    /// CPK balls).
+    #[arg(long, value_name = "S", default_value_t = tracer::DEFAULT_RADIUS_SCALE)]
+    pub radius_scale: f32,
     /// Width of each eye in pixels.
     #[arg(long, value_name = "W", default_value_t = 1280, value_parser = clap::value_parser!(u32).range(1..=i64::from(MAX_SIDE)))]
     pub width: u32,

@@ -9,7 +9,7 @@ use std::fmt;
 use std::path::{Path, PathBuf};
 
 use anyhow::Result;
-use tracer::{Camera, Scene, MAX_DEPTH_LIMIT};
+use tracer::{Camera, LoadOptions, Scene, MAX_DEPTH_LIMIT};
 
 use crate::args::FrameArgs;
 
@@ -24,6 +24,18 @@ impl fmt::Display for BadInput {
 }
 
 impl std::error::Error for BadInput {}
+
+/// How a structure file given as the scene is read: `--assembly` and `--radius-scale S`
+/// (S a finite number > 0).
+pub fn load_options(assembly: bool, radius_scale: f32) -> Result<LoadOptions> {
+    if !(radius_scale.is_finite() && radius_scale > 0.0) {
+        return Err(BadInput(format!(
+            "--radius-scale {radius_scale}: must be a finite number > 0 (1 for van der Waals spheres, 0.25 for CPK balls)"
+        ))
+        .into());
+    }
+    Ok(LoadOptions { assembly, radius_scale })
+}
 
 /// Finds a scene file. A relative path is looked up in the current directory first, then
 /// in the workspace root, so `cargo run` and the bundled scenes work from any directory.
@@ -61,7 +73,7 @@ impl FrameSetup {
     /// per pixel (`render --supersample`): the checks count the samples.
     pub fn load_supersampled(args: &FrameArgs, frames_in_memory: u64, supersample: u32) -> Result<Self> {
         let path = resolve_scene(&args.scene);
-        let mut scene = Scene::load(&path)?;
+        let mut scene = Scene::load_with(&path, load_options(args.assembly, args.radius_scale)?)?;
         if let Some(ipd) = args.ipd {
             if !(ipd.is_finite() && ipd >= 0.0) {
                 return Err(BadInput(format!("--ipd {ipd}: must be a finite number ≥ 0")).into());

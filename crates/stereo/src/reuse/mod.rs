@@ -57,10 +57,8 @@ impl Made {
 pub(crate) struct Temporal {
     /// The moving spheres' volumes; `None` while reuse is off.
     swept: Option<Swept>,
-    /// What the last frame was asked for, and whether it marked.
-    last: Option<(Asked, bool)>,
-    /// The last frame's tracer fingerprint, and this frame's.
-    print: (Vec<u32>, Vec<u32>),
+    /// What the last frame was asked for, of which tracer generation, and whether it marked.
+    last: Option<(Asked, u64, bool)>,
     /// The moving spheres' wedges in the last frame, and in this one.
     wedges: (Vec<Arc>, Vec<Arc>),
     /// Per ring, the arc that holds both.
@@ -105,9 +103,8 @@ impl Temporal {
     /// (or on the first frame), so a moving head pays nothing for it.
     pub(crate) fn begin(&mut self, tracer: &Tracer, asked: Asked) -> Made {
         let Some(swept) = &self.swept else { return Made::Fresh };
-        swept.fingerprint(tracer.snapshot(), &mut self.print.1);
-        let same = self.last.is_some_and(|(last, _)| last == asked) && self.print.0 == self.print.1;
-        std::mem::swap(&mut self.print.0, &mut self.print.1);
+        // The same request of the same scene, only its time moved.
+        let same = self.last.is_some_and(|(last, generation, _)| last == asked && generation == tracer.generation());
         swept.wedges(tracer.snapshot(), &mut self.wedges.1);
         // Each ring's two wedges as one arc (the shortest that holds both: one test per
         // pixel instead of two, and hardly larger, as a sphere moves little in a frame).
@@ -119,7 +116,7 @@ impl Temporal {
             // marked pixel is retraced.)
             self.hulls.extend(self.wedges.1.iter().map(|_| Arc::FULL));
         }
-        if same && self.last.is_some_and(|(_, marked)| marked) {
+        if same && self.last.is_some_and(|(_, _, marked)| marked) {
             Made::Reused
         } else if same || self.last.is_none() {
             Made::Marked
@@ -128,10 +125,10 @@ impl Temporal {
         }
     }
 
-    /// Remembers the frame `asked`, made as `made`.
-    pub(crate) fn end(&mut self, asked: Asked, made: Made) {
+    /// Remembers the frame `asked` of `tracer`, made as `made`.
+    pub(crate) fn end(&mut self, tracer: &Tracer, asked: Asked, made: Made) {
         if self.swept.is_some() {
-            self.last = Some((asked, made.marks()));
+            self.last = Some((asked, tracer.generation(), made.marks()));
             std::mem::swap(&mut self.wedges.0, &mut self.wedges.1);
         }
     }

@@ -129,7 +129,7 @@ fn a_warm_frame_allocates_nothing() {
             all.iter().flat_map(|&mode| [false, true].map(|retrace_edges| Options { mode, retrace_edges })).collect();
         let mut frames_at = |times: std::ops::Range<u32>| {
             for k in times {
-                tracer.update(&scene, k as f32 / 30.0);
+                tracer.advance(&scene, k as f32 / 30.0);
                 for &opts in &variants {
                     frame.render(&tracer, &scene.camera, w, h, opts);
                 }
@@ -161,7 +161,7 @@ fn a_warm_reused_frame_allocates_nothing() {
         frame.set_reuse(Some(&scene));
         let mut frames_at = |times: std::ops::Range<u32>, reused: bool| {
             for k in times {
-                tracer.update(&scene, k as f32 / 60.0);
+                tracer.advance(&scene, k as f32 / 60.0);
                 let stats = frame.render(&tracer, &scene.camera, w, h, opts);
                 assert!(stats.reuse.reused || !reused, "{mode}: every frame after the first reuses");
             }

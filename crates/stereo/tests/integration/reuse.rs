@@ -42,7 +42,7 @@ fn check_reuse(scene: &Scene, times: &[f32], (w, h): (u32, u32), opts: Options) 
     let mut tracer = Tracer::new(scene, times[0]);
     let mut shares = Vec::new();
     for (k, &t) in times.iter().enumerate() {
-        tracer.update(scene, t);
+        tracer.advance(scene, t);
         let stats = reusing.render(&tracer, &scene.camera, w, h, opts);
         assert_eq!(stats.reuse.reused, k > 0, "frame {k} at t = {t}: reused after the first (which marks)");
         fresh.render(&tracer, &scene.camera, w, h, opts);
@@ -207,7 +207,7 @@ fn reused_frames_are_the_same_for_one_and_two_threads() {
             let opts = Options { mode: Mode::Exact, retrace_edges: true };
             let mut shown = Vec::new();
             for k in 0..4 {
-                tracer.update(&scene, k as f32 / 30.0);
+                tracer.advance(&scene, k as f32 / 30.0);
                 let stats = frame.render(&tracer, &scene.camera, 96, 54, opts);
                 shown.push((shown_of(&frame), stats.reuse));
             }

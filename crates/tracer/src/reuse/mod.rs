@@ -91,39 +91,6 @@ impl Swept {
             ring.wedge(c, r)
         }));
     }
-
-    /// Writes into `out` (cleared first) everything a frame of `s` depends on except where
-    /// the moving spheres are: the still spheres' centres, every radius, material and swept
-    /// volume, the lights and the render settings, as bits. Two snapshots of one scene at two
-    /// instants give the same words; change anything else and they differ. Nothing is
-    /// allocated once `out` has grown to size.
-    pub fn fingerprint(&self, s: &Snapshot, out: &mut Vec<u32>) {
-        out.clear();
-        let v3 = |out: &mut Vec<u32>, v: Vec3| out.extend(v.to_array().map(f32::to_bits));
-        out.push(s.centers.len() as u32);
-        let mut rings = self.rings.iter().peekable();
-        for (k, &c) in s.centers.iter().enumerate() {
-            let m = s.material(k);
-            match rings.next_if(|ring| ring.object as usize == k) {
-                Some(ring) => {
-                    v3(out, ring.center);
-                    out.extend([ring.half_height, ring.inner, ring.outer].map(f32::to_bits));
-                }
-                None => v3(out, c),
-            }
-            out.push(s.radii[k].to_bits());
-            v3(out, m.color);
-            out.extend([m.diffuse, m.specular, m.shininess, m.reflectivity].map(f32::to_bits));
-        }
-        out.push(s.lights.len() as u32);
-        for light in &s.lights {
-            v3(out, light.position);
-            v3(out, light.color);
-        }
-        out.push(s.settings.max_depth);
-        v3(out, s.settings.background);
-        out.push(s.settings.ambient.to_bits());
-    }
 }
 
 /// The hook a render marks its pixels through: the volumes, and where on one view's screen

@@ -69,7 +69,7 @@ fn animate(setup: &FrameSetup, start: f32, (w, h): (u32, u32), opts: Options, fr
     let (mut fresh_ms, mut reused_ms, mut shares) = (Vec::new(), Vec::new(), Vec::new());
     let stereo_ms = |s: &FrameStats| s.left.ms + s.right.ms;
     for k in 1..=frames {
-        tracer.update(&setup.scene, start + k as f32 * ANIMATION_STEP_S);
+        tracer.advance(&setup.scene, start + k as f32 * ANIMATION_STEP_S);
         fresh_ms.push(stereo_ms(&fresh.render(&tracer, &setup.camera, w, h, opts)));
         let reused = reusing.render(&tracer, &setup.camera, w, h, opts);
         reused_ms.push(stereo_ms(&reused));
@@ -110,7 +110,7 @@ impl Bench {
             self.frame.render(tracer, camera, w, h, Options { mode, retrace_edges });
         }
         for k in 0..frames {
-            tracer.update(scene, time_of(k));
+            tracer.advance(scene, time_of(k));
             self.reference.trace(tracer, camera, w, h);
             for (m, &(_, mode, retrace_edges)) in results.iter_mut().zip(variants) {
                 let stats = self.frame.render(tracer, camera, w, h, Options { mode, retrace_edges });

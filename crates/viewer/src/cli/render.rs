@@ -208,7 +208,7 @@ fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
         if stop.load(Ordering::SeqCst) {
             break;
         }
-        tracer.update(&setup.scene, args.frame.time + k as f32 / args.fps);
+        tracer.advance(&setup.scene, args.frame.time + k as f32 / args.fps);
         let stats = frame.render(&tracer, &setup.camera, size.samples.0, size.samples.1, opts);
         left_rays += stats.left.rays;
         right_rays += stats.right.rays;
