@@ -18,50 +18,69 @@ import subprocess
 import sys
 
 STAGES = [
-    ("shadow rays (Aggregate::occluded_lanes: light cube maps)", r"^(occluded_lanes|occluded_in|occluded|towards_light) @"),
-    ("mirror rays (Aggregate::intersect_lanes: BVH, cones)", r"^(intersect_lanes|intersect_in|intersect) @"),
-    ("screen bins build", r"^build @accel/screen"),
-    ("primary hits (screen bins, row loop)", r"accel/screen\.rs|render/row\.rs"),
-    ("shading: per-lane gathers of sphere data", r"^(per_object|material) @"),
-    ("shading: hit points, normals, lights, highlights", r"^shade @"),
-    ("shading: mirror stage (reflect, spawn)", r"^mirrors @"),
-    ("wavefront bookkeeping", r"wavefront"),
-    ("Tracer::new (snapshot, BVH, bins)", r"build\.rs|snapshot\.rs|bvh/"),
+    # Functions, matched against a sample's chain of frames (inlined ones included, full
+    # paths without generics), innermost first; the first stage any frame matches wins.
+    # `intersect_deep` is the BVH's out-of-line traversal of a deep tree (1M spheres).
+    ("shadow rays (Aggregate::occluded_lanes: light cube maps)", r"(^|::)(occluded_lanes|occluded_in|occluded|towards_light)\b"),
+    ("mirror rays (Aggregate::intersect_lanes: BVH, cones)", r"(^|::)(intersect_lanes|intersect_in|intersect_deep)\b"),
+    ("screen bins build", r"ScreenBins::build|(^|::)build @accel/screen"),
+    ("primary hits (screen bins)", r"@accel/screen\.rs"),
+    ("shading: per-lane gathers of sphere data", r"(^|::)(per_object|material)\b"),
+    ("shading: hit points, normals, lights, highlights", r"(^|::)shade @wavefront/lanes"),
+    ("shading: mirror stage (reflect, spawn)", r"(^|::)mirrors @wavefront/lanes"),
+    ("Tracer::new (snapshot, BVH, light maps, cones)", r"@accel/bvh/build\.rs|@snapshot\.rs|(^|::)(build|update) @"),
+    ("generating the field", r"@field\.rs"),
+]
+# Matched only when no frame matches a stage above: whatever else the row loop and the
+# wavefront do.
+FALLBACK = [
+    ("wavefront bookkeeping", r"@wavefront"),
+    ("row loop", r"@render/"),
 ]
 
 
-def text_bias(binary):
-    """vaddr − file offset of the executable segment: perf prints file offsets."""
-    out = subprocess.run(["readelf", "-lW", binary], capture_output=True, text=True, check=True).stdout
-    for line in out.splitlines():
+def sample_stacks(data, binary):
+    """Each sample's stack in `binary`, leaf first, as virtual addresses (what addr2line
+    wants), from symbol + offset: perf prints absolute or file-relative addresses depending
+    on whether call chains were recorded, but symbol + offset means one thing. Return
+    addresses (every frame but the leaf) are moved back a byte into their call."""
+    symbols = {}
+    nm = subprocess.run(["nm", "--defined-only", binary], capture_output=True, text=True, check=True).stdout
+    for line in nm.splitlines():
         f = line.split()
-        if f and f[0] == "LOAD" and "E" in f[6:-1]:
-            return int(f[2], 16) - int(f[1], 16)
-    return 0
-
-
-def leaf_addresses(data, binary):
-    out = subprocess.run(["perf", "script", "-i", data, "-F", "ip,dso"], capture_output=True, text=True).stdout
-    leaves, new = [], True
-    for line in out.splitlines():
-        if not line.strip():
-            new = True
+        if len(f) == 3:
+            symbols[f[2]] = int(f[0], 16)
+    out = subprocess.run(
+        ["perf", "script", "-i", data, "-F", "ip,sym,symoff,dso", "--no-demangle"], capture_output=True, text=True
+    ).stdout
+    # With call chains a sample is a block of lines ending in a blank one; without, a line.
+    chained = "\n\n" in out
+    blocks = out.split("\n\n") if chained else out.splitlines()
+    total, stacks = 0, []
+    for block in blocks:
+        lines = [l for l in block.splitlines() if l.strip()]
+        if not lines:
             continue
-        if new:
-            leaves.append(line.split())
-            new = False
-    return len(leaves), [f[0] for f in leaves if len(f) > 1 and binary in f[1]]
+        total += 1
+        stack = []
+        for depth, line in enumerate(lines):
+            m = re.match(r"\s*\S+ (\S+)\+0x([0-9a-f]+) \((.*)\)", line)
+            if m and m.group(3) == binary and m.group(1) in symbols:
+                stack.append(format(symbols[m.group(1)] + int(m.group(2), 16) - (depth > 0), "x"))
+        if stack and lines[0].endswith(f"({binary})"):
+            stacks.append(stack)
+    return total, stacks
 
 
-def frames(binary, addresses, bias):
+def frames(binary, addresses):
     uniq = sorted(set(addresses))
-    args = ["addr2line", "-a", "-i", "-f", "-C", "-e", binary] + [hex(int(a, 16) + bias) for a in uniq]
+    args = ["addr2line", "-a", "-i", "-f", "-C", "-e", binary] + ["0x" + a for a in uniq]
     lines = subprocess.run(args, capture_output=True, text=True, check=True).stdout.splitlines()
     chains, key, i = {}, None, 0
     while i < len(lines):
         line = lines[i]
         if line.startswith("0x"):
-            key = format(int(line, 16) - bias, "x")
+            key = format(int(line, 16), "x")
             chains[key] = []
             i += 1
             continue
@@ -69,28 +88,36 @@ def frames(binary, addresses, bias):
         for _ in range(3):
             name = re.sub(r"<[^<>]*>", "", name)
         loc = re.search(r"/src/(.*?):\d+", lines[i + 1]) if i + 1 < len(lines) else None
-        chains[key].append(f"{name.split('::')[-1].strip()} @{loc.group(1) if loc else '?'}")
+        chains[key].append(f"{name.strip()} @{loc.group(1) if loc else '?'}")
         i += 2
     return chains
 
 
 def main():
     data, binary = sys.argv[1], sys.argv[2]
-    total, addresses = leaf_addresses(data, binary)
-    chains = frames(binary, addresses, text_bias(binary))
-    stages, inner = collections.Counter(), collections.Counter()
-    for a in addresses:
-        chain = chains.get(format(int(a, 16), "x"), [])
-        stage = next((name for name, p in STAGES if any(re.search(p, f) for f in chain)), "other")
+    total, stacks = sample_stacks(data, binary)
+    chains = frames(binary, [a for stack in stacks for a in stack])
+    stages, inner, unfiled = collections.Counter(), collections.Counter(), collections.Counter()
+    for stack in stacks:
+        chain = [f for a in stack for f in chains.get(a, [])]
+        stage = next(
+            (name for f in chain for name, p in STAGES if re.search(p, f)),
+            next((name for name, p in FALLBACK if any(re.search(p, f) for f in chain)), "other"),
+        )
         stages[stage] += 1
+        if stage == "other":
+            unfiled[" < ".join(re.sub(r"<.*", "", f)[-60:] for f in chain[:10])] += 1
         if stage.startswith(("shadow", "mirror rays")):
-            f = next((f for f in chain if re.search(r"accel/|simd\.rs", f)), "?")
-            inner[f"{stage.split(' (')[0]}: {f}"] += 1
-    print(f"{total} samples, {len(addresses)} in {binary.split('/')[-1]}")
+            f = next((f for f in chain if re.search(r"@(accel/|simd\.rs)", f)), "?")
+            inner[f"{stage.split(' (')[0]}: {re.sub(r'^.*::(?=[^:]+::[^:]+ @)', '', f)}"] += 1
+    print(f"{total} samples, {len(stacks)} in {binary.split('/')[-1]}")
     for name, n in stages.most_common():
         print(f"{100 * n / total:5.1f} %  {name}")
     print("\nwithin the queries, the innermost tracer function:")
     for name, n in inner.most_common(12):
+        print(f"{100 * n / total:5.1f} %  {name}")
+    print("\nthe commonest unfiled chains (innermost first):")
+    for name, n in unfiled.most_common(5):
         print(f"{100 * n / total:5.1f} %  {name}")
 
 
