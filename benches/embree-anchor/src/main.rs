@@ -1,0 +1,651 @@
+//! A same-machine anchor for stereotrace's trace speed: its left eye, traced fully
+//! (`Renderer::render`, primary + shadow + mirror rays), against Embree 3's single-ray path
+//! (`rtcIntersect1` / `rtcOccluded1`) casting the same rays over the same spheres, in the
+//! same process, alternating frame by frame. Outside the product: see README.md.
+
+mod embree;
+mod field;
+mod process;
+mod whitted;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+use std::time::Instant;
+
+use rayon::prelude::*;
+use rayon::ThreadPool;
+use tracer::{Eye, Pixels, RayCounts, Renderer, Scene, Target, Tracer, NO_OBJECT};
+
+use embree::{Device, Quality, Spheres};
+use whitted::Whitted;
+
+const USAGE: &str = "\
+embree-anchor [--spheres N,N,...] [--scene PATH ...] [--width W --height H] [--frames N]
+              [--threads T] [--no-single] [--seed S] [--quality low|medium|high]
+              [--tnear T] [--no-ftz] [--depth D] [--csv FILE] [--only ours|embree]
+
+Traces the left eye of each scene with stereotrace and with Embree 3 (the same rays), and
+prints markdown tables. Without --spheres or --scene: seed, many and thousand.toml and
+fields of 1k, 10k and 100k spheres. --depth overrides the scenes' reflection depth; --csv
+appends each scene's medians to a file (to take medians over runs); --only ours|embree
+times one side alone (for a profiler), skipping the other and the per-pixel comparison.";
+
+/// Which sides a run times.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Only {
+    Both,
+    Ours,
+    Embree,
+}
+
+struct Args {
+    spheres: Vec<usize>,
+    scenes: Vec<PathBuf>,
+    width: u32,
+    height: u32,
+    frames: usize,
+    threads: usize,
+    single: bool,
+    seed: u64,
+    quality: Quality,
+    tnear: f32,
+    /// Embree's rows in flush-to-zero / denormals-are-zero mode (Embree's advice).
+    ftz: bool,
+    /// Overrides every scene's reflection depth.
+    depth: Option<u32>,
+    /// Appends each scene's medians here.
+    csv: Option<PathBuf>,
+    only: Only,
+}
+
+fn parse_args() -> Result<Args, String> {
+    fn num<T: std::str::FromStr>(s: &str, flag: &str) -> Result<T, String> {
+        s.parse().map_err(|_| format!("{flag}: not a number: {s}"))
+    }
+    let mut args = Args {
+        spheres: Vec::new(),
+        scenes: Vec::new(),
+        width: 1280,
+        height: 720,
+        frames: 7,
+        threads: 2,
+        single: true,
+        seed: 2024,
+        quality: Quality::Medium,
+        tnear: 0.0,
+        ftz: true,
+        depth: None,
+        csv: None,
+        only: Only::Both,
+    };
+    let mut it = std::env::args().skip(1);
+    let value = |it: &mut dyn Iterator<Item = String>, flag: &str| it.next().ok_or(format!("{flag} needs a value"));
+    while let Some(a) = it.next() {
+        match a.as_str() {
+            "--spheres" => {
+                for n in value(&mut it, &a)?.split(',') {
+                    let n = n.trim().to_lowercase();
+                    let (digits, scale) = match n.strip_suffix('k') {
+                        Some(d) => (d.to_string(), 1_000),
+                        None => match n.strip_suffix('m') {
+                            Some(d) => (d.to_string(), 1_000_000),
+                            None => (n.clone(), 1),
+                        },
+                    };
+                    args.spheres.push(num::<usize>(&digits, &a)? * scale);
+                }
+            }
+            "--scene" => args.scenes.push(value(&mut it, &a)?.into()),
+            "--width" => args.width = num(&value(&mut it, &a)?, &a)?,
+            "--height" => args.height = num(&value(&mut it, &a)?, &a)?,
+            "--frames" => args.frames = num::<usize>(&value(&mut it, &a)?, &a)?.max(1),
+            "--threads" => args.threads = num::<usize>(&value(&mut it, &a)?, &a)?.max(1),
+            "--no-single" => args.single = false,
+            "--no-ftz" => args.ftz = false,
+            "--depth" => args.depth = Some(num(&value(&mut it, &a)?, &a)?),
+            "--csv" => args.csv = Some(value(&mut it, &a)?.into()),
+            "--seed" => args.seed = num(&value(&mut it, &a)?, &a)?,
+            "--tnear" => args.tnear = num(&value(&mut it, &a)?, &a)?,
+            "--quality" => {
+                args.quality = match value(&mut it, &a)?.as_str() {
+                    "low" => Quality::Low,
+                    "medium" => Quality::Medium,
+                    "high" => Quality::High,
+                    q => return Err(format!("--quality: low, medium or high, not {q}")),
+                }
+            }
+            "--only" => {
+                args.only = match value(&mut it, &a)?.as_str() {
+                    "ours" => Only::Ours,
+                    "embree" => Only::Embree,
+                    o => return Err(format!("--only: ours or embree, not {o}")),
+                }
+            }
+            "-h" | "--help" => return Err(USAGE.into()),
+            _ => return Err(format!("unknown argument {a}\n\n{USAGE}")),
+        }
+    }
+    if args.spheres.is_empty() && args.scenes.is_empty() {
+        let scenes = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes");
+        args.scenes = ["seed.toml", "many.toml", "thousand.toml"].iter().map(|s| scenes.join(s)).collect();
+        args.spheres = vec![1_000, 10_000, 100_000];
+    }
+    Ok(args)
+}
+
+/// How the two tracers' ray trees differ over a frame, pixel by pixel.
+#[derive(Clone, Copy, Default)]
+struct Mismatch {
+    /// Pixels whose primary rays hit different spheres (or one hit and one missed).
+    first_hit: u64,
+    /// Pixels whose ray counts differ in any kind.
+    tree: u64,
+    /// Embree's secondary rays whose first hit was the sphere they leave.
+    self_hits: u64,
+    /// Σ over pixels and kinds of |our count − Embree's|: rays in one tree and not the other.
+    rays: u64,
+    /// Our plain path's counts summed over the pixels (equal to the renderer's).
+    plain: RayCounts,
+}
+
+impl std::ops::Add for Mismatch {
+    type Output = Self;
+    fn add(self, o: Self) -> Self {
+        Self {
+            first_hit: self.first_hit + o.first_hit,
+            tree: self.tree + o.tree,
+            self_hits: self.self_hits + o.self_hits,
+            rays: self.rays + o.rays,
+            plain: self.plain + o.plain,
+        }
+    }
+}
+
+/// One side's frame times, ms: wall and process CPU time, with all the pool's threads and
+/// with one.
+#[derive(Default)]
+struct Times {
+    wall: [Vec<f64>; 2],
+    cpu: [Vec<f64>; 2],
+}
+
+/// The medians of [`Times`]: `[threads, 1 thread]`.
+#[derive(Clone, Copy, Default)]
+struct Medians {
+    wall: [Option<f64>; 2],
+    cpu: [Option<f64>; 2],
+}
+
+impl Times {
+    fn medians(mut self) -> Medians {
+        let [w0, w1] = &mut self.wall;
+        let [c0, c1] = &mut self.cpu;
+        Medians { wall: [median(w0), median(w1)], cpu: [median(c0), median(c1)] }
+    }
+}
+
+/// One scene's row of every table.
+struct Row {
+    name: String,
+    spheres: usize,
+    ours: RayCounts,
+    embree: RayCounts,
+    mismatch: Option<Mismatch>,
+    ours_ms: Medians,
+    embree_ms: Medians,
+    ours_build_ms: f64,
+    ours_bytes: i64,
+    embree_build_ms: f64,
+    embree_bytes_monitor: isize,
+    embree_bytes_rss: i64,
+}
+
+fn median(v: &mut [f64]) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    v.sort_by(f64::total_cmp);
+    let m = v.len() / 2;
+    Some(if v.len() % 2 == 1 { v[m] } else { f64::midpoint(v[m - 1], v[m]) })
+}
+
+fn ms(since: Instant) -> f64 {
+    since.elapsed().as_secs_f64() * 1e3
+}
+
+/// Compares the two ray trees of every pixel (untimed): our plain path
+/// (`Tracer::trace_pixel`, bit for bit the renderer's) against Embree's with self-hits probed.
+fn compare(tracer: &Tracer, whitted: &Whitted, view: &tracer::EyeView) -> Mismatch {
+    (0..view.height)
+        .into_par_iter()
+        .map(|j| {
+            let mut m = Mismatch::default();
+            for i in 0..view.width {
+                let mut ours = RayCounts::default();
+                let shaded = tracer.trace_pixel(view, i, j, &mut ours);
+                let theirs = whitted.probe(view, i, j);
+                let first = if shaded.surface.object == NO_OBJECT { u32::MAX } else { shaded.surface.object };
+                m.first_hit += u64::from(first != theirs.first);
+                m.tree += u64::from(ours != theirs.counts);
+                m.self_hits += theirs.self_hits;
+                let (a, b) = (ours, theirs.counts);
+                m.rays += a.primary.abs_diff(b.primary) + a.shadow.abs_diff(b.shadow) + a.reflection.abs_diff(b.reflection);
+                m.plain += ours;
+            }
+            m
+        })
+        .reduce(Mismatch::default, |a, b| a + b)
+}
+
+#[expect(clippy::too_many_lines, reason = "one scene's measurement, step by step")]
+fn run(name: String, scene: &Scene, args: &Args, device: &Device, pools: (&ThreadPool, &ThreadPool)) -> Row {
+    let (w, h) = (args.width, args.height);
+    let mut depth_override;
+    let scene = match args.depth {
+        Some(d) => {
+            depth_override = scene.clone();
+            depth_override.render.max_depth = d;
+            &depth_override
+        }
+        None => scene,
+    };
+    let n = scene.spheres.len();
+    eprintln!("[{name}] {n} spheres, {w}×{h}");
+    let view = scene.camera.view(Eye::Left, w, h);
+
+    let rss0 = process::resident();
+    let t0 = Instant::now();
+    let tracer = Tracer::new(scene, 0.0);
+    let ours_build_ms = ms(t0);
+    let ours_bytes = process::resident() as i64 - rss0 as i64;
+    eprintln!("[{name}] ours: Tracer::new {ours_build_ms:.0} ms, RSS +{:.1} MB", ours_bytes as f64 / 1e6);
+
+    let (rss1, mon1) = (process::resident(), Device::bytes());
+    let t1 = Instant::now();
+    let spheres = if args.only == Only::Ours {
+        None
+    } else {
+        let s = tracer.snapshot();
+        Some(Spheres::build(device, s.centers(), s.radii(), args.quality).unwrap_or_else(|e| panic!("{e}")))
+    };
+    let embree_build_ms = ms(t1);
+    let embree_bytes_rss = process::resident() as i64 - rss1 as i64;
+    let embree_bytes_monitor = Device::bytes() - mon1;
+    if spheres.is_some() {
+        eprintln!(
+            "[{name}] Embree: build {embree_build_ms:.0} ms, {:.1} MB (monitor), RSS +{:.1} MB",
+            embree_bytes_monitor as f64 / 1e6,
+            embree_bytes_rss as f64 / 1e6
+        );
+    }
+    let whitted = spheres.as_ref().map(|s| Whitted::new(s, &tracer, args.tnear, args.ftz));
+
+    let mismatch = match (&whitted, args.only) {
+        (Some(wh), Only::Both) => {
+            let t = Instant::now();
+            let m = pools.0.install(|| compare(&tracer, wh, &view));
+            eprintln!(
+                "[{name}] compared every pixel in {:.0} ms: first hit differs {}, ray tree differs {}, Embree self-hits {}",
+                ms(t),
+                m.first_hit,
+                m.tree,
+                m.self_hits
+            );
+            Some(m)
+        }
+        _ => None,
+    };
+
+    let mut renderer = Renderer::new();
+    let mut rgb = Vec::new();
+    let mut ours_frame = |pool: &ThreadPool| {
+        let (t, cpu) = (Instant::now(), process::cpu_ms());
+        let c = pool.install(|| renderer.render(&tracer, &view, Pixels::All, Target::colour(&mut rgb)));
+        (ms(t), process::cpu_ms() - cpu, c)
+    };
+    let embree_frame = |pool: &ThreadPool| {
+        let wh = whitted.as_ref().expect("the Embree side is built unless --only ours");
+        let (t, cpu) = (Instant::now(), process::cpu_ms());
+        let (c, sum) = pool.install(|| wh.render(&view));
+        std::hint::black_box(sum);
+        (ms(t), process::cpu_ms() - cpu, c)
+    };
+    let (mut ours_t, mut embree_t) = (Times::default(), Times::default());
+    let (mut ours_c, mut embree_c) = (None::<RayCounts>, None::<RayCounts>);
+    let check = |seen: &mut Option<RayCounts>, c: RayCounts, who: &str| {
+        if seen.is_some_and(|s| s != c) {
+            eprintln!("[{name}] {who}: ray counts changed between frames: {seen:?} then {c:?}");
+        }
+        *seen = Some(c);
+    };
+    // Frame 0 warms both up; then each frame alternates the sides, swapping which goes first.
+    for f in 0..=args.frames {
+        for side in if f % 2 == 0 { [Only::Ours, Only::Embree] } else { [Only::Embree, Only::Ours] } {
+            if args.only != Only::Both && args.only != side {
+                continue;
+            }
+            let mut pool_list = vec![(pools.0, 0)];
+            if args.single {
+                pool_list.push((pools.1, 1));
+            }
+            for (pool, k) in pool_list {
+                let (t, cpu, c) = if side == Only::Ours { ours_frame(pool) } else { embree_frame(pool) };
+                let (times, seen, who) =
+                    if side == Only::Ours { (&mut ours_t, &mut ours_c, "ours") } else { (&mut embree_t, &mut embree_c, "Embree") };
+                check(seen, c, who);
+                if f > 0 {
+                    times.wall[k].push(t);
+                    times.cpu[k].push(cpu);
+                }
+            }
+        }
+        eprint!("\r[{name}] frame {f}/{}", args.frames);
+    }
+    eprintln!();
+    let ours = ours_c.unwrap_or_default();
+    let embree = embree_c.unwrap_or_default();
+    if let Some(m) = &mismatch {
+        if m.plain != ours {
+            eprintln!("[{name}] note: the plain path counted {:?}, the renderer {ours:?}", m.plain);
+        }
+    }
+    let row = Row {
+        name,
+        spheres: n,
+        ours,
+        embree,
+        mismatch,
+        ours_ms: ours_t.medians(),
+        embree_ms: embree_t.medians(),
+        ours_build_ms,
+        ours_bytes,
+        embree_build_ms,
+        embree_bytes_monitor,
+        embree_bytes_rss,
+    };
+    let show = |m: &Medians| format!("{} ms (CPU {}), 1 thread {}", fmt_ms(m.wall[0]), fmt_ms(m.cpu[0]), fmt_ms(m.wall[1]));
+    eprintln!("[{}] ours {}; Embree {}", row.name, show(&row.ours_ms), show(&row.embree_ms));
+    if let Some(path) = &args.csv {
+        if let Err(e) = append_csv(path, &row, args) {
+            eprintln!("{}: {e}", path.display());
+        }
+    }
+    row
+}
+
+fn fmt_ms(v: Option<f64>) -> String {
+    v.map_or("–".into(), |v| if v < 100.0 { format!("{v:.1}") } else { format!("{v:.0}") })
+}
+
+/// Mrays per second of CPU time (per core busy).
+fn rate(rays: RayCounts, cpu_ms: Option<f64>) -> String {
+    cpu_ms.map_or("–".into(), |ms| format!("{:.1}", rays.total() as f64 / (ms * 1e3)))
+}
+
+fn ratio(a: Option<f64>, b: Option<f64>) -> String {
+    match (a, b) {
+        (Some(a), Some(b)) => format!("{:.2}", a / b),
+        _ => "–".into(),
+    }
+}
+
+fn inverse(a: Option<f64>, b: Option<f64>) -> String {
+    match (a, b) {
+        (Some(a), Some(b)) => format!("{:.1}×", b / a),
+        _ => "–".into(),
+    }
+}
+
+fn count(n: u64) -> String {
+    let s = n.to_string();
+    let mut out = String::new();
+    for (k, c) in s.chars().enumerate() {
+        if k > 0 && (s.len() - k).is_multiple_of(3) {
+            out.push('\u{202f}');
+        }
+        out.push(c);
+    }
+    out
+}
+
+fn spheres_label(n: usize) -> String {
+    match n {
+        n if n >= 1_000_000 && n % 1_000_000 == 0 => format!("{}M", n / 1_000_000),
+        n if n >= 1_000 && n % 1_000 == 0 => format!("{}k", n / 1_000),
+        n => n.to_string(),
+    }
+}
+
+fn share(part: u64, whole: u64) -> String {
+    if whole == 0 {
+        return "–".into();
+    }
+    let p = 100.0 * part as f64 / whole as f64;
+    if p == 0.0 {
+        "0".into()
+    } else if p < 0.01 {
+        format!("{p:.4} %")
+    } else {
+        format!("{p:.2} %")
+    }
+}
+
+fn signed_share(a: u64, b: u64) -> String {
+    if a == b {
+        return "0".into();
+    }
+    let p = 100.0 * (b as f64 - a as f64) / a.max(1) as f64;
+    format!("{p:+.4} %")
+}
+
+fn print_tables(rows: &[Row], args: &Args) {
+    let (w, h, t) = (args.width, args.height, args.threads);
+    println!("### Speed: the left eye, {t} threads over rows (medians of {} alternating frames)\n", args.frames);
+    println!(
+        "Ours: `Renderer::render` into a colour target (full Whitted shading). Embree: the same rays \
+         through `rtcIntersect1`/`rtcOccluded1`, shading nothing. ms: wall time; ratios: ours ÷ \
+         Embree's time, wall and process CPU (on a shared machine the CPU ratio is the steadier); \
+         speed: the inverse of the wall ratio; Mrays/s per core: all rays ÷ CPU time.\n"
+    );
+    println!(
+        "| scene | spheres | W×H | rays | ours ms | Embree ms | ours ÷ Embree | CPU: ours ÷ Embree | our speed | \
+         ours Mrays/s/core | Embree Mrays/s/core | 1 thread: ours ms | 1 thread: Embree ms | 1 thread: ours ÷ Embree |"
+    );
+    println!("|---|---:|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for r in rows {
+        let (o, e) = (&r.ours_ms, &r.embree_ms);
+        println!(
+            "| {} | {} | {w}×{h} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            r.name,
+            count(r.spheres as u64),
+            count(r.ours.total()),
+            fmt_ms(o.wall[0]),
+            fmt_ms(e.wall[0]),
+            ratio(o.wall[0], e.wall[0]),
+            ratio(o.cpu[0], e.cpu[0]),
+            inverse(o.wall[0], e.wall[0]),
+            rate(r.ours, o.cpu[0]),
+            rate(r.embree, e.cpu[0]),
+            fmt_ms(o.wall[1]),
+            fmt_ms(e.wall[1]),
+            ratio(o.wall[1], e.wall[1]),
+        );
+    }
+    println!("\n### Rays: ours against Embree's, and where the trees differ\n");
+    println!(
+        "Shadow and mirror rays as each side counted them (one primary ray per pixel on both). Then \
+         pixel by pixel, our plain path (`Tracer::trace_pixel`, the renderer's rays bit for bit) \
+         against Embree's: pixels whose primary rays hit different spheres, pixels whose ray \
+         counts differ, rays in one tree and not the other (Σ|Δ| over pixels and kinds), and \
+         Embree secondary rays whose first hit was the sphere they leave (ours never tests it).\n"
+    );
+    println!(
+        "| scene | primary | shadow: ours | shadow: Embree | mirror: ours | mirror: Embree | all rays, Embree vs ours | \
+         pixels, first hit differs | pixels, ray tree differs | rays differing | Embree self-hits |"
+    );
+    println!("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|");
+    for r in rows {
+        let px = u64::from(w) * u64::from(h);
+        let [first, tree, rays, selfh] = r.mismatch.map_or_else(
+            || ["–".to_string(), "–".into(), "–".into(), "–".into()],
+            |m| {
+                [
+                    format!("{} ({})", m.first_hit, share(m.first_hit, px)),
+                    format!("{} ({})", m.tree, share(m.tree, px)),
+                    format!("{} ({})", m.rays, share(m.rays, r.ours.total())),
+                    m.self_hits.to_string(),
+                ]
+            },
+        );
+        println!(
+            "| {} | {} | {} | {} | {} | {} | {} | {first} | {tree} | {rays} | {selfh} |",
+            r.name,
+            count(r.ours.primary),
+            count(r.ours.shadow),
+            count(r.embree.shadow),
+            count(r.ours.reflection),
+            count(r.embree.reflection),
+            signed_share(r.ours.total(), r.embree.total()),
+        );
+    }
+    println!("\n### Build and memory\n");
+    println!(
+        "Ours: `Tracer::new` (snapshot and aggregate) and the resident memory's growth over it. \
+         Embree: the sphere buffer, geometry and scene commit; the bytes its memory monitor \
+         counted, and the resident memory's growth.\n"
+    );
+    println!("| scene | spheres | ours build ms | ours MB (RSS Δ) | Embree build ms | Embree MB (monitor) | Embree MB (RSS Δ) |");
+    println!("|---|---:|---:|---:|---:|---:|---:|");
+    for r in rows {
+        println!(
+            "| {} | {} | {} | {:.2} | {} | {:.2} | {:.2} |",
+            r.name,
+            count(r.spheres as u64),
+            fmt_ms(Some(r.ours_build_ms)),
+            r.ours_bytes as f64 / 1e6,
+            fmt_ms(Some(r.embree_build_ms)),
+            r.embree_bytes_monitor as f64 / 1e6,
+            r.embree_bytes_rss as f64 / 1e6,
+        );
+    }
+}
+
+/// Appends `row`'s medians to the CSV file at `path` (a header first when it is new).
+fn append_csv(path: &std::path::Path, row: &Row, args: &Args) -> std::io::Result<()> {
+    use std::io::Write;
+    let new = !path.exists();
+    let mut f = std::fs::OpenOptions::new().create(true).append(true).open(path)?;
+    if new {
+        writeln!(
+            f,
+            "scene,spheres,width,height,threads,ours_rays,embree_rays,ours_ms,embree_ms,ours_cpu_ms,embree_cpu_ms,\
+             ours_ms_1,embree_ms_1,ours_build_ms,ours_mb,embree_build_ms,embree_mb,first_hit_differs,tree_differs,rays_differ"
+        )?;
+    }
+    let o = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.3}"));
+    let m = row.mismatch.unwrap_or_default();
+    writeln!(
+        f,
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{:.3},{:.3},{:.3},{:.3},{},{},{}",
+        row.name,
+        row.spheres,
+        args.width,
+        args.height,
+        args.threads,
+        row.ours.total(),
+        row.embree.total(),
+        o(row.ours_ms.wall[0]),
+        o(row.embree_ms.wall[0]),
+        o(row.ours_ms.cpu[0]),
+        o(row.embree_ms.cpu[0]),
+        o(row.ours_ms.wall[1]),
+        o(row.embree_ms.wall[1]),
+        row.ours_build_ms,
+        row.ours_bytes as f64 / 1e6,
+        row.embree_build_ms,
+        row.embree_bytes_monitor as f64 / 1e6,
+        m.first_hit,
+        m.tree,
+        m.rays
+    )
+}
+
+fn load_average() -> String {
+    std::fs::read_to_string("/proc/loadavg").ok().and_then(|s| s.split_whitespace().next().map(String::from)).unwrap_or_default()
+}
+
+fn cpu_model() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| s.lines().find(|l| l.starts_with("model name")).and_then(|l| l.split(':').nth(1)).map(|m| m.trim().to_string()))
+        .unwrap_or_default()
+}
+
+fn git_commit() -> String {
+    std::process::Command::new("git")
+        .args(["rev-parse", "--short", "HEAD"])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .ok()
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+        .unwrap_or_default()
+}
+
+fn main() -> ExitCode {
+    let args = match parse_args() {
+        Ok(a) => a,
+        Err(e) => {
+            eprintln!("{e}");
+            return ExitCode::from(2);
+        }
+    };
+    let pool = |n| rayon::ThreadPoolBuilder::new().num_threads(n).build().expect("a thread pool");
+    let (multi, single) = (pool(args.threads), pool(1));
+    let device = match Device::new(&format!("threads={}{}", args.threads, std::env::var("EMBREE_CONFIG").map(|c| format!(",{c}")).unwrap_or_default())) {
+        Ok(d) => d,
+        Err(e) => {
+            eprintln!("{e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let load_before = load_average();
+    let mut rows = Vec::new();
+    for path in &args.scenes {
+        let scene = match Scene::load(path) {
+            Ok(s) => s,
+            Err(e) => {
+                eprintln!("{e}");
+                return ExitCode::from(2);
+            }
+        };
+        let name = path.file_name().map_or_else(|| path.display().to_string(), |f| f.to_string_lossy().into_owned());
+        rows.push(run(name, &scene, &args, &device, (&multi, &single)));
+    }
+    for &n in &args.spheres {
+        let t = Instant::now();
+        let scene = field::field(n, args.seed);
+        eprintln!("[field {}] generated in {:.0} ms", spheres_label(n), ms(t));
+        rows.push(run(format!("field {}", spheres_label(n)), &scene, &args, &device, (&multi, &single)));
+    }
+    let v = device.version();
+    println!("## stereotrace against Embree {}.{}.{}, same machine, same rays\n", v / 10000, v / 100 % 100, v % 100);
+    println!(
+        "- commit `{}`; CPU {} ({} logical); {} rayon threads; stereotrace lanes {}; Embree build quality {:?}, secondary tnear {}, Embree's rows with FTZ/DAZ {}",
+        git_commit(),
+        cpu_model(),
+        std::thread::available_parallelism().map_or(0, std::num::NonZero::get),
+        args.threads,
+        tracer::lane_width(),
+        args.quality,
+        args.tnear,
+        if args.ftz { "on" } else { "off" }
+    );
+    println!("- load average (1 min) {load_before} before the first scene, {} after the last", load_average());
+    println!(
+        "- reflection depth: {}; generated fields: seed {}, `benches/embree-anchor/src/field.rs`\n",
+        args.depth.map_or("the scene's".into(), |d| d.to_string()),
+        args.seed
+    );
+    print_tables(&rows, &args);
+    ExitCode::SUCCESS
+}
