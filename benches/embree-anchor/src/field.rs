@@ -77,5 +77,6 @@ pub fn field(n: usize, seed: u64) -> Scene {
             Light { position: Vec3::new(25.0, 10.0, 5.0), color: Vec3::new(0.35, 0.35, 0.45) },
         ],
         spheres,
+        structures: Vec::new(),
     }
 }

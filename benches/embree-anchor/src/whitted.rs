@@ -71,7 +71,7 @@ impl<'a> Whitted<'a> {
         Self {
             spheres,
             centers: s.centers(),
-            reflective: s.materials().iter().map(|m| m.reflectivity > 0.0).collect(),
+            reflective: (0..s.centers().len()).map(|k| s.material(k).reflectivity > 0.0).collect(),
             lights: s.lights(),
             max_depth: tracer.settings().max_depth,
             tnear,

@@ -75,7 +75,7 @@ pub(crate) fn spawn_bound(reach: f32) -> f32 {
 /// A secondary ray leaving the surface point `p` (unit outward normal `n`) along `dir`.
 ///
 /// Every shadow and reflection ray goes through here. The origin moves along ±n, to the side
-/// `dir` leaves towards ([`leaves_outwards`]), by 16 ULPs of p's largest coordinate outwards
+/// `dir` leaves towards (`leaves_outwards`), by 16 ULPs of p's largest coordinate outwards
 /// (`SPAWN_ULPS_OUT`) or 128 inwards (`SPAWN_ULPS_IN`): Wächter and Binder's integer-ULP
 /// offset (Ray Tracing Gems ch. 6), scaled by the largest coordinate. An outward ray is never
 /// tested against its own sphere, so the offset need not clear it; an inward ray starts

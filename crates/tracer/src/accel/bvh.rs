@@ -58,6 +58,15 @@ const STACK: usize = (WIDTH - 1) * 56 + 1;
 const SHALLOW_DEPTH: usize = 6;
 /// Stack for trees up to [`SHALLOW_DEPTH`] levels.
 const SHALLOW_STACK: usize = (WIDTH - 1) * SHALLOW_DEPTH + 1;
+/// Deepest tree traversed inline with the medium stack [`MEDIUM_STACK`]: millions of
+/// spheres (a virus capsid's atoms) are 8 to 10 levels deep.
+const MEDIUM_DEPTH: usize = 12;
+/// Stack for trees up to [`MEDIUM_DEPTH`] levels.
+const MEDIUM_STACK: usize = (WIDTH - 1) * MEDIUM_DEPTH + 1;
+/// Spheres up to which the build keeps its scratch (the binary tree, the item list) from
+/// frame to frame, so that a scene whose spheres move rebuilds without allocating; a larger
+/// scene is still and built once, and gives the memory back.
+const KEEP_SCRATCH: usize = 1 << 16;
 
 /// A node of the traversed tree: up to eight children, their boxes in SIMD lanes.
 #[derive(Clone, Copy, Debug)]
@@ -121,8 +130,6 @@ pub(crate) struct Bvh {
     items: Vec<u32>,
     /// Levels of 8-wide nodes on the longest path from the root (0 unless `Root::Node`).
     depth: usize,
-    /// For each sphere id, its leaf and lane.
-    slots: Vec<(u32, u32)>,
     /// Scratch: the binary build tree.
     bin: Vec<BinNode>,
 }
@@ -203,9 +210,12 @@ impl Bvh {
             let ray = (splat3(simd, ray.origin), splat3(simd, ray.dir));
             leaf.hits(simd, ray, base, f32::INFINITY).0.as_slice()[lane - base]
         }
-        let (leaf, lane) = self.slots[k as usize];
-        let leaf = &self.leaves[leaf as usize];
-        let t = dispatch!(crate::simd::level(), simd => lane_t(simd, leaf, ray, lane as usize));
+        let (leaf, lane) = self
+            .leaves
+            .iter()
+            .find_map(|leaf| leaf.ids.iter().position(|&id| id == k).map(|lane| (leaf, lane)))
+            .expect("every sphere is in a leaf");
+        let t = dispatch!(crate::simd::level(), simd => lane_t(simd, leaf, ray, lane));
         t.is_finite().then_some(t)
     }
 
@@ -264,6 +274,8 @@ impl Bvh {
     pub(crate) fn intersect_in<S: Simd>(&self, simd: S, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
         if self.depth <= SHALLOW_DEPTH {
             self.intersect_with::<S, SHALLOW_STACK>(simd, ray, t_max, skip)
+        } else if self.depth <= MEDIUM_DEPTH {
+            self.intersect_with::<S, MEDIUM_STACK>(simd, ray, t_max, skip)
         } else {
             self.intersect_deep(ray, t_max, skip)
         }
@@ -333,14 +345,32 @@ impl Bvh {
     }
 
     /// Whether any sphere other than `skip` blocks the ray before `t_max` (early exit).
+    #[cfg(test)]
     pub(crate) fn occluded(&self, ray: &Ray, t_max: f32, skip: u32) -> bool {
         dispatch!(crate::simd::level(), simd => simd.vectorize(
             #[inline(always)]
-            || if self.depth <= SHALLOW_DEPTH {
-                self.occluded_with::<_, SHALLOW_STACK>(simd, ray, t_max, skip)
-            } else {
-                self.occluded_with::<_, STACK>(simd, ray, t_max, skip)
-            },
+            || self.occluded_in(simd, ray, t_max, skip),
+        ))
+    }
+
+    /// [`Bvh::occluded`] inside a function dispatched at `simd`'s level (a lane kernel).
+    #[inline(always)]
+    pub(crate) fn occluded_in<S: Simd>(&self, simd: S, ray: &Ray, t_max: f32, skip: u32) -> bool {
+        if self.depth <= SHALLOW_DEPTH {
+            self.occluded_with::<S, SHALLOW_STACK>(simd, ray, t_max, skip)
+        } else if self.depth <= MEDIUM_DEPTH {
+            self.occluded_with::<S, MEDIUM_STACK>(simd, ray, t_max, skip)
+        } else {
+            self.occluded_deep(ray, t_max, skip)
+        }
+    }
+
+    /// [`Bvh::occluded`] of a tree deeper than [`MEDIUM_DEPTH`], out of line.
+    #[inline(never)]
+    fn occluded_deep(&self, ray: &Ray, t_max: f32, skip: u32) -> bool {
+        dispatch!(crate::simd::level(), simd => simd.vectorize(
+            #[inline(always)]
+            || self.occluded_with::<_, STACK>(simd, ray, t_max, skip),
         ))
     }
 
@@ -477,6 +507,17 @@ mod tests {
             let deep = bvh.intersect_deep(&ray, f32::INFINITY, NO_OBJECT);
             assert_eq!(deep.map(|h| (h.t.to_bits(), h.object)), want.map(|h| (h.t.to_bits(), h.object)), "ray {k}");
             assert_eq!(bvh.occluded(&ray, 1e30, NO_OBJECT), want.is_some(), "ray {k}");
+            assert_eq!(bvh.occluded_deep(&ray, 1e30, NO_OBJECT), want.is_some(), "ray {k}: the long stack");
+            // The medium stack's, which trees deeper than `SHALLOW_DEPTH` take up to
+            // `MEDIUM_DEPTH` levels.
+            if bvh.depth <= MEDIUM_DEPTH {
+                let (hit, blocked) = dispatch!(crate::simd::level(), simd => simd.vectorize(|| (
+                    bvh.intersect_with::<_, MEDIUM_STACK>(simd, &ray, f32::INFINITY, NO_OBJECT),
+                    bvh.occluded_with::<_, MEDIUM_STACK>(simd, &ray, 1e30, NO_OBJECT),
+                )));
+                let key = |h: Option<Hit>| h.map(|h| (h.t.to_bits(), h.object));
+                assert_eq!((key(hit), blocked), (key(want), want.is_some()), "ray {k}: the medium stack");
+            }
         }
     }
 

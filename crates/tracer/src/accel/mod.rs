@@ -168,7 +168,7 @@ impl Aggregate {
             }
             Origin::Light(LightRay { cell: None, skip }) => skip,
         };
-        self.bvh.occluded(ray, t_max, skip)
+        self.bvh.occluded_in(simd, ray, t_max, skip)
     }
 
     /// The origin of a shadow ray towards light `k` (at `light`) from the point `p` of

@@ -4,7 +4,7 @@
 
 use glam::Vec3;
 
-use super::{leaf_link, Bvh, Leaf, Node, Root, SAH_LEVELS, WIDTH};
+use super::{leaf_link, Bvh, Leaf, Node, Root, KEEP_SCRATCH, SAH_LEVELS, WIDTH};
 
 /// A node of the binary build tree: a box, and either two children (`count == 0`: `first`
 /// and `first + 1`) or a leaf (`count` > 0 spheres), `leaves[first]`.
@@ -92,8 +92,6 @@ impl Bvh {
         self.bin.clear();
         self.depth = 0;
         self.items.extend(0..centers.len() as u32);
-        self.slots.clear();
-        self.slots.resize(centers.len(), (0, 0));
         if centers.is_empty() {
             self.root = Root::Empty;
             return;
@@ -107,6 +105,9 @@ impl Bvh {
         } else {
             self.root = Root::Node;
             self.collapse(0, 1);
+        }
+        if centers.len() > KEEP_SCRATCH {
+            (self.bin, self.items) = (Vec::new(), Vec::new());
         }
     }
 
@@ -130,7 +131,6 @@ impl Bvh {
                     leaf.center[a][lane] = c[a];
                 }
                 (leaf.radius[lane], leaf.ids[lane]) = (r, k);
-                self.slots[k as usize] = (first, lane as u32);
             }
             self.leaves.push(leaf);
             self.bin[index] = BinNode { min, max, first, count: items.len() as u32 };
