@@ -97,7 +97,7 @@ pub use ray::{reflect, spawn_ray, Ray};
 pub use render::{Pixels, Renderer, Target};
 pub use scene::{Light, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
 pub use shade::Shaded;
-pub use simd::{lane_width, LANES_VAR};
+pub use simd::{lane_width, level as simd_level, LANES_VAR};
 pub use snapshot::Snapshot;
 pub use sphere::{intersect_sphere, Sphere};
 pub use stats::RayCounts;
