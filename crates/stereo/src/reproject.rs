@@ -14,6 +14,7 @@ mod scanline;
 #[cfg(test)]
 mod equivalence;
 
+use fearless_simd::{dispatch, Simd};
 use rayon::prelude::*;
 use tracer::{Camera, Disparity, EyeView, Film, Tracer};
 
@@ -196,25 +197,28 @@ pub(crate) fn band_then(
         lights.resize((hi - lo) * w, GAP_LIGHTS);
         halo_src.resize(w, NO_SOURCE);
         let key_rows = object.chunks_exact_mut(w).zip(lights.chunks_exact_mut(w));
-        for (j, (object, lights)) in (lo..hi).zip(key_rows) {
-            let src = if (j0..j0 + rows).contains(&j) {
-                &mut src_band[(j - j0) * w..(j - j0 + 1) * w]
-            } else {
-                &mut halo_src[..]
-            };
-            let left_row = j * w..(j + 1) * w;
-            let row = KeyedRow {
-                left_object: &left.object[left_row.clone()],
-                left_lights: &left.lights[left_row.clone()],
-                src: &mut *src,
-                object: &mut *object,
-                lights: &mut *lights,
-            };
-            reproject_row_keyed(&left.z[left_row], p.disparity, (j * w) as u32, row, targets);
-            src[w - p.strip..].fill(NO_SOURCE);
-            object[w - p.strip..].fill(GAP_OBJECT);
-            lights[w - p.strip..].fill(GAP_LIGHTS);
-        }
+        // One dispatch for the band's rows: the scanline kernels run inside it.
+        dispatch!(tracer::simd_level(), simd => simd.vectorize(|| {
+            for (j, (object, lights)) in (lo..hi).zip(key_rows) {
+                let src = if (j0..j0 + rows).contains(&j) {
+                    &mut src_band[(j - j0) * w..(j - j0 + 1) * w]
+                } else {
+                    &mut halo_src[..]
+                };
+                let left_row = j * w..(j + 1) * w;
+                let row = KeyedRow {
+                    left_object: &left.object[left_row.clone()],
+                    left_lights: &left.lights[left_row.clone()],
+                    src: &mut *src,
+                    object: &mut *object,
+                    lights: &mut *lights,
+                };
+                reproject_row_keyed(simd, &left.z[left_row], p.disparity, (j * w) as u32, row, targets);
+                src[w - p.strip..].fill(NO_SOURCE);
+                object[w - p.strip..].fill(GAP_OBJECT);
+                lights[w - p.strip..].fill(GAP_LIGHTS);
+            }
+        }));
         let last = hi - lo - 1;
         for (r, out) in mask_band.chunks_mut(w).enumerate() {
             // This row's index in the scratch, and its neighbours' (itself at the edges).

@@ -129,8 +129,8 @@ impl Camera {
 /// e·d/(d+z) is how much less than a point at infinity (which shifts by exactly e) a point
 /// at depth z shifts. Its users combine it in their own order, each the order it has always
 /// had, so that every image stays bit for bit the same: the reprojection computes a left
-/// pixel centre's landing place as (i + ½ + e) − e·d/(d+z), four lanes at a time, and
-/// [`Disparity::at`] gives e·(1 − d/(d+z)).
+/// pixel centre's landing place as (i + ½ + e) − e·d/(d+z), in SIMD lanes
+/// ([`Disparity::shortfall_in`]), and [`Disparity::at`] gives e·(1 − d/(d+z)).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Disparity {
     /// e in the caller's unit: the shift of a point at infinity.
@@ -156,15 +156,28 @@ impl Disparity {
     }
 
     /// e·d/(d+z): how much less than a point at infinity a point at depth `z` shifts (0 for
-    /// z = +∞), in one lane (`f32`) or in SIMD lanes (`f32x4`), with the same operations in
-    /// the same order, so that a lane gives bit for bit the scalar answer.
+    /// z = +∞), in one lane: [`Disparity::shortfall_in`] of `f32`.
     #[inline]
     #[must_use]
-    pub fn shortfall<T>(self, z: T) -> T
+    pub fn shortfall(self, z: f32) -> f32 {
+        self.shortfall_in(z, |c| c)
+    }
+
+    /// [`Disparity::shortfall`] in any lanes: `f32`, or SIMD lanes, with `splat` making a
+    /// lane value of a constant (`fearless_simd`'s splat needs its instruction-set token,
+    /// so its vectors have no `From<f32>`). The same operations in the same order, so that
+    /// a lane gives bit for bit the scalar answer.
+    #[expect(
+        clippy::inline_always,
+        reason = "called inside a kernel dispatched for an instruction set: out of line, its lanes would lose those target features"
+    )]
+    #[inline(always)]
+    #[must_use]
+    pub fn shortfall_in<T>(self, z: T, splat: impl Fn(f32) -> T) -> T
     where
-        T: From<f32> + Add<Output = T> + Div<Output = T>,
+        T: Add<Output = T> + Div<Output = T>,
     {
-        T::from(self.scale * self.distance) / (T::from(self.distance) + z)
+        splat(self.scale * self.distance) / (splat(self.distance) + z)
     }
 }
 

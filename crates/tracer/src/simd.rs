@@ -27,6 +27,7 @@ use glam::Vec3;
 pub const LANES_VAR: &str = "STEREOTRACE_LANES";
 
 /// The level the kernels run at, and its lane width.
+#[inline]
 fn chosen() -> (Level, usize) {
     static CHOSEN: OnceLock<(Level, usize)> = OnceLock::new();
     *CHOSEN.get_or_init(|| {
@@ -38,8 +39,10 @@ fn chosen() -> (Level, usize) {
     })
 }
 
-/// The level the lane kernels run at: the one instruction-set choice of the process, for
-/// other crates' kernels too (`fearless_simd::dispatch!(tracer::simd_level(), …)`).
+/// The level the lane kernels run at (the instruction set of [`lane_width`]'s lanes). Other
+/// crates' kernels (stereo's scanline reprojection) dispatch on it too, so that one process
+/// runs one instruction set and `STEREOTRACE_LANES=4` reaches them as well.
+#[inline]
 #[must_use]
 pub fn level() -> Level {
     chosen().0

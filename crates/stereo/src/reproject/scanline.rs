@@ -29,18 +29,33 @@
 //! - the paper reprojects the left *colour*; here a reprojected pixel only names its source
 //!   left pixel, and the mode decides what to reuse from its visible-surface record.
 //!
-//! How it runs, per row: first every target at once, four lanes at a time (the division is
-//! most of the arithmetic); then the scan, which writes runs of targets that go up one by
+//! How it runs, per row: first every target at once, in SIMD lanes (the division is most of
+//! the arithmetic); then the scan, which writes runs of targets that go up one by
 //! one a block of four pixels at a time and takes the rules above pixel by pixel only where
 //! a run breaks (see `scan` for why that changes nothing). For the frame's pass the scan
 //! also carries each source's object id and light bits, read in scanline order alongside
 //! its target, into the right row's key planes for the classification (`classify.rs`), so
 //! no second pass gathers them by source index.
+//!
+//! SIMD: `fearless_simd`, dispatched at run time on the tracer's level
+//! ([`tracer::simd_level`], so `STEREOTRACE_LANES=4` reaches it too): the targets in the
+//! native vector (8 lanes with AVX2, 4 otherwise), the scan's blocks in `i32x4`/`u32x4`. It
+//! replaced `wide` (SSE2, fixed at compile time) as it is not slower. The rows of stereo's
+//! `reproject_rows_1280x720_one_thread` bench, timed pass by pass against the `wide` version
+//! in 10 alternating runs on a shared 2-core AMD EPYC, took a median 442 µs against 596 µs
+//! with AVX2 (×0.74) and 608 µs against 603 µs with `STEREOTRACE_LANES=4` (×1.01, within
+//! noise); criterion's own medians on that loaded machine scattered too widely to tell the
+//! 4-lane versions apart.
+
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
 
 use std::ops::{Add, Div, Range, Sub};
 
+use fearless_simd::{dispatch, i32x4, prelude::*, u32x4, Simd, SimdCvtTruncate};
 use tracer::Disparity;
-use wide::{f32x4, i32x4, u32x4};
 
 use crate::classify::{GAP_LIGHTS, GAP_OBJECT};
 
@@ -59,8 +74,10 @@ pub const NO_SOURCE: u32 = u32::MAX;
 /// If `z` and `src` differ in length.
 pub fn reproject_row(z: &[f32], disparity: Disparity, row_base: u32, src: &mut [u32], targets: &mut Vec<i32>) {
     assert_eq!(z.len(), src.len(), "a depth row and its source row differ in length");
-    row_targets(z, disparity, targets);
-    scan(targets, &mut Sources { src, row_base });
+    dispatch!(tracer::simd_level(), simd => simd.vectorize(|| {
+        row_targets(simd, z, disparity, targets);
+        scan(targets, &mut Sources { simd, src, row_base });
+    }));
 }
 
 /// The left row's keys (see `classify.rs`) and the right row's planes they are carried to.
@@ -80,8 +97,11 @@ pub(super) struct KeyedRow<'a> {
 /// [`reproject_row`] that also carries each source's classification key, read in scanline
 /// order along with its target rather than gathered afterwards by source index: on return
 /// `row.object[j]` and `row.lights[j]` are the left pixel's that `row.src[j]` names, or
-/// ([`GAP_OBJECT`], [`GAP_LIGHTS`]) where it is [`NO_SOURCE`].
-pub(super) fn reproject_row_keyed(
+/// ([`GAP_OBJECT`], [`GAP_LIGHTS`]) where it is [`NO_SOURCE`]. Its caller dispatches, once
+/// for a band of rows, and runs it inside `simd.vectorize`.
+#[inline(always)]
+pub(super) fn reproject_row_keyed<S: Simd>(
+    simd: S,
     z: &[f32],
     disparity: Disparity,
     row_base: u32,
@@ -95,54 +115,71 @@ pub(super) fn reproject_row_keyed(
             .all(|&n| n == w),
         "a keyed row's planes differ in length from its depth row"
     );
-    row_targets(z, disparity, targets);
-    scan(targets, &mut Keyed { row, row_base });
+    row_targets(simd, z, disparity, targets);
+    scan(targets, &mut Keyed { simd, row, row_base });
 }
 
 /// Where the centre of left pixel `i` at depth `z` lands in the right row, in pixels, in
-/// one lane (`f32`) or in SIMD lanes (`f32x4`) with the same operations in the same order:
-/// x = i + ½ + e·z/(d+z) = (i + ½ + e) − e·d/(d+z), the disparity's shortfall, which is 0
-/// for z = +∞, so a miss shifts by exactly e rather than ∞/∞.
-#[inline]
-fn landing<T>(i: T, z: T, disparity: Disparity) -> T
+/// one lane (`f32`) or in SIMD lanes (`splat` makes a lane value of a constant) with the
+/// same operations in the same order: x = i + ½ + e·z/(d+z) = (i + ½ + e) − e·d/(d+z), the
+/// disparity's shortfall, which is 0 for z = +∞, so a miss shifts by exactly e rather than
+/// ∞/∞.
+#[inline(always)]
+fn landing<T>(i: T, z: T, disparity: Disparity, splat: impl Fn(f32) -> T) -> T
 where
-    T: From<f32> + Add<Output = T> + Sub<Output = T> + Div<Output = T>,
+    T: Add<Output = T> + Sub<Output = T> + Div<Output = T>,
 {
-    (i + T::from(0.5 + disparity.scale)) - disparity.shortfall(z)
+    (i + splat(0.5 + disparity.scale)) - disparity.shortfall_in(z, &splat)
 }
 
 /// The target right pixel of every left pixel of a row, into `targets`: j = ⌊x⌋ of its
 /// [`landing`] x, clamped to [−1, W] (the paper's M for targets past the right edge; −1
-/// for targets left of the image, which are dropped).
-fn row_targets(z: &[f32], disparity: Disparity, targets: &mut Vec<i32>) {
+/// for targets left of the image, which are dropped). In the level's native vector: 8 lanes
+/// with AVX2, 4 otherwise.
+#[inline(always)]
+fn row_targets<S: Simd>(simd: S, z: &[f32], disparity: Disparity, targets: &mut Vec<i32>) {
+    row_targets_in::<S, S::f32s, S::i32s>(simd, z, disparity, targets);
+}
+
+/// Lane l holds l, for up to 16 lanes (a constant to load, not lanes to write one by one).
+const LANE_INDEX: [f32; 16] = [0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0, 8.0, 9.0, 10.0, 11.0, 12.0, 13.0, 14.0, 15.0];
+
+/// [`row_targets`] in lanes of `V` (and `I`, the integers of as many lanes).
+#[inline(always)]
+fn row_targets_in<S, V, I>(simd: S, z: &[f32], disparity: Disparity, targets: &mut Vec<i32>)
+where
+    S: Simd,
+    V: SimdFloat<S, Element = f32>,
+    I: SimdInt<S, Element = i32> + SimdCvtTruncate<V>,
+{
     let w = z.len() as i32;
     let target = |i: usize, zi: f32| {
-        let x = landing(i as f32, zi, disparity).clamp(-1.0, w as f32);
+        let x = landing(i as f32, zi, disparity, |c| c).clamp(-1.0, w as f32);
         // ⌊x⌋ for x ≥ −1 is a truncation of x + 1, minus 1: no libm floorf.
         (x + 1.0) as i32 - 1
     };
     // Every entry is overwritten: no need to clear.
     targets.resize(z.len(), 0);
-    // Four at a time in SIMD lanes (the same operations in the same order as `target`). The
-    // clamp's bounds are never NaN, so `fast_max` and `fast_min` (SSE's maxps and minps) give
-    // exactly what `max` and `min` give, which only add a NaN test of the bound.
-    let lane = f32x4::new([0.0, 1.0, 2.0, 3.0]);
-    let (lo, hi) = (f32x4::splat(-1.0), f32x4::splat(w as f32));
-    let one = f32x4::splat(1.0);
-    let whole = z.len() / 4 * 4;
-    for (c, (zs, ts)) in z[..whole].chunks_exact(4).zip(targets[..whole].chunks_exact_mut(4)).enumerate() {
-        let i = f32x4::splat((c * 4) as f32) + lane;
-        let zv = f32x4::new([zs[0], zs[1], zs[2], zs[3]]);
-        let x = landing(i, zv, disparity).fast_max(lo).fast_min(hi);
-        let t = (x + one).fast_trunc_int() - i32x4::splat(1);
-        ts.copy_from_slice(t.as_array());
+    // A vector at a time (the same operations in the same order as `target`). The clamp's
+    // bounds are never NaN, so `max` then `min` (maxps and minps on x86) give what `clamp`
+    // gives for every x, and a NaN depth gets the target −1 either way; the truncation
+    // (cvttps2dq) is exact, x + 1 being in [0, W + 1].
+    let n = V::LEN;
+    let lane = V::from_slice(simd, &LANE_INDEX[..n]);
+    let (lo, hi) = (V::splat(simd, -1.0), V::splat(simd, w as f32));
+    let whole = z.len() / n * n;
+    for (c, (zs, ts)) in z[..whole].chunks_exact(n).zip(targets[..whole].chunks_exact_mut(n)).enumerate() {
+        let i = V::splat(simd, (c * n) as f32) + lane;
+        let x = landing(i, V::from_slice(simd, zs), disparity, |c| V::splat(simd, c)).max(lo).min(hi);
+        let t = I::truncate_from(x + 1.0) - 1;
+        t.store_slice(ts);
     }
     for i in whole..z.len() {
         targets[i] = target(i, z[i]);
     }
 }
 
-/// Pixels per block of the scan's fast path: one SSE2 vector of 32-bit lanes.
+/// Pixels per block of the scan's fast path: one 128-bit vector of 32-bit lanes.
 const BLOCK: usize = 4;
 
 /// Where the scan writes: the source map alone, or the source map and the keys. `j` is a
@@ -181,6 +218,7 @@ trait RowSink {
 /// lands on p or jumps over it from below (a gap fill over p); if none does, the scanline's
 /// closing fill covers p. So the last write to every pixel is the one the per-pixel rules
 /// make, in the same order.
+#[inline(always)]
 fn scan(targets: &[i32], sink: &mut impl RowSink) {
     let (n, w) = (targets.len(), sink.width() as i32);
     debug_assert_eq!(n, sink.width(), "a row of targets and its sink differ in width");
@@ -226,78 +264,89 @@ const LANES: [i32; BLOCK] = [0, 1, 2, 3];
 const SOURCE_LANES: [u32; BLOCK] = [0, 1, 2, 3];
 
 /// How many of a block's `targets` (from the first) equal `expected`'s lanes.
-#[inline]
-fn continuing(targets: &[i32], expected: i32x4) -> usize {
-    let t = i32x4::new([targets[0], targets[1], targets[2], targets[3]]);
-    (!t.simd_eq(expected).to_bitmask()).trailing_zeros().min(BLOCK as u32) as usize
+#[inline(always)]
+fn continuing<S: Simd>(simd: S, targets: &[i32], expected: i32x4<S>) -> usize {
+    let t = i32x4::simd_from(simd, [targets[0], targets[1], targets[2], targets[3]]);
+    (!(t.simd_eq(expected).to_bitmask() as u32)).trailing_zeros().min(BLOCK as u32) as usize
 }
 
 /// The length in whole blocks of the longest run from left pixel `i` to right pixel `j`
 /// that fits in a row of `targets.len()` pixels.
-#[inline]
+#[inline(always)]
 fn whole_blocks(targets: &[i32], j: usize, i: usize) -> usize {
     let n = targets.len();
     (n - j).min(n - i) / BLOCK * BLOCK
 }
 
+/// The first block of a run from left pixel `i` to right pixel `j`: the targets it expects,
+/// and the sources it writes.
+#[inline(always)]
+fn first_block<S: Simd>(simd: S, j: usize, source: u32) -> (i32x4<S>, u32x4<S>) {
+    (
+        i32x4::splat(simd, j as i32) + i32x4::from_slice(simd, &LANES),
+        u32x4::splat(simd, source) + u32x4::from_slice(simd, &SOURCE_LANES),
+    )
+}
+
 /// Writes the source map only.
-struct Sources<'a> {
+struct Sources<'a, S> {
+    simd: S,
     src: &'a mut [u32],
     row_base: u32,
 }
 
-impl RowSink for Sources<'_> {
+impl<S: Simd> RowSink for Sources<'_, S> {
     fn width(&self) -> usize {
         self.src.len()
     }
 
-    #[inline]
+    #[inline(always)]
     fn put(&mut self, j: usize, i: usize) {
         self.src[j] = self.row_base + i as u32;
     }
 
-    #[inline]
+    #[inline(always)]
     fn put_run(&mut self, j: usize, i: usize, targets: &[i32]) -> usize {
         let len = whole_blocks(targets, j, i);
-        let mut expected = i32x4::splat(j as i32) + i32x4::new(LANES);
-        let mut source = u32x4::splat(self.row_base + i as u32) + u32x4::new(SOURCE_LANES);
+        let (mut expected, mut source) = first_block(self.simd, j, self.row_base + i as u32);
         let mut run = 0;
         for (t, src) in targets[i..i + len].chunks_exact(BLOCK).zip(self.src[j..j + len].chunks_exact_mut(BLOCK)) {
-            src.copy_from_slice(source.as_array());
-            let k = continuing(t, expected);
+            src.copy_from_slice(source.as_slice());
+            let k = continuing(self.simd, t, expected);
             run += k;
             if k < BLOCK {
                 break;
             }
-            expected += i32x4::splat(BLOCK as i32);
-            source += u32x4::splat(BLOCK as u32);
+            expected += BLOCK as i32;
+            source += BLOCK as u32;
         }
         run
     }
 
-    #[inline]
+    #[inline(always)]
     fn gap(&mut self, range: Range<usize>) {
         self.src[range].fill(NO_SOURCE);
     }
 
-    #[inline]
+    #[inline(always)]
     fn gap_block(&mut self, j: usize) {
         self.src[j..j + BLOCK].copy_from_slice(&[NO_SOURCE; BLOCK]);
     }
 }
 
 /// Writes the source map and carries the keys.
-struct Keyed<'a> {
+struct Keyed<'a, S> {
+    simd: S,
     row: KeyedRow<'a>,
     row_base: u32,
 }
 
-impl RowSink for Keyed<'_> {
+impl<S: Simd> RowSink for Keyed<'_, S> {
     fn width(&self) -> usize {
         self.row.src.len()
     }
 
-    #[inline]
+    #[inline(always)]
     fn put(&mut self, j: usize, i: usize) {
         let r = &mut self.row;
         r.src[j] = self.row_base + i as u32;
@@ -307,12 +356,11 @@ impl RowSink for Keyed<'_> {
 
     /// [`Sources`]' loop with the keys copied in the same blocks. Kept fused on purpose: a
     /// shared source loop followed by a separate key copy measured 10–20 % slower.
-    #[inline]
+    #[inline(always)]
     fn put_run(&mut self, j: usize, i: usize, targets: &[i32]) -> usize {
         let r = &mut self.row;
         let len = whole_blocks(targets, j, i);
-        let mut expected = i32x4::splat(j as i32) + i32x4::new(LANES);
-        let mut source = u32x4::splat(self.row_base + i as u32) + u32x4::new(SOURCE_LANES);
+        let (mut expected, mut source) = first_block(self.simd, j, self.row_base + i as u32);
         let mut run = 0;
         let blocks = targets[i..i + len]
             .chunks_exact(BLOCK)
@@ -320,21 +368,21 @@ impl RowSink for Keyed<'_> {
             .zip(r.object[j..j + len].chunks_exact_mut(BLOCK).zip(r.lights[j..j + len].chunks_exact_mut(BLOCK)))
             .zip(r.left_object[i..i + len].chunks_exact(BLOCK).zip(r.left_lights[i..i + len].chunks_exact(BLOCK)));
         for (((t, src), (object, lights)), (left_object, left_lights)) in blocks {
-            src.copy_from_slice(source.as_array());
+            src.copy_from_slice(source.as_slice());
             object.copy_from_slice(left_object);
             lights.copy_from_slice(left_lights);
-            let k = continuing(t, expected);
+            let k = continuing(self.simd, t, expected);
             run += k;
             if k < BLOCK {
                 break;
             }
-            expected += i32x4::splat(BLOCK as i32);
-            source += u32x4::splat(BLOCK as u32);
+            expected += BLOCK as i32;
+            source += BLOCK as u32;
         }
         run
     }
 
-    #[inline]
+    #[inline(always)]
     fn gap(&mut self, range: Range<usize>) {
         let r = &mut self.row;
         r.src[range.clone()].fill(NO_SOURCE);
@@ -342,7 +390,7 @@ impl RowSink for Keyed<'_> {
         r.lights[range].fill(GAP_LIGHTS);
     }
 
-    #[inline]
+    #[inline(always)]
     fn gap_block(&mut self, j: usize) {
         let r = &mut self.row;
         r.src[j..j + BLOCK].copy_from_slice(&[NO_SOURCE; BLOCK]);
