@@ -39,30 +39,6 @@ use crate::camera::EyeView;
 use crate::simd::{each3, nearest_root, F, U};
 use crate::surface::NO_OBJECT;
 
-/// One sphere seen from a fixed ray origin, ready to test many rays from there at once:
-/// the primary rays of an eye.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct SphereFromOrigin {
-    /// origin − centre.
-    pub(crate) oc: [f32; 3],
-    /// radius².
-    pub(crate) r2: f32,
-    /// |oc|² − radius².
-    pub(crate) c: f32,
-    /// The sphere's id.
-    pub(crate) id: u32,
-}
-
-impl SphereFromOrigin {
-    /// The sphere (`center`, `radius`) as seen from `origin`, with `spheres_t`'s operations.
-    pub(crate) fn new(origin: Vec3, center: Vec3, radius: f32, id: u32) -> Self {
-        let oc = [origin.x - center.x, origin.y - center.y, origin.z - center.z];
-        let r2 = radius * radius;
-        let c = (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2]) - r2;
-        Self { oc, r2, c, id }
-    }
-}
-
 /// Tile edge in pixels.
 pub(crate) const TILE: u32 = 8;
 
@@ -76,15 +52,18 @@ const RADIUS_MARGIN: f64 = 1e-4;
 #[derive(Clone, Debug, Default)]
 pub(crate) struct ScreenBins {
     tiles_x: u32,
-    /// Tile t's spheres are `spheres[first[t]..first[t + 1]]`, in id order.
+    /// Tile t's spheres are `spheres[first[t]..first[t + 1]]`, ids in id order.
     first: Vec<u32>,
-    spheres: Vec<SphereFromOrigin>,
-    /// Per sphere: its inclusive tile rectangle `[x0, y0, x1, y1]`, or `None` when it is
-    /// behind the eye or off screen.
-    rects: Vec<Option<[u32; 4]>>,
+    spheres: Vec<u32>,
+    /// Per sphere: its inclusive tile rectangle `[x0, y0, x1, y1]`, or [`NO_RECT`] when it
+    /// is behind the eye or off screen. (Tiles of 8 pixels: 16 bits hold any image side.)
+    rects: Vec<[u16; 4]>,
     /// Scratch: spheres placed so far in each tile.
     fill: Vec<u32>,
 }
+
+/// The tile rectangle of a sphere no primary ray can hit.
+const NO_RECT: [u16; 4] = [u16::MAX; 4];
 
 /// Inclusive range of slopes u = x/z of the lines from the origin that meet the disc of
 /// radius `r` about (a, c), for c > r.
@@ -153,9 +132,9 @@ pub(crate) fn pixel_rect(view: &EyeView, center: Vec3, radius: f32) -> Option<[u
     Some([clip(i0, w), clip(j0, h), clip(i1, w), clip(j1, h)])
 }
 
-/// The inclusive tile rectangle a sphere's primary hits can fall in, if any.
-fn tile_rect(view: &EyeView, center: Vec3, radius: f32) -> Option<[u32; 4]> {
-    pixel_rect(view, center, radius).map(|r| r.map(|x| x / TILE))
+/// The inclusive tile rectangle a sphere's primary hits can fall in, or [`NO_RECT`].
+fn tile_rect(view: &EyeView, center: Vec3, radius: f32) -> [u16; 4] {
+    pixel_rect(view, center, radius).map_or(NO_RECT, |r| r.map(|x| (x / TILE) as u16))
 }
 
 impl ScreenBins {
@@ -170,10 +149,10 @@ impl ScreenBins {
         // Counting sort of the spheres into tiles.
         self.fill.clear();
         self.fill.resize(tiles, 0);
-        for [x0, y0, x1, y1] in self.rects.iter().flatten() {
-            for ty in *y0..=*y1 {
+        for &[x0, y0, x1, y1] in self.rects.iter().filter(|&&r| r != NO_RECT) {
+            for ty in u32::from(y0)..=u32::from(y1) {
                 let row = (ty * self.tiles_x) as usize;
-                for n in &mut self.fill[row + *x0 as usize..=row + *x1 as usize] {
+                for n in &mut self.fill[row + x0 as usize..=row + x1 as usize] {
                     *n += 1;
                 }
             }
@@ -186,17 +165,14 @@ impl ScreenBins {
             total += n;
         }
         self.first.push(total);
-        let empty = SphereFromOrigin::new(Vec3::ZERO, Vec3::ZERO, 0.0, 0);
         self.spheres.clear();
-        self.spheres.resize(total as usize, empty);
+        self.spheres.resize(total as usize, 0);
         self.fill.fill(0);
-        for (k, rect) in self.rects.iter().enumerate() {
-            let Some([x0, y0, x1, y1]) = *rect else { continue };
-            let sphere = SphereFromOrigin::new(view.origin, centers[k], radii[k], k as u32);
-            for ty in y0..=y1 {
-                for tx in x0..=x1 {
+        for (k, &[x0, y0, x1, y1]) in self.rects.iter().enumerate().filter(|&(_, &r)| r != NO_RECT) {
+            for ty in u32::from(y0)..=u32::from(y1) {
+                for tx in u32::from(x0)..=u32::from(x1) {
                     let t = (ty * self.tiles_x + tx) as usize;
-                    self.spheres[(self.first[t] + self.fill[t]) as usize] = sphere;
+                    self.spheres[(self.first[t] + self.fill[t]) as usize] = k as u32;
                     self.fill[t] += 1;
                 }
             }
@@ -205,7 +181,7 @@ impl ScreenBins {
 
     /// The spheres of the tile holding pixel (i, j).
     #[inline]
-    pub(crate) fn spheres_at(&self, i: u32, j: u32) -> &[SphereFromOrigin] {
+    pub(crate) fn spheres_at(&self, i: u32, j: u32) -> &[u32] {
         let t = ((j / TILE) * self.tiles_x + i / TILE) as usize;
         &self.spheres[self.first[t] as usize..self.first[t + 1] as usize]
     }
@@ -227,16 +203,29 @@ impl ScreenBins {
         reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
     )]
     #[inline(always)]
-    pub(crate) fn hits_lanes<S: Simd>(&self, simd: S, view: &EyeView, i: u32, j: u32) -> (F<S>, U<S>, [F<S>; 3]) {
+    pub(crate) fn hits_lanes<S: Simd>(
+        &self,
+        simd: S,
+        (view, centers, radii): (&EyeView, &[Vec3], &[f32]),
+        i: u32,
+        j: u32,
+    ) -> (F<S>, U<S>, [F<S>; 3]) {
         let d = view.primary_dirs_lanes(simd, i, j);
+        let o = view.origin;
         let mut t_best = F::<S>::splat(simd, f32::INFINITY);
         let mut best = U::<S>::splat(simd, NO_OBJECT);
-        for s in self.spheres_at(i, j) {
-            let oc = each3(|a| F::<S>::splat(simd, s.oc[a]));
-            let t = nearest_root(simd, oc, d, F::<S>::splat(simd, s.r2), F::<S>::splat(simd, s.c), t_best);
+        for &k in self.spheres_at(i, j) {
+            // The sphere's terms seen from the eye, once for the lanes: `spheres_t`'s own
+            // operations, so its `t` is bit for bit every other query's.
+            let (c, r) = (centers[k as usize], radii[k as usize]);
+            let oc = [o.x - c.x, o.y - c.y, o.z - c.z];
+            let r2 = r * r;
+            let cc = (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2]) - r2;
+            let oc = each3(|a| F::<S>::splat(simd, oc[a]));
+            let t = nearest_root(simd, oc, d, F::<S>::splat(simd, r2), F::<S>::splat(simd, cc), t_best);
             let nearer = t.simd_lt(t_best);
             t_best = nearer.select(t, t_best);
-            best = nearer.select(U::<S>::splat(simd, s.id), best);
+            best = nearer.select(U::<S>::splat(simd, k), best);
         }
         (t_best, best, d)
     }
@@ -276,7 +265,7 @@ mod tests {
             for j in 0..h {
                 for i in (0..w).step_by(lanes as usize) {
                     let (t, ids, d) = fearless_simd::dispatch!(crate::simd::level(), simd => simd.vectorize(|| {
-                        let (t, ids, d) = bins.hits_lanes(simd, &view, i, j);
+                        let (t, ids, d) = bins.hits_lanes(simd, (&view, &tracer.scene.centers, &tracer.scene.radii), i, j);
                         let mut out = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
                         let n = t.as_slice().len();
                         out.0[..n].copy_from_slice(t.as_slice());
@@ -377,7 +366,8 @@ mod tests {
         let mut bins = ScreenBins::default();
         bins.build((&tracer.scene.centers, &tracer.scene.radii), &view);
         let half = (0.1f64.asin().tan() * 400.0) as u32; // ≈ 40 pixels
-        let [x0, y0, x1, y1] = bins.rects[0].expect("visible");
+        let [x0, y0, x1, y1] = bins.rects[0].map(u32::from);
+        assert_ne!(bins.rects[0], NO_RECT, "visible");
         assert_eq!(screen_bound(&view, Vec3::new(0.0, 0.0, -10.0), 1.0, 0.0), Bound::Nowhere);
         assert_eq!(screen_bound(&view, Vec3::new(5.0, 0.0, 0.5), 1.0, 0.0), Bound::Everywhere);
         assert!(x0 * TILE <= 400 - half && (x1 + 1) * TILE >= 400 + half, "{x0}..{x1}");

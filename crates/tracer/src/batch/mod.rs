@@ -62,7 +62,8 @@ impl BinnedView<'_> {
     )]
     #[inline(always)]
     pub(crate) fn hits_lanes<S: Simd>(&self, simd: S, i: u32, j: u32) -> (F<S>, U<S>, [F<S>; 3]) {
-        self.bins.hits_lanes(simd, self.view, i, j)
+        let scene = &self.tracer.scene;
+        self.bins.hits_lanes(simd, (self.view, &scene.centers, &scene.radii), i, j)
     }
 }
 
