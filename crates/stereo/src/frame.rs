@@ -132,6 +132,13 @@ impl StereoFrame {
         self.stats.reuse.reused.then_some((&self.reuse.left_retraced, &self.reuse.right_made))
     }
 
+    /// Heap bytes of the two eyes' screen bins (what grows with the scene, besides the
+    /// tracer's own: [`tracer::Tracer::memory`]).
+    #[must_use]
+    pub fn bins_memory(&self) -> usize {
+        self.left_renderer.memory() + self.right_renderer.memory()
+    }
+
     /// The last frame's statistics.
     #[must_use]
     pub fn stats(&self) -> &FrameStats {

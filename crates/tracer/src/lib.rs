@@ -105,4 +105,4 @@ pub use sphere::{intersect_sphere, Sphere};
 pub use stats::RayCounts;
 pub use structure::{read_structure, LoadOptions, StructureOptions, ATOM_MATERIAL, DEFAULT_RADIUS_SCALE};
 pub use surface::{Hit, Shading, Surface, NO_OBJECT};
-pub use tracer::Tracer;
+pub use tracer::{Tracer, TracerMemory};

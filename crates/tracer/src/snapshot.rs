@@ -29,6 +29,16 @@ pub struct Snapshot {
 }
 
 impl Snapshot {
+    /// Heap bytes held (capacities).
+    pub(crate) fn heap_bytes(&self) -> usize {
+        use crate::stats::heap;
+        heap(&self.centers)
+            + heap(&self.radii)
+            + heap(&self.material_ids)
+            + heap(&self.palette)
+            + heap(&self.exponents)
+            + heap(&self.lights)
+    }
     /// Re-resolves `scene` at time `t`, reusing the columns.
     pub(crate) fn update(&mut self, scene: &Scene, t: f32) {
         let n = scene.sphere_count();

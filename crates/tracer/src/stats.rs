@@ -44,3 +44,8 @@ impl std::iter::Sum for RayCounts {
         iter.fold(Self::default(), Add::add)
     }
 }
+
+/// Heap bytes a vector holds (its capacity, not its length).
+pub(crate) fn heap<T>(v: &Vec<T>) -> usize {
+    v.capacity() * std::mem::size_of::<T>()
+}

@@ -25,6 +25,27 @@ pub struct Tracer {
     generation: u64,
 }
 
+/// Heap bytes a [`Tracer`] holds, by part ([`Tracer::memory`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct TracerMemory {
+    /// The scene at the instant: centres, radii, material ids, palette.
+    pub snapshot: usize,
+    /// The BVH's nodes and leaves.
+    pub bvh: usize,
+    /// The lights' cube maps of sphere packets.
+    pub light_maps: usize,
+    /// The direction cones (small scenes only).
+    pub cones: usize,
+}
+
+impl TracerMemory {
+    /// All of it.
+    #[must_use]
+    pub fn total(&self) -> usize {
+        self.snapshot + self.bvh + self.light_maps + self.cones
+    }
+}
+
 /// The last generation given out; each [`Tracer::update`] takes the next.
 static GENERATIONS: AtomicU64 = AtomicU64::new(0);
 
@@ -72,6 +93,13 @@ impl Tracer {
         let eyes = [Eye::Left, Eye::Right].map(|eye| scene.camera.eye_position(eye).abs().max_element());
         let spawn_offset = spawn_bound(spheres.chain(eyes).fold(0.0, f32::max));
         self.accel.build((&s.centers, &s.radii), &s.lights, spawn_offset);
+    }
+
+    /// The heap memory this tracer holds, by part: what the scale of a scene costs.
+    #[must_use]
+    pub fn memory(&self) -> TracerMemory {
+        let [bvh, light_maps, cones] = self.accel.heap_bytes();
+        TracerMemory { snapshot: self.scene.heap_bytes(), bvh, light_maps, cones }
     }
 
     /// The scene at this instant.

@@ -202,6 +202,11 @@ struct Entry {
 }
 
 impl Bvh {
+    /// Heap bytes held (capacities).
+    pub(crate) fn heap_bytes(&self) -> usize {
+        use crate::stats::heap;
+        heap(&self.nodes) + heap(&self.leaves) + heap(&self.items) + heap(&self.bin)
+    }
     /// Hit parameter in `(0, ∞)` of the ray against sphere `k` alone (a test oracle).
     #[cfg(test)]
     pub(crate) fn intersect_one(&self, ray: &Ray, k: u32) -> Option<f32> {

@@ -48,6 +48,11 @@ pub(crate) struct Cones {
 }
 
 impl Cones {
+    /// Heap bytes held (capacities).
+    pub(crate) fn heap_bytes(&self) -> usize {
+        use crate::stats::heap;
+        heap(&self.first) + heap(&self.packets)
+    }
     /// Rebuilds for the spheres `(centers[k], radii[k])`; `spawn_offset` bounds how far a
     /// spawned ray's origin lies off its sphere.
     pub(crate) fn build(&mut self, centers: &[Vec3], radii: &[f32], spawn_offset: f32) {

@@ -58,6 +58,13 @@ fn padded(r: f32, spawn_offset: f32, q: f64) -> f64 {
     f64::from(r) * (1.0 + RADIUS_MARGIN) + f64::from(spawn_offset) + RADIUS_MARGIN * q
 }
 
+/// A lower bound on the distance from the light at `light` of the points of the sphere
+/// (`c`, `r`), padded as the cells are.
+fn near_bound(c: Vec3, r: f32, spawn_offset: f32, light: DVec3) -> f32 {
+    let q = (c.as_dvec3() - light).length();
+    round_down(q - padded(r, spawn_offset, q))
+}
+
 /// `x` as an f32 no greater than it.
 fn round_down(x: f64) -> f32 {
     let y = x as f32;
@@ -66,6 +73,16 @@ fn round_down(x: f64) -> f32 {
     } else {
         y
     }
+}
+
+/// A sphere's cells on one face of one light's cube map: the scratch of [`LightBins::build`].
+#[derive(Clone, Copy, Debug)]
+struct Rect {
+    sphere: u32,
+    /// Light × 6 + face: at most 32 lights.
+    light_face: u8,
+    /// The inclusive rectangle of cells `[u0, v0, u1, v1]` (cells fit a byte: [`RES`] ≤ 256).
+    cells: [u8; 4],
 }
 
 /// Cells along each edge of a cube face.
@@ -92,9 +109,9 @@ pub(crate) struct LightBins {
     /// in its order.
     sphere_near: Vec<f32>,
     order: Vec<u32>,
-    /// Scratch: `(light, sphere, face, [u0, v0, u1, v1], near)` for every face a sphere shows
-    /// on, nearest to its light first.
-    rects: Vec<(u32, u32, u32, [u32; 4], f32)>,
+    /// Scratch: every face a sphere shows on, nearest to its light first (12 bytes each: a
+    /// million spheres list a few million).
+    rects: Vec<Rect>,
     /// Scratch: spheres placed so far per cell.
     fill: Vec<u32>,
 }
@@ -130,6 +147,17 @@ fn cell(u: f64) -> u32 {
 }
 
 impl LightBins {
+    /// Heap bytes held (capacities).
+    pub(crate) fn heap_bytes(&self) -> usize {
+        use crate::stats::heap;
+        heap(&self.first)
+            + heap(&self.packets)
+            + heap(&self.near)
+            + heap(&self.sphere_near)
+            + heap(&self.order)
+            + heap(&self.rects)
+            + heap(&self.fill)
+    }
     /// Bins the spheres `(centers[k], radii[k])` around each light. `spawn_offset` bounds
     /// the offset of any shadow ray's origin from its surface point.
     pub(crate) fn build(&mut self, centers: &[Vec3], radii: &[f32], lights: &[Light], spawn_offset: f32) {
@@ -141,11 +169,7 @@ impl LightBins {
             self.sphere_near.clear();
             self.order.clear();
             self.order.extend(0..centers.len() as u32);
-            for (&c, &r) in centers.iter().zip(radii) {
-                let q: DVec3 = c.as_dvec3() - l;
-                let r = padded(r, spawn_offset, q.length());
-                self.sphere_near.push(round_down(q.length() - r));
-            }
+            self.sphere_near.extend(centers.iter().zip(radii).map(|(&c, &r)| near_bound(c, r, spawn_offset, l)));
             let near = &self.sphere_near;
             self.order.sort_unstable_by(|&a, &b| near[a as usize].total_cmp(&near[b as usize]).then(a.cmp(&b)));
             for &j in &self.order {
@@ -164,7 +188,8 @@ impl LightBins {
                             .map(|((u0, u1), (v0, v1))| [cell(u0), cell(v0), cell(u1), cell(v1)])
                     };
                     if let Some(rect) = rect {
-                        self.rects.push((k as u32, j, face, rect, self.sphere_near[j as usize]));
+                        let light_face = (k * 6) as u8 + face as u8;
+                        self.rects.push(Rect { sphere: j, light_face, cells: rect.map(|c| c as u8) });
                     }
                 }
             }
@@ -173,8 +198,8 @@ impl LightBins {
         let total_cells = lights.len() * CELLS;
         self.fill.clear();
         self.fill.resize(total_cells, 0);
-        for &(k, _, face, rect, _) in &self.rects {
-            for index in cells(k, face, rect) {
+        for rect in &self.rects {
+            for index in rect.cells() {
                 self.fill[index] += 1;
             }
         }
@@ -191,12 +216,15 @@ impl LightBins {
         self.near.clear();
         self.near.resize(total as usize, f32::INFINITY);
         self.fill.fill(0);
-        for &(k, j, face, rect, near) in &self.rects {
-            for index in cells(k, face, rect) {
+        for rect in &self.rects {
+            let j = rect.sphere as usize;
+            let light = lights[usize::from(rect.light_face / 6)].position.as_dvec3();
+            let near = near_bound(centers[j], radii[j], spawn_offset, light);
+            for index in rect.cells() {
                 let slot = self.fill[index] as usize;
                 self.fill[index] += 1;
                 let p = self.first[index] as usize + slot / LANES;
-                self.packets[p].set(slot % LANES, j, centers[j as usize], radii[j as usize]);
+                self.packets[p].set(slot % LANES, rect.sphere, centers[j], radii[j]);
                 // The first (nearest) sphere of the packet sets its bound.
                 self.near[p] = self.near[p].min(near);
             }
@@ -284,10 +312,14 @@ pub(crate) struct Cell {
     end: u32,
 }
 
-/// Indices of the cells of light `k`'s face `face` in the inclusive rectangle `rect`.
-fn cells(k: u32, face: u32, [u0, v0, u1, v1]: [u32; 4]) -> impl Iterator<Item = usize> {
-    let base = k as usize * CELLS + (face * RES * RES) as usize;
-    (v0..=v1).flat_map(move |v| (u0..=u1).map(move |u| base + (v * RES + u) as usize))
+impl Rect {
+    /// Indices of its cells in [`LightBins::first`]'s order.
+    fn cells(self) -> impl Iterator<Item = usize> {
+        let (k, face) = (usize::from(self.light_face / 6), u32::from(self.light_face % 6));
+        let base = k * CELLS + (face * RES * RES) as usize;
+        let [u0, v0, u1, v1] = self.cells.map(u32::from);
+        (v0..=v1).flat_map(move |v| (u0..=u1).map(move |u| base + (v * RES + u) as usize))
+    }
 }
 
 #[cfg(test)]

@@ -276,6 +276,11 @@ impl Aggregate {
         }
     }
 
+    /// Heap bytes of the structures: the BVH, the light maps, the cones.
+    pub(crate) fn heap_bytes(&self) -> [usize; 3] {
+        [self.bvh.heap_bytes(), self.lights.heap_bytes(), self.cones.heap_bytes()]
+    }
+
     /// Hit parameter of `ray` against the one sphere `object`, ignoring all others: one
     /// sphere test, in the BVH leaf's lanes (a test oracle).
     #[cfg(test)]

@@ -138,6 +138,11 @@ fn tile_rect(view: &EyeView, center: Vec3, radius: f32) -> [u16; 4] {
 }
 
 impl ScreenBins {
+    /// Heap bytes held (capacities).
+    pub(crate) fn heap_bytes(&self) -> usize {
+        use crate::stats::heap;
+        heap(&self.first) + heap(&self.spheres) + heap(&self.rects) + heap(&self.fill)
+    }
     /// Bins the spheres `(centers[k], radii[k])` for the primary rays of `view`, reusing the
     /// buffers.
     pub(crate) fn build(&mut self, (centers, radii): (&[Vec3], &[f32]), view: &EyeView) {

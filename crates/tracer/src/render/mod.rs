@@ -218,6 +218,12 @@ impl Renderer {
         }
     }
 
+    /// Heap bytes of the screen bins this renderer keeps.
+    #[must_use]
+    pub fn memory(&self) -> usize {
+        self.bins.heap_bytes()
+    }
+
     /// `view`'s pixels, to make in batches of a row's chosen pixels (`batch/`), with the
     /// screen bins rebuilt for it.
     pub fn batch<'a>(&'a mut self, tracer: &'a Tracer, view: &'a EyeView) -> PixelBatch<'a> {

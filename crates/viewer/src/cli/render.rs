@@ -16,7 +16,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use serde_json::json;
-use stereo::{compose, downsample, mask_image, Options, StereoFrame};
+use stereo::{compose, downsample, mask_image, Options, Quality, StereoFrame};
 use tracer::{RayCounts, Tracer};
 
 use crate::args::RenderArgs;
@@ -48,10 +48,13 @@ pub fn run(args: &RenderArgs) -> Result<()> {
             .into());
         }
     }
+    let started = Instant::now();
     let setup = FrameSetup::load_supersampled(&args.frame, 1, args.supersample)?;
+    let loaded = started.elapsed();
     let size = Sizes::of(args);
     let (w, h) = size.out;
     let tracer = Tracer::new(&setup.scene, args.frame.time);
+    let built = started.elapsed().saturating_sub(loaded);
     let opts = Options { mode: args.mode, retrace_edges: args.retrace_edges };
     let mut frame = StereoFrame::new();
     let stats = frame.render(&tracer, &setup.camera, size.samples.0, size.samples.1, opts);
@@ -101,29 +104,54 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     if let (true, Some(reference)) = (args.json, &mut reference) {
         let per_sample = reference.compare(&frame.right().rgb);
         let q = reference.compare_filtered(right, size.samples, size.out);
-        let mut out = json!({
-            "scene": setup.path.display().to_string(),
-            "width": w,
-            "height": h,
-            "supersample": args.supersample,
-            "sample_width": size.samples.0,
-            "sample_height": size.samples.1,
-            "mode": args.mode.name(),
-            "retrace_edges": args.retrace_edges,
-            "ipd": shortest(setup.camera.ipd),
-            "distance": shortest(setup.camera.distance),
-            "depth": setup.scene.render.max_depth,
-            "time": shortest(args.frame.time),
-            "threads": rayon::current_num_threads(),
-            "lanes": tracer::lane_width(),
-            "quality": report::quality(&q),
-            "quality_samples": report::quality(&per_sample),
-        });
-        if let (Some(o), serde_json::Value::Object(f)) = (out.as_object_mut(), report::frame(&stats)) {
-            o.extend(f);
-        }
-        println!("{}", serde_json::to_string_pretty(&out)?);
+        let cost = Cost { load: loaded, build: built, memory: report::memory(&tracer.memory(), frame.bins_memory()) };
+        print_report(args, (&setup, size), (&stats, &q, &per_sample), &cost)?;
     }
+    Ok(())
+}
+
+/// What a scene cost before its frame: reading it, building its tracer, and the memory
+/// that grows with it.
+struct Cost {
+    load: std::time::Duration,
+    build: std::time::Duration,
+    memory: serde_json::Value,
+}
+
+/// `--json`: the frame report on stdout.
+fn print_report(
+    args: &RenderArgs,
+    (setup, size): (&FrameSetup, Sizes),
+    (stats, q, per_sample): (&stereo::FrameStats, &Quality, &Quality),
+    cost: &Cost,
+) -> Result<()> {
+    let (w, h) = size.out;
+    let mut out = json!({
+        "scene": setup.path.display().to_string(),
+        "width": w,
+        "height": h,
+        "supersample": args.supersample,
+        "sample_width": size.samples.0,
+        "sample_height": size.samples.1,
+        "mode": args.mode.name(),
+        "retrace_edges": args.retrace_edges,
+        "ipd": shortest(setup.camera.ipd),
+        "distance": shortest(setup.camera.distance),
+        "depth": setup.scene.render.max_depth,
+        "time": shortest(args.frame.time),
+        "threads": rayon::current_num_threads(),
+        "lanes": tracer::lane_width(),
+        "spheres": setup.scene.sphere_count(),
+        "load_ms": cost.load.as_secs_f64() * 1e3,
+        "build_ms": cost.build.as_secs_f64() * 1e3,
+        "memory": cost.memory.clone(),
+        "quality": report::quality(q),
+        "quality_samples": report::quality(per_sample),
+    });
+    if let (Some(o), serde_json::Value::Object(f)) = (out.as_object_mut(), report::frame(stats)) {
+        o.extend(f);
+    }
+    println!("{}", serde_json::to_string_pretty(&out)?);
     Ok(())
 }
 

@@ -55,3 +55,15 @@ pub fn frame(s: &FrameStats) -> Value {
         },
     })
 }
+
+/// `memory`: the heap bytes that grow with the scene, by part.
+pub fn memory(tracer: &tracer::TracerMemory, screen_bins: usize) -> Value {
+    json!({
+        "snapshot": tracer.snapshot,
+        "bvh": tracer.bvh,
+        "light_maps": tracer.light_maps,
+        "cones": tracer.cones,
+        "screen_bins": screen_bins,
+        "total": tracer.total() + screen_bins,
+    })
+}
