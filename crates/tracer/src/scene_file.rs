@@ -485,20 +485,23 @@ fn check_camera_outside_spheres(ck: &Checker, file: &SceneFile, scene: &Scene) -
     Ok(())
 }
 
-/// What kind of file-system object `meta` describes, for messages.
+/// What kind of file-system object `meta` describes, for messages (the structure readers'
+/// words).
 fn file_kind(meta: &std::fs::Metadata) -> &'static str {
     use std::os::unix::fs::FileTypeExt;
     let t = meta.file_type();
     if t.is_dir() {
-        "a directory"
+        "directory"
     } else if t.is_fifo() {
-        "a FIFO"
-    } else if t.is_char_device() || t.is_block_device() {
-        "a device"
+        "FIFO"
+    } else if t.is_char_device() {
+        "character device"
+    } else if t.is_block_device() {
+        "block device"
     } else if t.is_socket() {
-        "a socket"
+        "socket"
     } else {
-        "not a regular file"
+        "not a file"
     }
 }
 

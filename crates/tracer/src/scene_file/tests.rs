@@ -79,3 +79,81 @@ fn missing_file_names_the_path() {
     let e = Scene::load("/nonexistent/scene.toml").unwrap_err().to_string();
     assert!(e.starts_with("/nonexistent/scene.toml: cannot read scene file"), "{e}");
 }
+
+/// A folder of its own under the system's temporary folder, for files a test writes.
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("stereotrace-scene-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Water: an oxygen and two hydrogens (Å), as an XYZ file.
+const WATER: &str = "3\nwater\nO 0.0 0.0 0.0\nH 0.757 0.586 0.0\nH -0.757 0.586 0.0\n";
+
+#[test]
+fn structures_are_placed_beside_spheres() {
+    let dir = scratch("structures");
+    std::fs::write(dir.join("water.xyz"), WATER).unwrap();
+    let scene_path = dir.join("s.toml");
+    let src = "[[spheres]]\ncenter = [0, 0, 40]\nradius = 1\n\n[[structures]]\npath = \"water.xyz\"\nradius_scale = 0.25\noffset = [1, 2, 30]\nspecular = 0.5\n\n[[structures]]\npath = \"water.xyz\"\ncolor = [0.1, 0.2, 0.3]\noffset = [0, 0, 20]\n";
+    std::fs::write(&scene_path, src).unwrap();
+    let scene = Scene::load(&scene_path).unwrap();
+    assert_eq!((scene.spheres.len(), scene.structures.len(), scene.sphere_count()), (1, 2, 7));
+    // Atoms follow the scene's own spheres; the file's z is flipped into our left-handed
+    // space, then the offset is added.
+    let h = scene.sphere_at(2, 0.0);
+    assert_eq!(h.center, Vec3::new(1.757, 2.586, 30.0));
+    let hydrogen = molecule::Element::from_symbol(b"H").unwrap();
+    assert_eq!(h.radius, 0.25 * hydrogen.radius(), "radius scale");
+    let (own, coloured) = (&scene.structures[0], &scene.structures[1]);
+    assert_eq!(own.material_of(hydrogen).color, hydrogen.linear_colour(), "the element's colour");
+    assert_eq!(own.material_of(hydrogen).specular, 0.5, "the table's material");
+    assert_eq!(coloured.material_of(hydrogen).color, Vec3::new(0.1, 0.2, 0.3), "one colour for all");
+    assert_eq!(scene.sphere_at(4, 0.0).center, Vec3::new(0.0, 0.0, 20.0), "the second structure's oxygen");
+}
+
+#[test]
+fn a_bad_structure_names_the_scene_line_field_and_the_files_own_error() {
+    let dir = scratch("bad-structures");
+    std::fs::write(dir.join("short.xyz"), "3\nwater\nO 0.0 0.0 0.0\nH 0.7 x 0.0\nH -0.7 0.5 0.0\n").unwrap();
+    let bad = |src: &str| {
+        let path = dir.join("s.toml");
+        std::fs::write(&path, src).unwrap();
+        Scene::load(&path).unwrap_err().to_string()
+    };
+    let e = bad("[[structures]]\npath = \"short.xyz\"\n");
+    assert!(e.contains("s.toml:1: structures[0].path = short.xyz") && e.contains("short.xyz:4:"), "{e}");
+    let e = bad("[[structures]]\npath = \"absent.pdb\"\n");
+    assert!(e.contains("structures[0].path = absent.pdb") && e.contains("absent.pdb"), "{e}");
+    let e = bad("[[structures]]\npath = \"short.xyz\"\nradius_scale = 0\n");
+    assert!(e.contains("structures[0].radius_scale = 0: must be > 0"), "{e}");
+    let e = bad("[[structures]]\npath = \"short.xyz\"\nspecular = 2\n");
+    assert!(e.contains("structures[0].specular = 2: must be 0 to 1"), "{e}");
+    let e = bad("[camera]\nipd = 0.5\n");
+    assert!(e.contains("a scene needs at least one [[spheres]] or [[structures]] table"), "{e}");
+}
+
+#[test]
+fn what_is_not_a_scene_file_is_refused_before_it_is_read() {
+    let e = |path: &Path| Scene::load(path).unwrap_err().to_string();
+    assert_eq!(e(Path::new("/dev/zero")), "/dev/zero: not a regular file (character device)");
+    let dir = scratch("not-a-file");
+    assert!(e(&dir).ends_with("not a regular file (directory)"), "{}", e(&dir));
+    let fifo = dir.join("fifo.toml");
+    let _ = std::fs::remove_file(&fifo);
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status().is_ok_and(|s| s.success());
+    if made {
+        // Refused from its metadata: reading it would block forever.
+        assert!(e(&fifo).ends_with("not a regular file (FIFO)"), "{}", e(&fifo));
+    } else {
+        eprintln!("SKIPPED: the FIFO case (no mkfifo here)");
+    }
+    let huge = dir.join("huge.toml");
+    std::fs::File::create(&huge).unwrap().set_len(MAX_TOML_BYTES + 1).unwrap();
+    assert!(e(&huge).contains("above the limit of 67108864 for a TOML scene"), "{}", e(&huge));
+    let other = dir.join("notes.txt");
+    std::fs::write(&other, MINIMAL).unwrap();
+    assert!(e(&other).contains("not a scene file: name it .toml"), "{}", e(&other));
+    let missing = dir.join("missing.toml");
+    assert!(e(&missing).contains("missing.toml"), "{}", e(&missing));
+}

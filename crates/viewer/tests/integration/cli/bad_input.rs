@@ -123,3 +123,50 @@ fn a_supersample_factor_outside_1_to_4_exits_2() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("65536 × 65536 samples per eye; an eye must have fewer than 4294967295 samples"), "{err}");
 }
+
+/// What is not a scene file, and structure files that lie, each a clear message and exit 2,
+/// nothing read past what it takes to say so (a FIFO would block, /dev/zero never ends).
+#[test]
+fn scene_paths_that_are_not_scene_files_and_broken_structures_exit_2() {
+    let run = |scene: &str, extra: &[&str]| {
+        let mut args = vec!["render", "--scene", scene, "--width", "8", "--height", "8", "--json"];
+        args.extend_from_slice(extra);
+        let out = stereotrace(&args);
+        (out.status.code(), String::from_utf8_lossy(&out.stderr).into_owned())
+    };
+    let expect = |(code, err): (Option<i32>, String), what: &str| {
+        assert_eq!(code, Some(2), "{what}: {err}");
+        assert!(err.contains(what), "{what}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    };
+    expect(run("/dev/zero", &[]), "/dev/zero: not a regular file (character device)");
+    let dir = tmp("scene-dir");
+    std::fs::create_dir_all(&dir).unwrap();
+    expect(run(dir.to_str().unwrap(), &[]), "not a regular file (directory)");
+    let fifo = tmp("scene.pdb");
+    let _ = std::fs::remove_file(&fifo);
+    if std::process::Command::new("mkfifo").arg(&fifo).status().is_ok_and(|s| s.success()) {
+        expect(run(fifo.to_str().unwrap(), &[]), "not a regular file (FIFO)");
+    }
+    let huge = tmp("huge.toml");
+    std::fs::File::create(&huge).unwrap().set_len(64 << 20 | 1).unwrap();
+    expect(run(huge.to_str().unwrap(), &[]), "above the limit of 67108864 for a TOML scene");
+    let write = |name: &str, text: &str| {
+        let path = tmp(name);
+        std::fs::write(&path, text).unwrap();
+        path.to_str().unwrap().to_owned()
+    };
+    let atom = |x: &str| format!("ATOM      1  N   ALA A   1    {x:>8}  16.250  -3.000  1.00 20.00           N\n");
+    expect(run(&write("bad-x.pdb", &atom("12.3a4")), &[]), "bad-x.pdb:1: ATOM x = \"12.3a4\"");
+    expect(run(&write("short.pdb", "ATOM      1  N   ALA A   1      11.104\n"), &[]), "short.pdb:1:");
+    expect(run(&write("empty.pdb", ""), &[]), "empty.pdb: no atoms");
+    expect(
+        run(&write("lying.gro", "water\n    5\n    1SOL     OW    1   0.126   1.624   1.679\n 1.0 1.0 1.0\n"), &[]),
+        "lying.gro:",
+    );
+    expect(run(&write("x.xyz", "2\nc\nC 0 0 0\n"), &[]), "x.xyz:");
+    expect(
+        run(&write("ok.xyz", "1\nc\nC 0 0 20\n"), &["--radius-scale", "0"]),
+        "--radius-scale 0: must be a finite number > 0",
+    );
+}
