@@ -1,0 +1,224 @@
+//! The warp stage of timewarp: the last traced stereo pair, moved to the newest head pose
+//! by its depth, so that the display never waits for the tracer.
+//!
+//! VR runtimes do this at every display refresh: Oculus's Asynchronous TimeWarp (J. M. P.
+//! van Waveren, "The asynchronous time warp for virtual reality on consumer hardware",
+//! VRST 2016) turns the last frame to the new orientation, and Asynchronous SpaceWarp (ASW,
+//! 2016; ASW 2.0, 2019, with the frame's depth) and SteamVR's motion smoothing move it with
+//! the head's translation too. Here the warp is the full 6-DoF, per-pixel forward warp of
+//! Mark, McMillan & Bishop ("Post-rendering 3D warping", I3D 1997): every traced pixel is
+//! a point (its primary ray at its depth) re-projected into the new view, and the second
+//! eye's frame fills what the first eye's leaves uncovered, as their two reference frames
+//! do. Reprojecting a ray-traced frame by its depth, and finding the pixels it leaves
+//! open, is Adelson & Hodges' reprojection across time ("Generating exact ray-traced
+//! animation frames by reprojection", IEEE CG&A 1995); the crate's stereo stages do it
+//! across the eyes (1993).
+//!
+//! ## One target eye, in three passes
+//!
+//! [`Warp::warp`] makes both target eyes, in parallel (`rayon::join`), each in one
+//! sequential pass over its own buffers:
+//! 1. **Own eye** (`scatter.rs`, through `map.rs`): every pixel of the same eye's traced
+//!    view, guard band included, is mapped to the target's pixels by one composite affine
+//!    map in homogeneous coordinates, made once per (source, target) pair, in SIMD lanes
+//!    (`fearless_simd`, dispatched at [`tracer::simd_level`]: 8 lanes or 4, the same
+//!    kernel). A pixel at z = +∞ (background) is a direction: it turns with the head and
+//!    does not translate. It lands on the target pixel containing its projected centre
+//!    (the floor of its continuous coordinates), as a key (target depth, source index):
+//!    each target pixel keeps the smallest, so the nearer surface wins, the background
+//!    loses to every surface, and a tie goes to the smaller source index, whatever the
+//!    order the pixels are processed in.
+//! 2. **Other eye**: the other eye's pixels, warped into the same target the same way,
+//!    fill the holes the own eye left (disocclusions, which the other eye saw around;
+//!    cracks where the image stretches; edges a turn exposes beyond the guard band), the
+//!    nearer winning among them ([`WarpClass::OtherEye`]).
+//! 3. **Resolve** (`resolve.rs`): the winners' colours, and the hole rule below for the
+//!    rest ([`WarpClass::Filled`]).
+//!
+//! ## The hole rule
+//!
+//! A target pixel neither eye reached is filled along its row: each run of such pixels
+//! takes the colour of the farther (larger target depth, i.e. the background side) of the
+//! nearest covered pixels to its left and to its right, the left one on a tie, or of the
+//! one that exists when the run touches the row's end. A disocclusion is the background an
+//! occluder uncovered, so the farther side is the better guess, and it never smears a near
+//! edge over the background. A row with no covered pixel copies the nearest covered row
+//! above it, else the nearest below; a frame with none is black. Each eye's
+//! [`WarpCounts`] count its pixels of each class, which add up to its size.
+//!
+//! ## Guarantees
+//!
+//! - Warping a frame to its own pose gives back its shown part bit for bit, every pixel
+//!   [`WarpClass::Warped`] (every pixel lands on its own centre, far from a pixel edge).
+//! - Both eyes go to one head pose, from one traced pair: the warp never mixes frames.
+//! - Same bytes for any thread count (each target eye is one sequential pass, and the
+//!   visibility is a minimum) and any lane width (the lanes only decide where a pixel
+//!   lands, by its centre, and both widths run the same operations per lane).
+//! - A warm [`Warp`] allocates nothing: its keys are kept, and the images are resized in
+//!   place.
+
+mod map;
+mod resolve;
+mod scatter;
+
+#[cfg(test)]
+mod tests;
+
+use fearless_simd::Level;
+use tracer::{Eye, EyeView, Film};
+
+use map::WarpMap;
+use resolve::{resolve, Colours};
+use scatter::{scatter, Pass, EMPTY, INDEX};
+
+/// One traced eye as the warp reads it.
+#[derive(Clone, Copy, Debug)]
+pub struct WarpSource<'a> {
+    /// The view as traced, maybe with a guard band ([`tracer::Camera::view_with_margin`]).
+    pub view: EyeView,
+    /// Its colours, `view.width` × `view.height`, packed sRGB `0x00RRGGBB`.
+    pub rgb: &'a [u32],
+    /// Its head-space depths beyond the window (the film's `z`), +∞ for background.
+    pub z: &'a [f32],
+}
+
+impl<'a> WarpSource<'a> {
+    /// The colour and depth of `film`, traced through `view` (with a record that keeps the
+    /// depth: [`tracer::Record::Keys`] or [`tracer::Record::Full`]).
+    #[must_use]
+    pub fn from_film(view: EyeView, film: &'a Film) -> Self {
+        Self { view, rgb: &film.rgb, z: &film.z }
+    }
+}
+
+/// Where a warped pixel came from.
+#[repr(u8)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum WarpClass {
+    /// From this eye's traced frame.
+    Warped,
+    /// A hole this eye left, filled by the other eye's warped pixel.
+    OtherEye,
+    /// A hole neither eye covers, filled by the hole rule (module doc).
+    Filled,
+}
+
+/// How many pixels of one warped eye are of each class.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WarpCounts {
+    /// Pixels from this eye ([`WarpClass::Warped`]).
+    pub warped: u64,
+    /// Holes filled by the other eye ([`WarpClass::OtherEye`]).
+    pub other_eye: u64,
+    /// Holes filled by the hole rule ([`WarpClass::Filled`]).
+    pub filled: u64,
+}
+
+impl WarpCounts {
+    /// All the pixels counted: the eye's size.
+    #[must_use]
+    pub fn total(&self) -> u64 {
+        self.warped + self.other_eye + self.filled
+    }
+}
+
+/// The warp of a traced stereo pair to a new head pose, keeping its buffers from frame to
+/// frame: a warm `Warp` allocates nothing.
+#[derive(Clone, Debug, Default)]
+pub struct Warp {
+    /// Each target eye's visibility keys (module doc, `scatter.rs`).
+    keys: [Vec<u64>; 2],
+}
+
+impl Warp {
+    /// A warp with empty buffers; the first frame sizes them.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Warps the traced stereo pair `sources` ([left, right], one frame) to `targets`
+    /// ([left, right] views of one new head pose, usually without a guard band), into
+    /// `out[e]` (resized to the target's size, `width` × `height`) with each pixel's class
+    /// in `classes[e]`, and returns each eye's counts.
+    ///
+    /// # Panics
+    ///
+    /// If the sources or the targets are not a left and a right eye of one head pose, if a
+    /// source's planes are not of its view's size, if a source has 2³¹ pixels or more, or
+    /// a target `u32::MAX` or more.
+    pub fn warp(
+        &mut self,
+        sources: [WarpSource<'_>; 2],
+        targets: [&EyeView; 2],
+        out: [&mut Vec<u32>; 2],
+        classes: [&mut Vec<WarpClass>; 2],
+    ) -> [WarpCounts; 2] {
+        self.warp_at(tracer::simd_level(), sources, targets, out, classes)
+    }
+
+    /// [`Warp::warp`] with its lane kernels at `level`.
+    pub(crate) fn warp_at(
+        &mut self,
+        level: Level,
+        sources: [WarpSource<'_>; 2],
+        targets: [&EyeView; 2],
+        out: [&mut Vec<u32>; 2],
+        classes: [&mut Vec<WarpClass>; 2],
+    ) -> [WarpCounts; 2] {
+        check(&sources, targets);
+        let [left_keys, right_keys] = &mut self.keys;
+        let [left_out, right_out] = out;
+        let [left_classes, right_classes] = classes;
+        let (left, right) = rayon::join(
+            || warp_eye(level, &sources, 0, targets[0], left_keys, left_out, left_classes),
+            || warp_eye(level, &sources, 1, targets[1], right_keys, right_out, right_classes),
+        );
+        [left, right]
+    }
+}
+
+/// [`Warp::warp`]'s preconditions.
+fn check(sources: &[WarpSource<'_>; 2], targets: [&EyeView; 2]) {
+    for (pair, what) in [([&sources[0].view, &sources[1].view], "sources"), (targets, "targets")] {
+        assert!(pair[0].eye == Eye::Left && pair[1].eye == Eye::Right, "the {what} must be [left, right]");
+        assert!(
+            pair[0].head_position() == pair[1].head_position()
+                && pair[0].world_from_head() == pair[1].world_from_head(),
+            "the {what} must be two eyes of one head pose"
+        );
+    }
+    for s in sources {
+        let n = s.view.width as usize * s.view.height as usize;
+        assert!(s.rgb.len() == n && s.z.len() == n, "a source's rgb and z must be its view's size ({n} pixels)");
+        assert!(n as u64 <= INDEX, "a source of {n} pixels: at most 2^31 - 1");
+    }
+    for t in targets {
+        let n = t.width as u64 * t.height as u64;
+        assert!(n < u64::from(u32::MAX), "a target of {n} pixels: fewer than u32::MAX");
+    }
+}
+
+/// Target eye `e`: its own source's pixels, then the other's into the holes, then the
+/// resolve.
+fn warp_eye(
+    level: Level,
+    sources: &[WarpSource<'_>; 2],
+    e: usize,
+    target: &EyeView,
+    keys: &mut Vec<u64>,
+    out: &mut Vec<u32>,
+    classes: &mut Vec<WarpClass>,
+) -> WarpCounts {
+    let n = target.width as usize * target.height as usize;
+    keys.clear();
+    keys.resize(n, EMPTY);
+    out.resize(n, 0);
+    classes.resize(n, WarpClass::Filled);
+    let (own, other) = (&sources[e], &sources[1 - e]);
+    for (source, pass) in [(own, Pass::Own), (other, Pass::Other)] {
+        let map = WarpMap::new(&source.view, target);
+        scatter(level, &map, source.z, source.view.width as usize, keys, pass);
+    }
+    resolve(keys, target.width as usize, Colours { own: own.rgb, other: other.rgb }, out, classes)
+}
