@@ -64,12 +64,19 @@ mod scatter;
 #[cfg(test)]
 mod tests;
 
+use std::sync::{Mutex, PoisonError};
+
 use fearless_simd::Level;
+use rayon::prelude::*;
 use tracer::{Eye, EyeView, Film};
 
-use map::WarpMap;
-use resolve::{resolve, Colours};
-use scatter::{scatter, Pass, EMPTY, INDEX};
+use map::{nearest_per_row, EyeShift, WarpMap};
+use resolve::{fill_uncovered_rows, resolve_band};
+use scatter::{scatter, Band, Keys, Source};
+
+/// Target rows per band: each band's keys (32 rows of 800 pixels: 200 kB) stay in the
+/// core's cache while both eyes land in them and they are resolved. At most 64.
+const BAND_ROWS: usize = 32;
 
 /// One traced eye as the warp reads it.
 #[derive(Clone, Copy, Debug)]
@@ -122,12 +129,31 @@ impl WarpCounts {
     }
 }
 
+impl std::ops::Add for WarpCounts {
+    type Output = Self;
+
+    fn add(self, other: Self) -> Self {
+        Self {
+            warped: self.warped + other.warped,
+            other_eye: self.other_eye + other.other_eye,
+            filled: self.filled + other.filled,
+        }
+    }
+}
+
 /// The warp of a traced stereo pair to a new head pose, keeping its buffers from frame to
 /// frame: a warm `Warp` allocates nothing.
-#[derive(Clone, Debug, Default)]
+#[derive(Debug, Default)]
 pub struct Warp {
-    /// Each target eye's visibility keys (module doc, `scatter.rs`).
-    keys: [Vec<u64>; 2],
+    /// Each source eye's nearest depth per row.
+    nearest: [Vec<f32>; 2],
+    /// The target rows each row of each source eye can reach, in either target eye.
+    reach: [Vec<Option<(u32, u32)>>; 2],
+    /// Each thread's visibility keys of one band of each target eye (`scatter.rs`), reused
+    /// band after band.
+    keys: Vec<Mutex<[Keys; 2]>>,
+    /// Which rows of each target eye something reached.
+    covered: [Vec<bool>; 2],
 }
 
 impl Warp {
@@ -145,8 +171,8 @@ impl Warp {
     /// # Panics
     ///
     /// If the sources or the targets are not a left and a right eye of one head pose, if a
-    /// source's planes are not of its view's size, if a source has 2³¹ pixels or more, or
-    /// a target `u32::MAX` or more.
+    /// source's planes are not of its view's size, or if a target has `u32::MAX` pixels or
+    /// more.
     pub fn warp(
         &mut self,
         sources: [WarpSource<'_>; 2],
@@ -154,27 +180,99 @@ impl Warp {
         out: [&mut Vec<u32>; 2],
         classes: [&mut Vec<WarpClass>; 2],
     ) -> [WarpCounts; 2] {
-        self.warp_at(tracer::simd_level(), sources, targets, out, classes)
+        self.warp_at(tracer::simd_level(), &sources, targets, out, classes)
     }
 
     /// [`Warp::warp`] with its lane kernels at `level`.
     pub(crate) fn warp_at(
         &mut self,
         level: Level,
-        sources: [WarpSource<'_>; 2],
+        sources: &[WarpSource<'_>; 2],
         targets: [&EyeView; 2],
-        out: [&mut Vec<u32>; 2],
-        classes: [&mut Vec<WarpClass>; 2],
+        mut out: [&mut Vec<u32>; 2],
+        mut classes: [&mut Vec<WarpClass>; 2],
     ) -> [WarpCounts; 2] {
-        check(&sources, targets);
-        let [left_keys, right_keys] = &mut self.keys;
+        check(sources, targets);
+        let (w, h) = (targets[0].width as usize, targets[0].height as usize);
+        let Self { nearest, reach, keys, covered } = self;
+        let [left_nearest, right_nearest] = nearest;
+        rayon::join(
+            || nearest_per_row(level, sources[0].z, sources[0].view.width as usize, left_nearest),
+            || nearest_per_row(level, sources[1].z, sources[1].view.width as usize, right_nearest),
+        );
+        // Each source eye to each target eye, and the rows each of its rows can reach in either.
+        let maps = [0, 1].map(|s| [0, 1].map(|t| WarpMap::new(&sources[s].view, targets[t])));
+        for (s, (reach, nearest)) in reach.iter_mut().zip(&*nearest).enumerate() {
+            let width = sources[s].view.width;
+            reach.clear();
+            reach.extend(nearest.iter().zip(0..).map(
+                |(&z, j)| match maps[s].map(|map| map.rows_reached(j, width, z)) {
+                    [Some(a), Some(b)] => Some((a.0.min(b.0), a.1.max(b.1))),
+                    [a, b] => a.or(b),
+                },
+            ));
+        }
+        let shifts = [EyeShift::between(targets[0], targets[1]), EyeShift::between(targets[1], targets[0])];
+        for ((covered, out), classes) in covered.iter_mut().zip(out.iter_mut()).zip(classes.iter_mut()) {
+            covered.resize(h, false);
+            out.resize(w * h, 0);
+            classes.resize(w * h, WarpClass::Filled);
+        }
+        if w == 0 || h == 0 {
+            return [WarpCounts::default(); 2];
+        }
+        // Each thread lands in keys of its own, band after band, so that they stay in its
+        // core's cache.
+        if keys.len() < rayon::current_num_threads() {
+            keys.resize_with(rayon::current_num_threads(), Default::default);
+        }
+        let keys = &keys[..];
+        let [left_covered, right_covered] = covered;
         let [left_out, right_out] = out;
         let [left_classes, right_classes] = classes;
-        let (left, right) = rayon::join(
-            || warp_eye(level, &sources, 0, targets[0], left_keys, left_out, left_classes),
-            || warp_eye(level, &sources, 1, targets[1], right_keys, right_out, right_classes),
+        let band = BAND_ROWS * w;
+        let bands = (
+            (left_out.par_chunks_mut(band), right_out.par_chunks_mut(band)),
+            (left_classes.par_chunks_mut(band), right_classes.par_chunks_mut(band)),
+            (left_covered.par_chunks_mut(BAND_ROWS), right_covered.par_chunks_mut(BAND_ROWS)),
         );
-        [left, right]
+        let reach = &*reach;
+        let counts = bands
+            .into_par_iter()
+            .enumerate()
+            .map(|(b, ((left_out, right_out), (left_classes, right_classes), (left_covered, right_covered)))| {
+                // A thread's own keys: no other thread locks them, and which keys a band
+                // gets changes nothing in it.
+                let mut keys = keys[rayon::current_thread_index().unwrap_or(0) % keys.len()]
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner);
+                let [left, right] = &mut *keys;
+                left.reset(left_out.len());
+                right.reset(right_out.len());
+                let first = (b * BAND_ROWS) as u32;
+                for s in 0..2 {
+                    let source = Source {
+                        rgb: sources[s].rgb,
+                        z: sources[s].z,
+                        width: sources[s].view.width as usize,
+                        reach: &reach[s],
+                        map: &maps[s][s],
+                        shift: shifts[s],
+                    };
+                    let keys = if s == 0 { [left.planes(), right.planes()] } else { [right.planes(), left.planes()] };
+                    scatter(level, source, &mut Band { first, keys });
+                }
+                [
+                    resolve_band(level, left, w, left_out, left_classes, left_covered),
+                    resolve_band(level, right, w, right_out, right_classes, right_covered),
+                ]
+            })
+            .reduce(|| [WarpCounts::default(); 2], |a, b| [a[0] + b[0], a[1] + b[1]]);
+        rayon::join(
+            || fill_uncovered_rows(left_out, w, left_covered),
+            || fill_uncovered_rows(right_out, w, right_covered),
+        );
+        counts
     }
 }
 
@@ -188,37 +286,18 @@ fn check(sources: &[WarpSource<'_>; 2], targets: [&EyeView; 2]) {
             "the {what} must be two eyes of one head pose"
         );
     }
+    let [left, right] = targets;
+    assert!(
+        (left.width, left.height, left.margin, left.window_size(), left.distance())
+            == (right.width, right.height, right.margin, right.window_size(), right.distance()),
+        "the targets must be two eyes of one camera: of one size, guard band, window and distance"
+    );
     for s in sources {
         let n = s.view.width as usize * s.view.height as usize;
         assert!(s.rgb.len() == n && s.z.len() == n, "a source's rgb and z must be its view's size ({n} pixels)");
-        assert!(n as u64 <= INDEX, "a source of {n} pixels: at most 2^31 - 1");
     }
     for t in targets {
         let n = t.width as u64 * t.height as u64;
         assert!(n < u64::from(u32::MAX), "a target of {n} pixels: fewer than u32::MAX");
     }
-}
-
-/// Target eye `e`: its own source's pixels, then the other's into the holes, then the
-/// resolve.
-fn warp_eye(
-    level: Level,
-    sources: &[WarpSource<'_>; 2],
-    e: usize,
-    target: &EyeView,
-    keys: &mut Vec<u64>,
-    out: &mut Vec<u32>,
-    classes: &mut Vec<WarpClass>,
-) -> WarpCounts {
-    let n = target.width as usize * target.height as usize;
-    keys.clear();
-    keys.resize(n, EMPTY);
-    out.resize(n, 0);
-    classes.resize(n, WarpClass::Filled);
-    let (own, other) = (&sources[e], &sources[1 - e]);
-    for (source, pass) in [(own, Pass::Own), (other, Pass::Other)] {
-        let map = WarpMap::new(&source.view, target);
-        scatter(level, &map, source.z, source.view.width as usize, keys, pass);
-    }
-    resolve(keys, target.width as usize, Colours { own: own.rgb, other: other.rgb }, out, classes)
 }

@@ -1,101 +1,126 @@
 //! From a target's keys to its image: each pixel's winner, and the hole rule for the pixels
 //! neither eye reached.
 //!
-//! A key names its source pixel (and eye, bit 31): the pixel takes that pixel's colour and
-//! is [`WarpClass::Warped`] or [`WarpClass::OtherEye`]. The rest are
+//! A key holds its source pixel's colour (and eye, bit 31 of its first word): the pixel
+//! takes that colour and is [`WarpClass::Warped`] or [`WarpClass::OtherEye`]. The rest are
 //! [`WarpClass::Filled`], by the rule of the module doc (`warp/mod.rs`): along the row, each
 //! run of holes takes the colour of the farther of the covered pixels on its left and on
 //! its right (the larger target depth: the background side of a disocclusion, which is what
 //! the occluder uncovered; the left one on a tie), or of the one that exists; a row without
 //! a covered pixel copies the nearest covered row above, else the nearest below; a frame
 //! with none is black. The rule reads only the target's keys and its own output, so it is
-//! as deterministic as they are.
+//! as deterministic as they are. Bands of rows are resolved in parallel, each row on its
+//! own; the rows nothing reached are copied after, in one pass over the image.
 
-use super::scatter::{EMPTY, INDEX, OTHER};
+use fearless_simd::{dispatch, Level, Simd};
+
+use super::scatter::{Keys, COLOUR, DEPTH, EMPTY};
 use super::{WarpClass, WarpCounts};
 
-/// The colours of the two source eyes, as the keys index them.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Colours<'a> {
-    /// The target's own eye.
-    pub own: &'a [u32],
-    /// The other eye (keys with [`OTHER`] set).
-    pub other: &'a [u32],
-}
-
-/// Resolves the target's `keys` (rows of `width` pixels) into `out` and `classes` (both of
-/// the keys' length) and counts the classes.
-pub(crate) fn resolve(
-    keys: &[u64],
+/// Resolves a band of target rows (`keys`, rows of `width` pixels) into its rows of `out`
+/// and `classes`, filling holes along rows with a covered pixel, and notes in `covered`
+/// which rows have one; [`fill_uncovered_rows`] does the rest once every band is resolved.
+pub(crate) fn resolve_band(
+    level: Level,
+    keys: &Keys,
     width: usize,
-    colours: Colours<'_>,
     out: &mut [u32],
     classes: &mut [WarpClass],
+    covered: &mut [bool],
 ) -> WarpCounts {
-    debug_assert!(out.len() == keys.len() && classes.len() == keys.len(), "out and classes of the keys' size");
+    // Compiled for the SIMD level's instruction set, where the rows' loops run in its
+    // vectors.
+    dispatch!(level, simd => simd.vectorize(
+        #[inline(always)]
+        || resolve_rows(keys, width, out, classes, covered),
+    ))
+}
+
+/// [`resolve_band`]'s work.
+#[expect(clippy::inline_always, reason = "inlined into the dispatched function, whose target features it needs")]
+#[inline(always)]
+fn resolve_rows(
+    keys: &Keys,
+    width: usize,
+    out: &mut [u32],
+    classes: &mut [WarpClass],
+    covered: &mut [bool],
+) -> WarpCounts {
     let mut counts = WarpCounts::default();
     if width == 0 {
         return counts;
     }
-    // The last row with a covered pixel, already filled.
-    let mut last_covered: Option<usize> = None;
-    for j in 0..keys.len() / width {
-        let row = j * width..(j + 1) * width;
-        let (warped, other) =
-            resolve_row(&keys[row.clone()], colours, &mut out[row.clone()], &mut classes[row.clone()]);
+    let keys_rows = keys.depth.chunks_exact(width).zip(keys.colour.chunks_exact(width));
+    let rows = keys_rows.zip(out.chunks_exact_mut(width)).zip(classes.chunks_exact_mut(width));
+    for ((((depth, colour), out), classes), covered) in rows.zip(covered) {
+        let (warped, other) = resolve_row(depth, colour, out, classes);
         counts.warped += warped;
         counts.other_eye += other;
-        if warped + other == 0 {
-            // A row nothing reached copies the nearest covered row above; the rows above
-            // the first covered one wait for it (below). In a frame nothing reached, every
-            // pixel stays black.
-            if let Some(above) = last_covered {
-                out.copy_within(above * width..(above + 1) * width, row.start);
-            }
-            continue;
+        *covered = warped + other > 0;
+        if *covered && warped + other < width as u64 {
+            fill_row(depth, out);
         }
-        if warped + other < width as u64 {
-            fill_row(&keys[row.clone()], &mut out[row.clone()]);
-        }
-        if last_covered.is_none() {
-            for above in 0..j {
-                out.copy_within(row.clone(), above * width);
-            }
-        }
-        last_covered = Some(j);
     }
-    counts.filled = keys.len() as u64 - counts.warped - counts.other_eye;
+    counts.filled = keys.depth.len() as u64 - counts.warped - counts.other_eye;
     counts
 }
 
-/// Each pixel of a row its winner's colour and class; holes `Filled`, their colour left for
-/// [`fill_row`]. Returns how many pixels came from the own eye and from the other.
-fn resolve_row(keys: &[u64], colours: Colours<'_>, out: &mut [u32], classes: &mut [WarpClass]) -> (u64, u64) {
-    let (mut warped, mut other) = (0, 0);
-    for ((&key, out), class) in keys.iter().zip(out).zip(classes) {
-        let source = (key & INDEX) as usize;
-        (*out, *class) = if key == EMPTY {
-            (0, WarpClass::Filled)
-        } else if key & OTHER == 0 {
-            warped += 1;
-            (colours.own[source], WarpClass::Warped)
-        } else {
-            other += 1;
-            (colours.other[source], WarpClass::OtherEye)
-        };
+/// The hole rule's last part, once every row is resolved: a row nothing reached (black,
+/// `covered` false) copies the nearest covered row above, else the nearest below. A frame
+/// nothing reached stays black.
+pub(crate) fn fill_uncovered_rows(out: &mut [u32], width: usize, covered: &[bool]) {
+    let Some(first) = covered.iter().position(|&c| c) else { return };
+    let row = |j: usize| j * width..(j + 1) * width;
+    for j in 0..first {
+        out.copy_within(row(first), j * width);
     }
-    (warped, other)
+    let mut last = first;
+    for (j, &covered) in covered.iter().enumerate().skip(first + 1) {
+        if covered {
+            last = j;
+        } else {
+            out.copy_within(row(last), j * width);
+        }
+    }
+}
+
+/// Each pixel of a row its winner's colour and class, from its keys' first words `depth`
+/// and `colour`; holes `Filled` and black, their colour left for [`fill_row`]. Returns how
+/// many pixels came from the own eye and from the other. Branch-free, so that it runs in
+/// vectors.
+#[expect(clippy::inline_always, reason = "inlined into the dispatched function, whose target features it needs")]
+#[inline(always)]
+fn resolve_row(depth: &[i32], colour: &[u32], out: &mut [u32], classes: &mut [WarpClass]) -> (u64, u64) {
+    // Pixels with the other eye's bit (the other eye's and the holes) and holes.
+    let (mut flagged, mut holes) = (0_u32, 0_u32);
+    for (((&depth, &colour), out), class) in depth.iter().zip(colour).zip(out).zip(classes) {
+        let (flag, hole) = (u32::from(depth >= 0), u32::from(depth == EMPTY));
+        *out = colour & COLOUR & hole.wrapping_sub(1);
+        *class = match flag + hole {
+            0 => WarpClass::Warped,
+            1 => WarpClass::OtherEye,
+            _ => WarpClass::Filled,
+        };
+        flagged += flag;
+        holes += hole;
+    }
+    (depth.len() as u64 - u64::from(flagged), u64::from(flagged - holes))
 }
 
 /// The hole rule along one row with at least one covered pixel: each run of holes takes the
 /// colour of the farther of its two covered neighbours (the left on a tie), or of the one
 /// it has.
-fn fill_row(keys: &[u64], out: &mut [u32]) {
-    let depth = |k: usize| keys[k] >> 32;
+fn fill_row(keys: &[i32], out: &mut [u32]) {
+    let depth = |k: usize| keys[k] & DEPTH;
     let w = keys.len();
     let mut k = 0;
     while k < w {
-        if keys[k] != EMPTY {
+        // Past covered pixels 16 at a time (a comparison without an early exit runs in
+        // vectors), then one at a time.
+        while k + 16 <= w && keys[k..k + 16].iter().fold(0, |holes, &key| holes | u8::from(key == EMPTY)) == 0 {
+            k += 16;
+        }
+        if k == w || keys[k] != EMPTY {
             k += 1;
             continue;
         }

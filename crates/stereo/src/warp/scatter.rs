@@ -1,63 +1,124 @@
-//! Landing one source eye's pixels in a target's key buffer: the forward warp's lane kernel.
+//! Landing one source eye's pixels in a band of both target eyes' keys: the forward warp's
+//! lane kernel.
 //!
-//! Each source pixel is mapped by [`WarpMap`] in SIMD lanes (a handful of multiplies and
-//! adds, one division), and lands on the target pixel that contains its projected centre
-//! (the floor of its continuous coordinates). What lands is a 64-bit key: the target depth
-//! n_z = z_t + d_t (positive, so its bits order as the floats do; +∞ for the background) in
-//! the high half, the source pixel's index in the low 31 bits, and bit 31 set for the other
-//! eye's pixels. Each target pixel keeps the smallest key it is given: the nearest surface,
-//! and on a tie the smaller source index. A minimum does not depend on the order the
-//! pixels come in, so the result is the same whatever the order, the lane width or the
-//! threads.
+//! Each source pixel is mapped by [`WarpMap`] to its own eye's target in SIMD lanes (a
+//! handful of multiplies and adds, one division), and from there to the other target eye
+//! by the disparity ([`EyeShift`]: one multiply-add more, as both target eyes share the
+//! head pose and the window). In each it lands on the pixel that contains its projected
+//! centre (the floor of its continuous coordinates). What lands is a key of two words: the
+//! first has bit 31 set for a pixel of the other eye and the target depth
+//! n_z = z_t + d_t below it (positive, so its bits order as the floats do; +∞ for the
+//! background), the second is the pixel's colour (`0x00RRGGBB`). Each target pixel keeps
+//! the smallest key it is given, word by word: any pixel of its own eye before any of the
+//! other eye (whose pixels therefore show only in the holes the own eye left), then the
+//! nearest surface, then, on a tie (the same depth bits), the smaller colour. A minimum
+//! does not depend on the order the pixels come in, so the result is the same whatever the
+//! order, the bands, the lane width or the threads; and the winner's colour is in its key,
+//! so resolving a pixel reads nothing else. The two words are kept in two planes
+//! ([`Keys`]), so that a vector of pixels landing side by side is compared and stored as
+//! two vectors.
 //!
-//! The other eye's pass writes only where bit 31 is set: target pixels still [`EMPTY`]
-//! (holes of the own eye's pass, as `EMPTY` has every bit set) or already holding the
-//! other eye's key. It never covers a pixel the own eye reached.
+//! A pass lands only what falls in one band of target rows, whose keys stay in the core's
+//! cache, and reads only the source rows that can reach the band
+//! ([`WarpMap::rows_reached`]).
 
 use fearless_simd::{dispatch, prelude::*, Level, Simd};
 
-use super::map::WarpMap;
+use super::map::{EyeShift, WarpMap};
 
 type F<S> = <S as Simd>::f32s;
 type U<S> = <S as Simd>::u32s;
+type I<S> = <S as Simd>::i32s;
 type M<S> = <S as Simd>::mask32s;
 
-/// The key of a target pixel no source pixel reached: larger than every key that lands.
-pub(crate) const EMPTY: u64 = u64::MAX;
-/// The key bit of the other eye's pixels (set in [`EMPTY`] too).
-pub(crate) const OTHER: u64 = 1 << 31;
-/// The key bits holding the source pixel's index.
-pub(crate) const INDEX: u64 = OTHER - 1;
+/// The first key word of a target pixel no source pixel reached: larger than every one
+/// that lands.
+pub(crate) const EMPTY: i32 = i32::MAX;
+/// The bits of a first key word that hold the depth's bits, in either eye's words.
+pub(crate) const DEPTH: i32 = i32::MAX;
+/// The colour bits of a pixel (`0x00RRGGBB`).
+pub(crate) const COLOUR: u32 = 0x00ff_ffff;
+
+/// A band's keys, in two planes of the band's pixels, row-major: the first word (the
+/// other eye's bit and the depth, [`EMPTY`] where nothing landed) and the colour (any
+/// value where nothing landed).
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Keys {
+    /// The first words.
+    pub depth: Vec<i32>,
+    /// The colours.
+    pub colour: Vec<u32>,
+}
+
+impl Keys {
+    /// `n` keys where nothing landed.
+    pub fn reset(&mut self, n: usize) {
+        self.depth.clear();
+        self.depth.resize(n, EMPTY);
+        // The colour of an empty key is never read.
+        self.colour.resize(n, 0);
+    }
+
+    /// Both planes, to land in.
+    pub fn planes(&mut self) -> KeysMut<'_> {
+        KeysMut { depth: &mut self.depth, colour: &mut self.colour }
+    }
+}
+
+/// A band's keys, to land in ([`Keys`]).
+#[derive(Debug)]
+pub(crate) struct KeysMut<'a> {
+    /// The first words.
+    pub depth: &'a mut [i32],
+    /// The colours.
+    pub colour: &'a mut [u32],
+}
 /// The target index of a lane that lands outside the target (no slot has it: the target
 /// has fewer than `u32::MAX` pixels).
 const OUTSIDE: u32 = u32::MAX;
 
-/// Which source eye a pass lands in a target.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Pass {
-    /// The target's own eye: every landing pixel competes.
-    Own,
-    /// The other eye, after the own eye's pass: only the holes it left are written.
-    Other,
+/// One source eye as a pass reads it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Source<'a> {
+    /// Its colours, rows of `width` pixels.
+    pub rgb: &'a [u32],
+    /// Its depth plane, rows of `width` pixels.
+    pub z: &'a [f32],
+    /// Its width in pixels.
+    pub width: usize,
+    /// The target rows each of its rows can reach, in either target eye
+    /// ([`WarpMap::rows_reached`]).
+    pub reach: &'a [Option<(u32, u32)>],
+    /// Its map to its own eye's target.
+    pub map: &'a WarpMap,
+    /// From its own eye's target to the other's.
+    pub shift: EyeShift,
 }
 
-/// Lands every pixel of a source whose depth plane is `z` (rows of `width` pixels) in
-/// `keys` (the target's, row-major, of `map.target_size`), at the SIMD `level`.
-pub(crate) fn scatter(level: Level, map: &WarpMap, z: &[f32], width: usize, keys: &mut [u64], pass: Pass) {
-    debug_assert_eq!(keys.len(), map.target_size.0 as usize * map.target_size.1 as usize, "keys of the target's size");
-    if width == 0 {
+/// A band of at most 64 consecutive target rows, in both target eyes.
+#[derive(Debug)]
+pub(crate) struct Band<'a> {
+    /// Its first target row.
+    pub first: u32,
+    /// The keys of the source's own eye's target, then of the other's, whole target rows.
+    pub keys: [KeysMut<'a>; 2],
+}
+
+/// Lands every pixel of the `source` rows that can reach the band in both targets' keys,
+/// at the SIMD `level`.
+pub(crate) fn scatter(level: Level, source: Source<'_>, band: &mut Band<'_>) {
+    if source.width == 0 || source.map.target_size.0 == 0 {
         return;
     }
-    match pass {
-        Pass::Own => dispatch!(level, simd => simd.vectorize(
-            #[inline(always)]
-            || scatter_in::<_, false>(simd, map, z, width, keys),
-        )),
-        Pass::Other => dispatch!(level, simd => simd.vectorize(
-            #[inline(always)]
-            || scatter_in::<_, true>(simd, map, z, width, keys),
-        )),
-    }
+    dispatch!(level, simd => simd.vectorize(
+        #[inline(always)]
+        || scatter_in(simd, source, band),
+    ));
+}
+
+/// Whether the inclusive target rows `(lo, hi)` meet the `rows` rows from `first`.
+fn meets((lo, hi): (u32, u32), first: u32, rows: u32) -> bool {
+    lo < first + rows && hi >= first
 }
 
 /// The map's numbers splatted across the lanes, once per pass.
@@ -85,105 +146,170 @@ impl<S: Simd> Lanes<S> {
     }
 }
 
-/// The pass over the source, row by row, a vector of pixels at a time.
+/// The pass over the source rows that reach the band, a vector of pixels at a time.
 #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
-fn scatter_in<S: Simd, const OTHER_EYE: bool>(simd: S, map: &WarpMap, z: &[f32], width: usize, keys: &mut [u64]) {
+fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
     let n = F::<S>::LEN;
-    let lanes = Lanes::new(simd, map);
+    let lanes = Lanes::new(simd, source.map);
+    let (shift, parallax) = (F::<S>::splat(simd, source.shift.shift), F::<S>::splat(simd, source.shift.parallax));
     let first_columns = F::<S>::float_from(lane_index(simd));
-    let flag = if OTHER_EYE { OTHER } else { 0 };
+    let colour = U::<S>::splat(simd, COLOUR);
+    let sign = U::<S>::splat(simd, 1 << 31);
+    let target_width = source.map.target_size.0 as usize;
+    let [own_keys, other_keys] = &mut band.keys;
+    let len = own_keys.depth.len();
+    let rows = (len / target_width) as u32;
+    debug_assert!(rows <= 64 && len == rows as usize * target_width, "a band of whole rows, at most 64");
+    debug_assert!(
+        [own_keys.colour.len(), other_keys.depth.len(), other_keys.colour.len()] == [len; 3],
+        "both eyes' bands alike"
+    );
+    // Where the band's keys start in the target.
+    let offset = U::<S>::splat(simd, band.first * source.map.target_size.0);
     // The last, partial vector of a row, padded (its padding lanes land nowhere: they are
     // not emitted).
-    let mut tail = [0.0_f32; 16];
-    for (j, z_row) in z.chunks_exact(width).enumerate() {
-        let h = map.row(j as u32);
+    let (mut z_tail, mut rgb_tail) = ([0.0_f32; 16], [0_u32; 16]);
+    let rows_of = source.z.chunks_exact(source.width).zip(source.rgb.chunks_exact(source.width));
+    for (j, ((z_row, rgb_row), reach)) in rows_of.zip(source.reach).enumerate() {
+        let Some(reached) = *reach else { continue };
+        if !meets(reached, band.first, rows) {
+            continue;
+        }
+        let h = source.map.row(j as u32);
         let h_row = [F::<S>::splat(simd, h[0]), F::<S>::splat(simd, h[1]), F::<S>::splat(simd, h[2])];
-        let row_start = (j * width) as u64 | flag;
-        for (k, chunk) in z_row.chunks(n).enumerate() {
-            let i = k * n;
-            let z = if chunk.len() == n {
-                F::<S>::from_slice(simd, chunk)
+        for (k, (z, rgb)) in z_row.chunks(n).zip(rgb_row.chunks(n)).enumerate() {
+            let count = z.len();
+            let (z, rgb) = if count == n {
+                (F::<S>::from_slice(simd, z), U::<S>::from_slice(simd, rgb))
             } else {
-                tail[..chunk.len()].copy_from_slice(chunk);
-                F::<S>::from_slice(simd, &tail[..n])
+                z_tail[..count].copy_from_slice(z);
+                rgb_tail[..count].copy_from_slice(rgb);
+                (F::<S>::from_slice(simd, &z_tail[..n]), U::<S>::from_slice(simd, &rgb_tail[..n]))
             };
-            let columns = first_columns + F::<S>::splat(simd, i as f32);
-            let (index, depth) = land(simd, &lanes, project(simd, &lanes, h_row, columns, z));
-            emit::<OTHER_EYE>(keys, index.as_slice(), depth.as_slice(), row_start + i as u64, chunk.len());
+            let columns = first_columns + F::<S>::splat(simd, (k * n) as f32);
+            let p = project(simd, &lanes, h_row, columns, z);
+            let depth = p.finite.select(p.nz, F::<S>::splat(simd, f32::INFINITY)).bitcast::<U<S>>();
+            let (own_word, other_word) = ((depth ^ sign).bitcast::<I<S>>(), depth.bitcast::<I<S>>());
+            let low = rgb & colour;
+            // The row (the same in both eyes), then the column in each. The band's own
+            // indices: a lane that lands before the band wraps past its end, as does OUTSIDE
+            // (the target has fewer than u32::MAX pixels).
+            let row = land_row(simd, &lanes, &p);
+            let own = land(simd, &lanes, &row, p.px) - offset;
+            emit(simd, own_keys, own, own_word, low, count);
+            // The other eye, at the disparity: px + E·(1 − d/n_z); px + E for the
+            // background, whose 1/n_z is 2⁻¹⁰⁰ times its direction's, too small to move px.
+            let there = land(simd, &lanes, &row, p.px + shift + parallax * p.inv) - offset;
+            emit(simd, other_keys, there, other_word, low, count);
         }
     }
 }
 
+/// The w of a background pixel: 2¹⁰⁰, a power of two (so that w·h is exact) large enough
+/// that g + w·h rounds to w·h, the point at infinity, and small enough not to overflow.
+const FAR: f32 = (1_u128 << 100) as f32;
+
 /// Where source pixels land, one per lane: continuous target coordinates (px, py), n_z
-/// (the target depth plus d, > 0 in front of the target eye), and whether the pixel is a
-/// surface (finite depth) rather than background.
+/// (the target depth plus d, > 0 in front of the target eye) and its reciprocal, and
+/// whether the pixel is a surface (finite depth) rather than background.
 struct Projected<S: Simd> {
     px: F<S>,
     py: F<S>,
     nz: F<S>,
+    inv: F<S>,
     finite: M<S>,
 }
 
-/// Projects the source pixels (`columns`, row of `h_row`) of depth `z` to the target.
+/// Projects the source pixels (`columns`, row of `h_row`) of depth `z` to the target: n =
+/// g + w·h, w = z + d; for the background w = [`FAR`], which makes px = h_x/h_z and
+/// py = h_y/h_z bit for bit (scaling by a power of two is exact), the direction alone.
 #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
 fn project<S: Simd>(simd: S, lanes: &Lanes<S>, h_row: [F<S>; 3], columns: F<S>, z: F<S>) -> Projected<S> {
-    let (zero, one) = (F::<S>::splat(simd, 0.0), F::<S>::splat(simd, 1.0));
     let finite = z.simd_lt(F::<S>::splat(simd, f32::INFINITY));
-    // A background pixel is a direction: n = h, with no translation.
-    let w = finite.select(z + lanes.distance, one);
-    let n = |a: usize| finite.select(lanes.g[a], zero) + w * (h_row[a] + columns * lanes.h_i[a]);
+    let w = finite.select(z + lanes.distance, F::<S>::splat(simd, FAR));
+    let n = |a: usize| lanes.g[a] + w * (h_row[a] + columns * lanes.h_i[a]);
     let (nx, ny, nz) = (n(0), n(1), n(2));
-    let inv = one / nz;
-    Projected { px: nx * inv, py: ny * inv, nz, finite }
+    let inv = F::<S>::splat(simd, 1.0) / nz;
+    Projected { px: nx * inv, py: ny * inv, nz, inv, finite }
 }
 
-/// The target pixel each lane lands on (row-major index, [`OUTSIDE`] for none) and its key
-/// depth's bits.
+/// The target row part of each lane's landing: whether it lands in front of the target
+/// eye and in a row of the target, and the index of that row's first pixel.
+struct Row<S: Simd> {
+    inside: M<S>,
+    first: U<S>,
+}
+
+/// [`Row`] of the projected lanes `p`.
 #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
-fn land<S: Simd>(simd: S, lanes: &Lanes<S>, p: Projected<S>) -> (U<S>, U<S>) {
+fn land_row<S: Simd>(simd: S, lanes: &Lanes<S>, p: &Projected<S>) -> Row<S> {
     let zero = F::<S>::splat(simd, 0.0);
-    let inside = p.nz.simd_gt(zero)
-        & p.px.simd_ge(zero)
-        & p.px.simd_lt(lanes.size.0)
-        & p.py.simd_ge(zero)
-        & p.py.simd_lt(lanes.size.1);
-    // In [0, size) the truncation is the floor.
-    let column = U::<S>::truncate_from(inside.select(p.px, zero));
-    let row = U::<S>::truncate_from(inside.select(p.py, zero));
-    let index = inside.select(row * lanes.width + column, U::<S>::splat(simd, OUTSIDE));
-    let depth = p.finite.select(p.nz, F::<S>::splat(simd, f32::INFINITY));
-    (index, depth.bitcast())
+    let inside = p.nz.simd_gt(zero) & p.py.simd_ge(zero) & p.py.simd_lt(lanes.size.1);
+    // In [0, size) the truncation is the floor, and a signed conversion (one instruction;
+    // an unsigned one is not, before AVX-512) is exact.
+    let row = I::<S>::truncate_from(inside.select(p.py, zero)).bitcast::<U<S>>();
+    Row { inside, first: row * lanes.width }
 }
 
-/// Keeps each of the first `count` lanes' keys where it lands, if smaller; the other eye's
-/// only in holes and over its own.
+/// The target pixel each lane lands on, in the row `row` and at column coordinate `px`:
+/// its row-major index, [`OUTSIDE`] for none.
 #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
-fn emit<const OTHER_EYE: bool>(keys: &mut [u64], index: &[u32], depth: &[u32], first: u64, count: usize) {
-    for (l, (&t, &depth)) in index.iter().zip(depth).take(count).enumerate() {
-        if let Some(slot) = keys.get_mut(t as usize) {
-            let key = (u64::from(depth) << 32) | (first + l as u64);
-            if !OTHER_EYE || *slot & OTHER != 0 {
-                *slot = (*slot).min(key);
+fn land<S: Simd>(simd: S, lanes: &Lanes<S>, row: &Row<S>, px: F<S>) -> U<S> {
+    let zero = F::<S>::splat(simd, 0.0);
+    let inside = row.inside & px.simd_ge(zero) & px.simd_lt(lanes.size.0);
+    let column = I::<S>::truncate_from(inside.select(px, zero)).bitcast::<U<S>>();
+    inside.select(row.first + column, U::<S>::splat(simd, OUTSIDE))
+}
+
+/// Lands each of the first `count` lanes' keys (first words `word`, colours `colour`) on
+/// its pixel of the band (`local`, its index in the band's keys), where its first word is
+/// smaller than the one there. A whole vector landing on consecutive pixels (where the image
+/// neither stretches nor folds) is compared and stored as two vectors.
+#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
+#[inline(always)]
+fn emit<S: Simd>(simd: S, keys: &mut KeysMut<'_>, local: U<S>, word: I<S>, colour: U<S>, count: usize) {
+    let n = U::<S>::LEN;
+    let first = local.as_slice()[0] as usize;
+    if count == n
+        && first + n <= keys.depth.len()
+        && local.simd_eq(U::<S>::splat(simd, first as u32) + lane_index(simd)).all_true()
+    {
+        let (there, there_colour) = (&mut keys.depth[first..first + n], &mut keys.colour[first..first + n]);
+        let old = I::<S>::from_slice(simd, there);
+        let nearer = word.simd_lt(old);
+        nearer.select(word, old).store_slice(there);
+        nearer.select(colour, U::<S>::from_slice(simd, there_colour)).store_slice(there_colour);
+        return;
+    }
+    // Lanes that land outside the band (in the guard band's margin, or in the rows of
+    // another band) wrap past its end.
+    if !local.simd_lt(U::<S>::splat(simd, keys.depth.len() as u32)).any_true() {
+        return;
+    }
+    let lanes = local.as_slice().iter().zip(word.as_slice()).zip(colour.as_slice()).take(count);
+    for ((&t, &word), &colour) in lanes {
+        if let (Some(old), Some(old_colour)) = (keys.depth.get_mut(t as usize), keys.colour.get_mut(t as usize)) {
+            if word < *old {
+                (*old, *old_colour) = (word, colour);
             }
         }
     }
 }
 
 /// Lane l holds l.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
 fn lane_index<S: Simd>(simd: S) -> U<S> {
     const INDEX: [u32; 16] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
     U::<S>::from_slice(simd, &INDEX[..U::<S>::LEN])
 }
 
-/// Where source pixel (i, j) of depth `z` lands in the target, by the kernel itself (lane
-/// 0, at the process's level): its continuous coordinates and n_z = z_t + d_t (for the
-/// background, of its direction only), or `None` behind the target eye.
+/// Where source pixel (i, j) of depth `z` lands in `map`'s target, by the kernel itself
+/// (lane 0, at the process's level): its continuous coordinates and n_z = z_t + d_t (for
+/// the background, of its direction only), or `None` behind the target eye.
 #[cfg(test)]
 pub(crate) fn land_one(map: &WarpMap, i: u32, j: u32, z: f32) -> Option<(glam::Vec2, f32)> {
     fn lane0<S: Simd>(simd: S, map: &WarpMap, i: u32, j: u32, z: f32) -> (f32, f32, f32) {

@@ -29,7 +29,7 @@ fn warp_at(level: Level, frames: &[Planes; 2], views: [EyeView; 2], targets: [Ey
     let (mut out, mut classes) = ([Vec::new(), Vec::new()], [Vec::new(), Vec::new()]);
     let [o0, o1] = &mut out;
     let [c0, c1] = &mut classes;
-    let counts = Warp::new().warp_at(level, sources, [&targets[0], &targets[1]], [o0, o1], [c0, c1]);
+    let counts = Warp::new().warp_at(level, &sources, [&targets[0], &targets[1]], [o0, o1], [c0, c1]);
     for e in 0..2 {
         assert_eq!(counts[e].total(), u64::from(targets[e].width * targets[e].height), "eye {e}: the counts add up");
         let count = |c| classes[e].iter().filter(|&&k| k == c).count() as u64;
