@@ -47,12 +47,6 @@ fn warp(c: &mut Criterion) {
     };
     let counts = run();
     eprintln!("warp counts (left, right): {counts:?}");
-    if let Ok(n) = std::env::var("WARP_CPU") {
-        for _ in 0..n.parse::<u32>().unwrap() {
-            black_box(run());
-        }
-        std::process::exit(0);
-    }
     c.bench_function("warp_stereo_800x600_turn1deg_step0.05", |b| b.iter(&mut run));
 }
 
@@ -64,16 +58,10 @@ fn trace(c: &mut Criterion) {
     let mut frame = StereoFrame::new();
     let opts = Options { mode: Mode::Full, retrace_edges: false };
     frame.render(&tracer, &scene.camera, W, H, opts);
-    if let Ok(n) = std::env::var("TRACE_CPU") {
-        for _ in 0..n.parse::<u32>().unwrap() {
-            black_box(frame.render(&tracer, &scene.camera, W, H, opts));
-        }
-        std::process::exit(0);
-    }
     let mut group = c.benchmark_group("trace");
     group.sample_size(20);
     group.bench_function("stereo_full_800x600", |b| {
-        b.iter(|| frame.render(&tracer, &scene.camera, W, H, black_box(opts)))
+        b.iter(|| frame.render(&tracer, &scene.camera, W, H, black_box(opts)));
     });
     group.finish();
 }

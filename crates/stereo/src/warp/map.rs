@@ -144,22 +144,34 @@ impl WarpMap {
     }
 }
 
-/// Each row's nearest depth (+∞ for a row of background; a NaN counts as background, as
-/// in the kernel) of the `width`-pixel rows of `z`, into `out`, at the SIMD `level`.
-pub(crate) fn nearest_per_row(level: Level, z: &[f32], width: usize, out: &mut Vec<f32>) {
+/// The target rows each `width`-pixel row of the depth plane `z` can reach in either
+/// target of `maps` ([`WarpMap::rows_reached`], from the row's nearest depth), into `out`,
+/// at the SIMD `level`.
+pub(crate) fn rows_reached(
+    level: Level,
+    maps: &[WarpMap; 2],
+    z: &[f32],
+    width: u32,
+    out: &mut Vec<Option<(u32, u32)>>,
+) {
     out.clear();
     if width == 0 {
         return;
     }
-    out.extend(z.chunks_exact(width).map(|row| {
-        dispatch!(level, simd => simd.vectorize(
+    out.extend(z.chunks_exact(width as usize).zip(0..).map(|(row, j)| {
+        let z_min = dispatch!(level, simd => simd.vectorize(
             #[inline(always)]
             || nearest(simd, row),
-        ))
+        ));
+        match maps.map(|map| map.rows_reached(j, width, z_min)) {
+            [Some(a), Some(b)] => Some((a.0.min(b.0), a.1.max(b.1))),
+            [a, b] => a.or(b),
+        }
     }));
 }
 
-/// The least of `row` (NaN left out), +∞ for none.
+/// The nearest depth of `row` (NaN left out, as the kernel takes it for background), +∞
+/// for a row of background.
 #[expect(clippy::inline_always, reason = "inlined into the dispatched function, whose target features it needs")]
 #[inline(always)]
 fn nearest<S: Simd>(simd: S, row: &[f32]) -> f32 {

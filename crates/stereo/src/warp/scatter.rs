@@ -6,17 +6,19 @@
 //! by the disparity ([`EyeShift`]: one multiply-add more, as both target eyes share the
 //! head pose and the window). In each it lands on the pixel that contains its projected
 //! centre (the floor of its continuous coordinates). What lands is a key of two words: the
-//! first has bit 31 set for a pixel of the other eye and the target depth
-//! n_z = z_t + d_t below it (positive, so its bits order as the floats do; +∞ for the
-//! background), the second is the pixel's colour (`0x00RRGGBB`). Each target pixel keeps
-//! the smallest key it is given, word by word: any pixel of its own eye before any of the
-//! other eye (whose pixels therefore show only in the holes the own eye left), then the
-//! nearest surface, then, on a tie (the same depth bits), the smaller colour. A minimum
-//! does not depend on the order the pixels come in, so the result is the same whatever the
-//! order, the bands, the lane width or the threads; and the winner's colour is in its key,
-//! so resolving a pixel reads nothing else. The two words are kept in two planes
-//! ([`Keys`]), so that a vector of pixels landing side by side is compared and stored as
-//! two vectors.
+//! first orders the keys, the second is the pixel's colour (`0x00RRGGBB`). The first word
+//! is the bits of the target depth n_z = z_t + d_t (positive, so its bits order as the
+//! floats do; +∞ for the background), with the sign bit flipped for the own eye's pixels:
+//! as signed numbers, every own eye's word is negative, every other eye's positive, and
+//! [`EMPTY`] (nothing landed) the largest. Each target pixel keeps the first key whose word
+//! is smaller than the one there: any pixel of its own eye before any of the other eye
+//! (whose pixels therefore show only in the holes the own eye left), then the nearest
+//! surface, then, on a tie, the one that landed first. Pixels land in a fixed order (the
+//! band's source rows from the top, left eye before right, pixels from the left), and the
+//! bands share no target pixel, so the result is the same whatever the threads or the lane
+//! width; and the winner's colour is in its key, so resolving a pixel reads nothing else.
+//! The two words are kept in two planes ([`Keys`]), so that a vector of pixels landing
+//! side by side is compared and stored as two vectors.
 //!
 //! A pass lands only what falls in one band of target rows, whose keys stay in the core's
 //! cache, and reads only the source rows that can reach the band
@@ -126,8 +128,8 @@ struct Lanes<S: Simd> {
     g: [F<S>; 3],
     h_i: [F<S>; 3],
     distance: F<S>,
-    size: (F<S>, F<S>),
-    width: U<S>,
+    /// The target's width in pixels.
+    width: F<S>,
 }
 
 impl<S: Simd> Lanes<S> {
@@ -135,13 +137,11 @@ impl<S: Simd> Lanes<S> {
     #[inline(always)]
     fn new(simd: S, map: &WarpMap) -> Self {
         let splat3 = |v: [f32; 3]| [F::<S>::splat(simd, v[0]), F::<S>::splat(simd, v[1]), F::<S>::splat(simd, v[2])];
-        let (w, h) = map.target_size;
         Self {
             g: splat3(map.g),
             h_i: splat3(map.h_i),
             distance: F::<S>::splat(simd, map.distance),
-            size: (F::<S>::splat(simd, w as f32), F::<S>::splat(simd, h as f32)),
-            width: U::<S>::splat(simd, w),
+            width: F::<S>::splat(simd, map.target_size.0 as f32),
         }
     }
 }
@@ -165,8 +165,7 @@ fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
         [own_keys.colour.len(), other_keys.depth.len(), other_keys.colour.len()] == [len; 3],
         "both eyes' bands alike"
     );
-    // Where the band's keys start in the target.
-    let offset = U::<S>::splat(simd, band.first * source.map.target_size.0);
+    let first_row = F::<S>::splat(simd, band.first as f32);
     // The last, partial vector of a row, padded (its padding lanes land nowhere: they are
     // not emitted).
     let (mut z_tail, mut rgb_tail) = ([0.0_f32; 16], [0_u32; 16]);
@@ -195,12 +194,12 @@ fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
             // The row (the same in both eyes), then the column in each. The band's own
             // indices: a lane that lands before the band wraps past its end, as does OUTSIDE
             // (the target has fewer than u32::MAX pixels).
-            let row = land_row(simd, &lanes, &p);
-            let own = land(simd, &lanes, &row, p.px) - offset;
+            let row = land_row(simd, &lanes, &p, first_row);
+            let own = land(simd, &lanes, &row, p.px);
             emit(simd, own_keys, own, own_word, low, count);
             // The other eye, at the disparity: px + E·(1 − d/n_z); px + E for the
             // background, whose 1/n_z is 2⁻¹⁰⁰ times its direction's, too small to move px.
-            let there = land(simd, &lanes, &row, p.px + shift + parallax * p.inv) - offset;
+            let there = land(simd, &lanes, &row, p.px + shift + parallax * p.inv);
             emit(simd, other_keys, there, other_word, low, count);
         }
     }
@@ -235,34 +234,33 @@ fn project<S: Simd>(simd: S, lanes: &Lanes<S>, h_row: [F<S>; 3], columns: F<S>, 
     Projected { px: nx * inv, py: ny * inv, nz, inv, finite }
 }
 
-/// The target row part of each lane's landing: whether it lands in front of the target
-/// eye and in a row of the target, and the index of that row's first pixel.
+/// The row part of each lane's landing: whether it lands in front of the target eye, and
+/// the band-relative index of its row's first pixel, as a float (whole numbers, exact
+/// below 2²⁴; far outside the band where they are not).
 struct Row<S: Simd> {
-    inside: M<S>,
-    first: U<S>,
+    ahead: M<S>,
+    first: F<S>,
 }
 
-/// [`Row`] of the projected lanes `p`.
+/// [`Row`] of the projected lanes `p`, in the band from target row `first_row`.
 #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
-fn land_row<S: Simd>(simd: S, lanes: &Lanes<S>, p: &Projected<S>) -> Row<S> {
-    let zero = F::<S>::splat(simd, 0.0);
-    let inside = p.nz.simd_gt(zero) & p.py.simd_ge(zero) & p.py.simd_lt(lanes.size.1);
-    // In [0, size) the truncation is the floor, and a signed conversion (one instruction;
-    // an unsigned one is not, before AVX-512) is exact.
-    let row = I::<S>::truncate_from(inside.select(p.py, zero)).bitcast::<U<S>>();
-    Row { inside, first: row * lanes.width }
+fn land_row<S: Simd>(simd: S, lanes: &Lanes<S>, p: &Projected<S>, first_row: F<S>) -> Row<S> {
+    Row { ahead: p.nz.simd_gt(F::<S>::splat(simd, 0.0)), first: (p.py.floor() - first_row) * lanes.width }
 }
 
-/// The target pixel each lane lands on, in the row `row` and at column coordinate `px`:
-/// its row-major index, [`OUTSIDE`] for none.
+/// The pixel of the band each lane lands on, in the row `row` and at column coordinate
+/// `px`: its index in the band's keys, past their end (as an unsigned number) for a lane
+/// that lands outside the band, before it or after it, or outside the target.
 #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
 fn land<S: Simd>(simd: S, lanes: &Lanes<S>, row: &Row<S>, px: F<S>) -> U<S> {
-    let zero = F::<S>::splat(simd, 0.0);
-    let inside = row.inside & px.simd_ge(zero) & px.simd_lt(lanes.size.0);
-    let column = I::<S>::truncate_from(inside.select(px, zero)).bitcast::<U<S>>();
-    inside.select(row.first + column, U::<S>::splat(simd, OUTSIDE))
+    let inside = row.ahead & px.simd_ge(F::<S>::splat(simd, 0.0)) & px.simd_lt(lanes.width);
+    // A row outside the band gives an index outside it, negative (a large unsigned number)
+    // or past its end; a float out of the i32 range converts to i32::MIN (x86) or
+    // saturates (aarch64), both outside.
+    let index = I::<S>::truncate_from(row.first + px.floor()).bitcast::<U<S>>();
+    inside.select(index, U::<S>::splat(simd, OUTSIDE))
 }
 
 /// Lands each of the first `count` lanes' keys (first words `word`, colours `colour`) on

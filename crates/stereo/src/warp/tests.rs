@@ -7,7 +7,7 @@ use fearless_simd::Level;
 use glam::{Vec2, Vec3};
 use tracer::{Camera, Disparity, Eye, EyeView, Film, Pixels, Record, Renderer, Scene, Target, Tracer};
 
-use super::map::WarpMap;
+use super::map::{EyeShift, WarpMap};
 use super::scatter::land_one;
 use super::{Warp, WarpClass, WarpCounts, WarpSource};
 
@@ -24,7 +24,7 @@ struct Warped {
 }
 
 /// Warps the planes of `views` to `targets` with a new `Warp`, at `level`.
-fn warp_at(level: Level, frames: &[Planes; 2], views: [EyeView; 2], targets: [EyeView; 2]) -> Warped {
+fn warp_at(level: Level, frames: &[Planes; 2], views: &[EyeView; 2], targets: &[EyeView; 2]) -> Warped {
     let sources = [0, 1].map(|e| WarpSource { view: views[e], rgb: &frames[e].0, z: &frames[e].1 });
     let (mut out, mut classes) = ([Vec::new(), Vec::new()], [Vec::new(), Vec::new()]);
     let [o0, o1] = &mut out;
@@ -43,7 +43,7 @@ fn warp_at(level: Level, frames: &[Planes; 2], views: [EyeView; 2], targets: [Ey
     Warped { out, classes, counts }
 }
 
-fn warp(frames: &[Planes; 2], views: [EyeView; 2], targets: [EyeView; 2]) -> Warped {
+fn warp(frames: &[Planes; 2], views: &[EyeView; 2], targets: &[EyeView; 2]) -> Warped {
     warp_at(tracer::simd_level(), frames, views, targets)
 }
 
@@ -82,7 +82,7 @@ fn warping_a_frame_to_its_own_pose_gives_it_back_bit_for_bit() {
         for margin in [(0, 0), (6, 4)] {
             let (frames, views) = traced(&camera, w, h, margin);
             // The shown part, without a band.
-            let warped = warp(&frames, views, EYES.map(|eye| camera.view(eye, w, h)));
+            let warped = warp(&frames, &views, &EYES.map(|eye| camera.view(eye, w, h)));
             for e in 0..2 {
                 let shown: Vec<u32> = (0..h)
                     .flat_map(|r| (0..w).map(move |c| ((r + margin.1) * views[e].width + c + margin.0) as usize))
@@ -93,10 +93,10 @@ fn warping_a_frame_to_its_own_pose_gives_it_back_bit_for_bit() {
                 assert_eq!(first, None, "{margin:?} eye {e}: the first pixel that differs (row-major)");
             }
             // And to the very views traced, band and all.
-            let warped = warp(&frames, views, views);
-            for e in 0..2 {
-                assert_eq!(warped.out[e], frames[e].0, "{margin:?} eye {e}: the banded frame itself");
-                assert!(warped.classes[e].iter().all(|&c| c == WarpClass::Warped), "{margin:?} eye {e}");
+            let warped = warp(&frames, &views, &views);
+            for (e, (out, classes)) in warped.out.iter().zip(&warped.classes).enumerate() {
+                assert_eq!(*out, frames[e].0, "{margin:?} eye {e}: the banded frame itself");
+                assert!(classes.iter().all(|&c| c == WarpClass::Warped), "{margin:?} eye {e}");
             }
         }
     }
@@ -127,7 +127,7 @@ fn a_sideways_step_moves_a_point_by_the_disparity_formula() {
     for delta in [0.37_f32, -0.21] {
         let moved = Camera { position: Vec3::new(delta, 0.0, 0.0), ..camera };
         let targets = EYES.map(|eye| moved.view(eye, w, h));
-        let warped = warp(&frames, views, targets);
+        let warped = warp(&frames, &views, &targets);
         for e in 0..2 {
             let (view, z) = (&views[e], &frames[e].1);
             let shift = |z: f32| Disparity { scale: delta, distance: camera.distance }.at(z) - delta;
@@ -176,9 +176,8 @@ fn a_turn_moves_the_background_by_the_rotation() {
     for yaw in [3.0_f32, -11.0] {
         let turned = Camera { yaw_deg: yaw, ..camera };
         let targets = EYES.map(|eye| turned.view(eye, w, h));
-        let warped = warp(&frames, views, targets);
-        for e in 0..2 {
-            let v = &views[e];
+        let warped = warp(&frames, &views, &targets);
+        for (e, v) in views.iter().enumerate() {
             let (window, d, eye) = (v.window_size().as_dvec2(), f64::from(v.distance()), f64::from(v.eye_offset()));
             let theta = f64::from(yaw).to_radians();
             let expected = |k: u32| {
@@ -221,7 +220,7 @@ fn the_nearer_surface_wins_whatever_the_order() {
             let views = EYES.map(|eye| camera.view(eye, w, h));
             let frames = views.map(|v| synthetic(&v, |c, _| if near(c) { (NEAR, 0.0) } else { (FAR, far) }));
             let moved = Camera { position: Vec3::new(step, 0.0, 0.0), ..camera };
-            let warped = warp(&frames, views, EYES.map(|eye| moved.view(eye, w, h)));
+            let warped = warp(&frames, &views, &EYES.map(|eye| moved.view(eye, w, h)));
             // Near source columns land 6 columns along (c + 0.5 ± 6.4), over the far ones,
             // which land 2 (c + 0.5 ± 1.6) or 0 columns along.
             let near_cols = if near_on_the_left { 6..38 } else { 26..58 };
@@ -259,7 +258,7 @@ fn a_disocclusion_of_known_width_is_filled_by_the_other_eye_then_by_the_rule() {
         )
     });
     let moved = Camera { position: Vec3::new(9.0 / ppu, 0.0, 0.0), ..camera };
-    let warped = warp(&frames, views, EYES.map(|eye| moved.view(eye, w, h)));
+    let warped = warp(&frames, &views, &EYES.map(|eye| moved.view(eye, w, h)));
     let card_rows = 16;
     let expected = [
         WarpCounts { warped: u64::from(w * h) - 7 * card_rows, other_eye: 5 * card_rows, filled: 2 * card_rows },
@@ -270,14 +269,14 @@ fn a_disocclusion_of_known_width_is_filled_by_the_other_eye_then_by_the_rule() {
         for r in 0..h as usize {
             let row = &warped.out[e][r * w as usize..][..w as usize];
             let classes = &warped.classes[e][r * w as usize..][..w as usize];
-            for c in 0..w as usize {
-                let class = match c {
+            for (c, &class) in classes.iter().enumerate() {
+                let expected = match c {
                     _ if !(8..24).contains(&r) => WarpClass::Warped,
                     31..38 if c < first_other => WarpClass::Filled,
                     31..38 => WarpClass::OtherEye,
                     _ => WarpClass::Warped,
                 };
-                assert_eq!(classes[c], class, "eye {e}: ({c}, {r})");
+                assert_eq!(class, expected, "eye {e}: ({c}, {r})");
             }
             // The rule fills the hole from the wall beyond it (the farther side), not the card.
             if (8..24).contains(&r) {
@@ -298,7 +297,7 @@ fn rows_nothing_reached_copy_the_nearest_covered_row_and_an_empty_frame_is_black
     let views = EYES.map(|eye| camera.view(eye, w, h));
     let frames = views.map(|v| synthetic(&v, |c, r| (1 + (r * 48 + c) as u32, f32::INFINITY)));
     let tilted = Camera { pitch_deg: 12.0, ..camera };
-    let warped = warp(&frames, views, EYES.map(|eye| tilted.view(eye, w, h)));
+    let warped = warp(&frames, &views, &EYES.map(|eye| tilted.view(eye, w, h)));
     for e in 0..2 {
         let rows: Vec<&[WarpClass]> = warped.classes[e].chunks(w as usize).collect();
         let first = rows.iter().position(|row| row.iter().any(|&c| c != WarpClass::Filled)).unwrap();
@@ -310,7 +309,7 @@ fn rows_nothing_reached_copy_the_nearest_covered_row_and_an_empty_frame_is_black
         assert!(out[first].iter().all(|&p| p != 0), "eye {e}: the first covered row is all filled");
     }
     let round = Camera { yaw_deg: 180.0, ..camera };
-    let warped = warp(&frames, views, EYES.map(|eye| round.view(eye, w, h)));
+    let warped = warp(&frames, &views, &EYES.map(|eye| round.view(eye, w, h)));
     for e in 0..2 {
         assert_eq!(warped.counts[e], WarpCounts { filled: u64::from(w * h), ..WarpCounts::default() });
         assert!(warped.out[e].iter().all(|&p| p == 0), "eye {e}: black");
@@ -326,7 +325,7 @@ fn the_same_bytes_for_any_thread_count_and_lane_width() {
     let targets = EYES.map(|eye| moved.view(eye, w, h));
     let run = |threads: usize, level: Level| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
-        pool.install(|| warp_at(level, &frames, views, targets))
+        pool.install(|| warp_at(level, &frames, &views, &targets))
     };
     let one = run(1, tracer::simd_level());
     assert!(one.counts.iter().all(|c| c.other_eye > 0 && c.filled > 0), "every class occurs: {:?}", one.counts);
@@ -334,5 +333,66 @@ fn the_same_bytes_for_any_thread_count_and_lane_width() {
         let other = run(threads, level);
         assert_eq!(other.counts, one.counts, "{threads} threads, {level:?}");
         assert!(other.out == one.out && other.classes == one.classes, "{threads} threads, {level:?}: other bytes");
+    }
+}
+
+#[test]
+fn every_landing_lies_in_its_rows_reach_and_the_other_eye_is_the_disparity_away() {
+    // The bands read only the source rows whose reach meets them (`WarpMap::rows_reached`),
+    // and land the other eye's pixels by the disparity from their own eye's landing
+    // (`EyeShift`): both checked pixel by pixel against the maps themselves, for turns,
+    // tilts and steps in every direction.
+    let camera = seed_camera();
+    let (w, h, margin) = (64, 48, (6, 4));
+    let (frames, views) = traced(&camera, w, h, margin);
+    let poses = [
+        Camera { yaw_deg: 4.0, pitch_deg: -3.0, ..camera },
+        Camera { position: Vec3::new(0.3, -0.4, 0.8), ..camera },
+        Camera { yaw_deg: -9.0, pitch_deg: 7.0, position: Vec3::new(-0.5, 0.6, -1.5), ..camera },
+    ];
+    for (p, pose) in poses.iter().enumerate() {
+        let targets = EYES.map(|eye| pose.view(eye, w, h));
+        for (s, (view, (_, z))) in views.iter().zip(&frames).enumerate() {
+            let maps = targets.map(|t| WarpMap::new(view, &t));
+            let shift = EyeShift::between(&targets[s], &targets[1 - s]);
+            for j in 0..view.height {
+                let row = &z[(j * view.width) as usize..][..view.width as usize];
+                let nearest = row.iter().copied().fold(f32::INFINITY, f32::min);
+                for (t, map) in maps.iter().enumerate() {
+                    let reach = map.rows_reached(j, view.width, nearest);
+                    for (i, &z) in (0..).zip(row) {
+                        let Some((at, _)) = land_one(map, i, j, z) else { continue };
+                        if at.y >= 0.0 && at.y < h as f32 && at.x >= 0.0 && at.x < w as f32 {
+                            let (lo, hi) = reach.unwrap_or_else(|| panic!("pose {p} source {s} row {j}: no reach"));
+                            let r = at.y.floor() as u32;
+                            assert!(
+                                (lo..=hi).contains(&r),
+                                "pose {p} source {s}→{t} ({i}, {j}): row {r} not in {lo}..={hi}"
+                            );
+                        }
+                    }
+                }
+                for (i, &z) in (0..).zip(row) {
+                    let (Some((own, nz)), Some((other, _))) =
+                        (land_one(&maps[s], i, j, z), land_one(&maps[1 - s], i, j, z))
+                    else {
+                        continue;
+                    };
+                    let parallax = if z.is_finite() { shift.parallax / nz } else { 0.0 };
+                    let by_shift = own.x + shift.shift + parallax;
+                    assert!(
+                        (by_shift - other.x).abs() < 2e-3,
+                        "pose {p} source {s} ({i}, {j}): {by_shift} and {}",
+                        other.x
+                    );
+                    assert!(
+                        (own.y - other.y).abs() < 2e-3,
+                        "pose {p} source {s} ({i}, {j}): rows {} and {}",
+                        own.y,
+                        other.y
+                    );
+                }
+            }
+        }
     }
 }
