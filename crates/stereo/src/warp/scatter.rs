@@ -279,17 +279,26 @@ fn emit<S: Simd>(simd: S, keys: &mut KeysMut<'_>, local: U<S>, word: I<S>, colou
         let (there, there_colour) = (&mut keys.depth[first..first + n], &mut keys.colour[first..first + n]);
         let old = I::<S>::from_slice(simd, there);
         let nearer = word.simd_lt(old);
-        nearer.select(word, old).store_slice(there);
-        nearer.select(colour, U::<S>::from_slice(simd, there_colour)).store_slice(there_colour);
+        // The other eye's pixels mostly land where the own eye's are already.
+        if nearer.any_true() {
+            nearer.select(word, old).store_slice(there);
+            nearer.select(colour, U::<S>::from_slice(simd, there_colour)).store_slice(there_colour);
+        }
         return;
     }
     // Lanes that land outside the band (in the guard band's margin, or in the rows of
     // another band) wrap past its end.
-    if !local.simd_lt(U::<S>::splat(simd, keys.depth.len() as u32)).any_true() {
-        return;
+    if local.simd_lt(U::<S>::splat(simd, keys.depth.len() as u32)).any_true() {
+        emit_lanes(keys, local.as_slice(), word.as_slice(), colour.as_slice(), count);
     }
-    let lanes = local.as_slice().iter().zip(word.as_slice()).zip(colour.as_slice()).take(count);
-    for ((&t, &word), &colour) in lanes {
+}
+
+/// [`emit`] lane by lane, for the vectors that do not land side by side: scalar code, kept
+/// out of the kernel's loop.
+#[cold]
+#[inline(never)]
+fn emit_lanes(keys: &mut KeysMut<'_>, local: &[u32], word: &[i32], colour: &[u32], count: usize) {
+    for ((&t, &word), &colour) in local.iter().zip(word).zip(colour).take(count) {
         if let (Some(old), Some(old_colour)) = (keys.depth.get_mut(t as usize), keys.colour.get_mut(t as usize)) {
             if word < *old {
                 (*old, *old_colour) = (word, colour);
