@@ -86,7 +86,7 @@ use tracer::{Eye, EyeView, Film};
 
 use map::{rows_reached, EyeShift, WarpMap};
 use resolve::{fill_uncovered_rows, resolve_band};
-use scatter::{scatter, Band, Keys, Source};
+use scatter::{scatter, Band, Keys, KeysMut, Source};
 
 /// Target rows per band: each band's keys (32 rows of 800 pixels: 200 kB) stay in the
 /// core's cache while both eyes land in them and they are resolved. At most 64.
@@ -262,7 +262,9 @@ impl Warp {
                         map: &maps[s][s],
                         shift: shifts[s],
                     };
-                    let keys = if s == 0 { [left.planes(), right.planes()] } else { [right.planes(), left.planes()] };
+                    let left = KeysMut { depth: &mut left.depth, colour: left_out };
+                    let right = KeysMut { depth: &mut right.depth, colour: right_out };
+                    let keys = if s == 0 { [left, right] } else { [right, left] };
                     scatter(level, source, &mut Band { first, keys });
                 }
                 [

@@ -1,8 +1,8 @@
 //! From a target's keys to its image: each pixel's winner, and the hole rule for the pixels
 //! neither eye reached.
 //!
-//! A key holds its source pixel's colour (and eye, bit 31 of its first word): the pixel
-//! takes that colour and is [`WarpClass::Warped`] or [`WarpClass::OtherEye`]. The rest are
+//! A pixel's key (`scatter.rs`) left the winner's colour in the image and says whose it
+//! is: [`WarpClass::Warped`] or [`WarpClass::OtherEye`]. The rest are
 //! [`WarpClass::Filled`], by the rule of the module doc (`warp/mod.rs`): along the row, each
 //! run of holes takes the colour of the farther of the covered pixels on its left and on
 //! its right (the larger target depth: the background side of a disocclusion, which is what
@@ -14,7 +14,7 @@
 
 use fearless_simd::{dispatch, Level, Simd};
 
-use super::scatter::{Keys, COLOUR, DEPTH, EMPTY};
+use super::scatter::{Keys, DEPTH, EMPTY};
 use super::{WarpClass, WarpCounts};
 
 /// Resolves a band of target rows (`keys`, rows of `width` pixels) into its rows of `out`
@@ -50,14 +50,16 @@ fn resolve_rows(
     if width == 0 {
         return counts;
     }
-    let keys_rows = keys.depth.chunks_exact(width).zip(keys.colour.chunks_exact(width));
-    let rows = keys_rows.zip(out.chunks_exact_mut(width)).zip(classes.chunks_exact_mut(width));
-    for ((((depth, colour), out), classes), covered) in rows.zip(covered) {
-        let (warped, other) = resolve_row(depth, colour, out, classes);
+    let rows = keys.depth.chunks_exact(width).zip(out.chunks_exact_mut(width)).zip(classes.chunks_exact_mut(width));
+    for (((depth, out), classes), covered) in rows.zip(covered) {
+        let (warped, other) = resolve_row(depth, classes);
         counts.warped += warped;
         counts.other_eye += other;
         *covered = warped + other > 0;
-        if *covered && warped + other < width as u64 {
+        if !*covered {
+            // Black, until `fill_uncovered_rows`.
+            out.fill(0);
+        } else if warped + other < width as u64 {
             fill_row(depth, out);
         }
     }
@@ -84,18 +86,16 @@ pub(crate) fn fill_uncovered_rows(out: &mut [u32], width: usize, covered: &[bool
     }
 }
 
-/// Each pixel of a row its winner's colour and class, from its keys' first words `depth`
-/// and `colour`; holes `Filled` and black, their colour left for [`fill_row`]. Returns how
-/// many pixels came from the own eye and from the other. Branch-free, so that it runs in
-/// vectors.
+/// Each pixel of a row its class, from its keys' first words `depth` (its colour is in
+/// place, or, for a hole, left for [`fill_row`]). Returns how many pixels came from the own
+/// eye and from the other. Branch-free, so that it runs in vectors.
 #[expect(clippy::inline_always, reason = "inlined into the dispatched function, whose target features it needs")]
 #[inline(always)]
-fn resolve_row(depth: &[i32], colour: &[u32], out: &mut [u32], classes: &mut [WarpClass]) -> (u64, u64) {
-    // Pixels with the other eye's bit (the other eye's and the holes) and holes.
+fn resolve_row(depth: &[i32], classes: &mut [WarpClass]) -> (u64, u64) {
+    // Pixels with a word of the other eye or none, and holes.
     let (mut flagged, mut holes) = (0_u32, 0_u32);
-    for (((&depth, &colour), out), class) in depth.iter().zip(colour).zip(out).zip(classes) {
+    for (&depth, class) in depth.iter().zip(classes) {
         let (flag, hole) = (u32::from(depth >= 0), u32::from(depth == EMPTY));
-        *out = colour & COLOUR & hole.wrapping_sub(1);
         *class = match flag + hole {
             0 => WarpClass::Warped,
             1 => WarpClass::OtherEye,

@@ -16,9 +16,10 @@
 //! surface, then, on a tie, the one that landed first. Pixels land in a fixed order (the
 //! band's source rows from the top, left eye before right, pixels from the left), and the
 //! bands share no target pixel, so the result is the same whatever the threads or the lane
-//! width; and the winner's colour is in its key, so resolving a pixel reads nothing else.
-//! The two words are kept in two planes ([`Keys`]), so that a vector of pixels landing
-//! side by side is compared and stored as two vectors.
+//! width. The two words are kept in two planes, the first words in the band's [`Keys`] and
+//! the colours in the band's rows of the target image itself, so that a vector of pixels
+//! landing side by side is compared and stored as two vectors, and the winners' colours
+//! are in place when the band is done.
 //!
 //! A pass lands only what falls in one band of target rows, whose keys stay in the core's
 //! cache, and reads only the source rows that can reach the band
@@ -41,15 +42,11 @@ pub(crate) const DEPTH: i32 = i32::MAX;
 /// The colour bits of a pixel (`0x00RRGGBB`).
 pub(crate) const COLOUR: u32 = 0x00ff_ffff;
 
-/// A band's keys, in two planes of the band's pixels, row-major: the first word (the
-/// other eye's bit and the depth, [`EMPTY`] where nothing landed) and the colour (any
-/// value where nothing landed).
+/// A band's first key words ([`EMPTY`] where nothing landed), row-major.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Keys {
     /// The first words.
     pub depth: Vec<i32>,
-    /// The colours.
-    pub colour: Vec<u32>,
 }
 
 impl Keys {
@@ -57,17 +54,11 @@ impl Keys {
     pub fn reset(&mut self, n: usize) {
         self.depth.clear();
         self.depth.resize(n, EMPTY);
-        // The colour of an empty key is never read.
-        self.colour.resize(n, 0);
-    }
-
-    /// Both planes, to land in.
-    pub fn planes(&mut self) -> KeysMut<'_> {
-        KeysMut { depth: &mut self.depth, colour: &mut self.colour }
     }
 }
 
-/// A band's keys, to land in ([`Keys`]).
+/// A band's keys, to land in: its first words and its rows of the target image, which take
+/// the colours (left as they were where nothing landed).
 #[derive(Debug)]
 pub(crate) struct KeysMut<'a> {
     /// The first words.
@@ -75,6 +66,7 @@ pub(crate) struct KeysMut<'a> {
     /// The colours.
     pub colour: &'a mut [u32],
 }
+
 /// The target index of a lane that lands outside the target (no slot has it: the target
 /// has fewer than `u32::MAX` pixels).
 const OUTSIDE: u32 = u32::MAX;
