@@ -4,7 +4,8 @@
 //! left pixel into the right eye (Adelson & Hodges 1993, "Stereoscopic ray-tracing", as
 //! re-implemented in Piszczek's seed paper, Algorithm 1), decides which right pixels must be
 //! retraced and why, fills the right image in one of four [`Mode`]s, and measures the result
-//! ([`FrameStats`], [`Quality`]).
+//! ([`FrameStats`], [`Quality`]). For timewarp, it also moves a traced pair to a newer head
+//! pose by its depth ([`Warp`]).
 //!
 //! ## The pipeline
 //!
@@ -51,7 +52,11 @@
 //!   for pixels a reused frame kept, too);
 //! - `downsample` (mask, stats): a supersampled frame's eyes and mask filtered down to the
 //!   output size (box filter in linear light), beside the pipeline too: the stages run at
-//!   the sampled size and know nothing of it.
+//!   the sampled size and know nothing of it;
+//! - `warp` (its own `map`, `scatter`, `resolve`): timewarp's warp stage, beside the
+//!   pipeline too: a traced stereo pair moved to a newer head pose by its depth (Mark,
+//!   McMillan & Bishop 1997), the holes one eye leaves filled from the other eye, then by a
+//!   rule ([`Warp`]).
 //!
 //! ## Errors
 //!
@@ -79,6 +84,7 @@ mod reproject;
 mod retrace;
 mod reuse;
 mod stats;
+mod warp;
 
 pub use downsample::{downsample, downsample_mask, downsample_mask_kept};
 pub use frame::StereoFrame;
@@ -89,3 +95,4 @@ pub use metrics::Quality;
 pub use mode::{Mode, Options};
 pub use reproject::{reproject_row, NO_SOURCE};
 pub use stats::{EyeStats, FrameStats, PixelClass, PixelCounts, Reuse, StageTimes};
+pub use warp::{Warp, WarpClass, WarpCounts, WarpSource};

@@ -20,7 +20,8 @@
 //! gets its first band later, and its scratch grows then (seen here in about one run in
 //! ten, on main before this test counted in rounds).
 //!
-//! The same holds for frames that reuse the last one (`reuse.rs`), in every mode.
+//! The same holds for frames that reuse the last one (`reuse.rs`), in every mode, and for
+//! timewarp's warp (`stereo::Warp`) of one traced pair to pose after pose.
 
 #![expect(
     unsafe_code,
@@ -31,8 +32,9 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
 
-use stereo::{Mode, Options, StereoFrame};
-use tracer::{Scene, Tracer};
+use glam::Vec3;
+use stereo::{Mode, Options, StereoFrame, Warp, WarpSource};
+use tracer::{Camera, Eye, Film, Pixels, Record, Renderer, Scene, Target, Tracer};
 
 thread_local! {
     /// The counter this thread's allocations go to: set on a [`CountingPool`]'s threads
@@ -178,4 +180,59 @@ fn a_warm_reused_frame_allocates_nothing() {
         let fewest = rounds.iter().copied().min().unwrap_or(0);
         assert!(fewest <= u64::from(frames) / 8, "{mode}: rounds of {frames} reused frames allocated {rounds:?} times");
     }
+}
+
+#[test]
+fn a_warm_warp_allocates_nothing() {
+    let pool = CountingPool::new();
+    let scene =
+        Scene::load(format!("{}/../../assets/scenes/seed.toml", env!("CARGO_MANIFEST_DIR"))).expect("scene loads");
+    let tracer = Tracer::new(&scene, 0.0);
+    let (w, h, margin) = (160, 90, (8, 6));
+    let eyes = [Eye::Left, Eye::Right];
+    let views = eyes.map(|eye| scene.camera.view_with_margin(eye, w, h, margin));
+    let films = views.map(|view| {
+        let mut film = Film::new(view.width, view.height);
+        Renderer::new().render(&tracer, &view, Pixels::All, Target::film(&mut film, Record::Keys));
+        film
+    });
+    // The head turns, tilts and steps: each pose exposes other holes and edges.
+    let targets: Vec<_> = (0..6_u8)
+        .map(|k| {
+            let k = f32::from(k);
+            let pose = Camera {
+                yaw_deg: 1.5 * k - 4.0,
+                pitch_deg: 2.0 - 0.7 * k,
+                position: scene.camera.position + Vec3::new(0.04 * k - 0.1, 0.02 * k, -0.05 * k),
+                ..scene.camera
+            };
+            eyes.map(|eye| pose.view(eye, w, h))
+        })
+        .collect();
+    let mut warp = Warp::new();
+    let (mut left, mut right, mut left_classes, mut right_classes) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let mut warp_to_every_pose = || {
+        for [l, r] in &targets {
+            let sources = [0, 1].map(|e| WarpSource::from_film(views[e], &films[e]));
+            warp.warp(sources, [l, r], [&mut left, &mut right], [&mut left_classes, &mut right_classes]);
+        }
+    };
+    // Warm up: the images, the bounds and every thread's keys grow to their size (twice, as
+    // any thread may take any band).
+    pool.run(|| {
+        warp_to_every_pose();
+        warp_to_every_pose();
+    });
+    let frames = 4 * targets.len() as u64;
+    let rounds: Vec<u64> = (0..3)
+        .map(|_| {
+            pool.allocations(|| {
+                for _ in 0..4 {
+                    warp_to_every_pose();
+                }
+            })
+        })
+        .collect();
+    let fewest = rounds.iter().copied().min().unwrap_or(0);
+    assert!(fewest <= frames / 8, "rounds of {frames} warm warps allocated {rounds:?} times");
 }

@@ -1,0 +1,308 @@
+//! The warp stage of timewarp: the last traced stereo pair, moved to the newest head pose
+//! by its depth, so that the display never waits for the tracer.
+//!
+//! VR runtimes do this at every display refresh: Oculus's Asynchronous TimeWarp (J. M. P.
+//! van Waveren, "The asynchronous time warp for virtual reality on consumer hardware",
+//! VRST 2016) turns the last frame to the new orientation, and Asynchronous SpaceWarp (ASW,
+//! 2016; ASW 2.0, 2019, with the frame's depth) and SteamVR's motion smoothing move it with
+//! the head's translation too. Here the warp is the full 6-DoF, per-pixel forward warp of
+//! Mark, McMillan & Bishop ("Post-rendering 3D warping", I3D 1997): every traced pixel is
+//! a point (its primary ray at its depth) re-projected into the new view, and the second
+//! eye's frame fills what the first eye's leaves uncovered, as their two reference frames
+//! do. Reprojecting a ray-traced frame by its depth, and finding the pixels it leaves
+//! open, is Adelson & Hodges' reprojection across time ("Generating exact ray-traced
+//! animation frames by reprojection", IEEE CG&A 1995); the crate's stereo stages do it
+//! across the eyes (1993).
+//!
+//! ## Both target eyes, band by band
+//!
+//! [`Warp::warp`] makes both target eyes together, in bands of 32 target rows, in parallel
+//! over the bands (rayon), each band in one sequential pass:
+//! 1. **Map** (`map.rs`): per (source eye, target eye) pair and frame, one composite map in
+//!    homogeneous coordinates, so that a pixel lands in a handful of multiply-adds; and,
+//!    from each source row's nearest depth, the target rows it can reach, so that a band
+//!    reads only the source rows that can land in it.
+//! 2. **Land** (`scatter.rs`): every pixel of both traced views, guard band included, in
+//!    SIMD lanes (`fearless_simd`, dispatched at [`tracer::simd_level`]: 8 lanes or 4, the
+//!    same kernel). A pixel at z = +∞ (background) is a direction: it turns with the head
+//!    and does not translate. It lands in its own eye's target and, by the disparity, in the
+//!    other eye's, on the pixel containing its projected centre (the floor of its
+//!    continuous coordinates), as a key: its eye, its target depth, its colour. Each target
+//!    pixel keeps the smallest: any pixel of its own eye before any of the other eye, then
+//!    the nearer surface (the background loses to every surface), and on a tie the one
+//!    that landed first in the band's fixed order (source rows from the top, the left eye
+//!    before the right, pixels from the left), whatever the threads or the lanes. So the
+//!    own eye's pixels are [`WarpClass::Warped`], and the other eye's, the nearest among
+//!    them, fill exactly the holes the own eye left (disocclusions, which the other eye saw
+//!    around; cracks where the image stretches; edges a turn exposes beyond the guard
+//!    band): [`WarpClass::OtherEye`].
+//! 3. **Resolve** (`resolve.rs`): the winners' colours, and the hole rule below for the
+//!    rest ([`WarpClass::Filled`]); its last step, rows nothing reached, runs once the
+//!    bands are done.
+//!
+//! ## The hole rule
+//!
+//! A target pixel neither eye reached is filled along its row: each run of such pixels
+//! takes the colour of the farther (larger target depth, i.e. the background side) of the
+//! nearest covered pixels to its left and to its right, the left one on a tie, or of the
+//! one that exists when the run touches the row's end. A disocclusion is the background an
+//! occluder uncovered, so the farther side is the better guess, and it never smears a near
+//! edge over the background. A row with no covered pixel copies the nearest covered row
+//! above it, else the nearest below; a frame with none is black. Each eye's
+//! [`WarpCounts`] count its pixels of each class, which add up to its size.
+//!
+//! ## Guarantees
+//!
+//! - Warping a frame to its own pose gives back its shown part bit for bit, every pixel
+//!   [`WarpClass::Warped`] (every pixel lands on its own centre, far from a pixel edge).
+//! - Both eyes go to one head pose, from one traced pair: the warp never mixes frames.
+//! - Same bytes for any thread count (each band is one sequential pass in a fixed order,
+//!   and bands do not share pixels) and any lane width (the lanes only decide where a
+//!   pixel lands, by its centre, and both widths run the same operations per lane, in the
+//!   same order).
+//! - A warm [`Warp`] allocates nothing: its keys (one band per thread) and bounds are kept,
+//!   and the images are resized in place.
+//!
+//! ## Cost
+//!
+//! `benches/warp.rs` warps the seed scene's pair, traced at 800×600 per eye with a guard
+//! band of (40, 30), to a head turned 1° and stepped 0.05 sideways, beside a full stereo
+//! trace of the same scene: the warp takes about a quarter of the trace's time (a pixel
+//! costs a projection and two landings, about 2 ns per source pixel on one core, a third
+//! of it waiting on memory).
+
+mod map;
+mod resolve;
+mod scatter;
+
+#[cfg(test)]
+mod tests;
+
+use std::sync::{Mutex, PoisonError};
+
+use fearless_simd::Level;
+use rayon::prelude::*;
+use tracer::{Eye, EyeView, Film};
+
+use map::{rows_reached, EyeShift, WarpMap};
+use resolve::{fill_uncovered_rows, resolve_band};
+use scatter::{scatter, Band, Keys, KeysMut, Source};
+
+/// Target rows per band: each band's keys (32 rows of 800 pixels: 200 kB) stay in the
+/// core's cache while both eyes land in them and they are resolved. At most 64.
+const BAND_ROWS: usize = 32;
+
+/// One traced eye as the warp reads it.
+#[derive(Clone, Copy, Debug)]
+pub struct WarpSource<'a> {
+    /// The view as traced, maybe with a guard band ([`tracer::Camera::view_with_margin`]).
+    pub view: EyeView,
+    /// Its colours, `view.width` × `view.height`, packed sRGB `0x00RRGGBB`.
+    pub rgb: &'a [u32],
+    /// Its head-space depths beyond the window (the film's `z`), +∞ for background.
+    pub z: &'a [f32],
+}
+
+impl<'a> WarpSource<'a> {
+    /// The colour and depth of `film`, traced through `view` (with a record that keeps the
+    /// depth: [`tracer::Record::Keys`] or [`tracer::Record::Full`]).
+    #[must_use]
+    pub fn from_film(view: EyeView, film: &'a Film) -> Self {
+        Self { view, rgb: &film.rgb, z: &film.z }
+    }
+}
+
+/// Where a warped pixel came from.
+#[repr(u8)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum WarpClass {
+    /// From this eye's traced frame.
+    Warped,
+    /// A hole this eye left, filled by the other eye's warped pixel.
+    OtherEye,
+    /// A hole neither eye covers, filled by the hole rule (module doc).
+    Filled,
+}
+
+/// How many pixels of one warped eye are of each class.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct WarpCounts {
+    /// Pixels from this eye ([`WarpClass::Warped`]).
+    pub warped: u64,
+    /// Holes filled by the other eye ([`WarpClass::OtherEye`]).
+    pub other_eye: u64,
+    /// Holes filled by the hole rule ([`WarpClass::Filled`]).
+    pub filled: u64,
+}
+
+impl WarpCounts {
+    /// All the pixels counted: the eye's size.
+    #[must_use]
+    pub fn total(&self) -> u64 {
+        self.warped + self.other_eye + self.filled
+    }
+}
+
+impl std::ops::Add for WarpCounts {
+    type Output = Self;
+
+    fn add(self, other: Self) -> Self {
+        Self {
+            warped: self.warped + other.warped,
+            other_eye: self.other_eye + other.other_eye,
+            filled: self.filled + other.filled,
+        }
+    }
+}
+
+/// The warp of a traced stereo pair to a new head pose, keeping its buffers from frame to
+/// frame: a warm `Warp` allocates nothing.
+#[derive(Debug, Default)]
+pub struct Warp {
+    /// The target rows each row of each source eye can reach, in either target eye.
+    reach: [Vec<Option<(u32, u32)>>; 2],
+    /// Each thread's visibility keys of one band of each target eye (`scatter.rs`), reused
+    /// band after band.
+    keys: Vec<Mutex<[Keys; 2]>>,
+    /// Which rows of each target eye something reached.
+    covered: [Vec<bool>; 2],
+}
+
+impl Warp {
+    /// A warp with empty buffers; the first frame sizes them.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Warps the traced stereo pair `sources` ([left, right], one frame) to `targets`
+    /// ([left, right] views of one new head pose, usually without a guard band), into
+    /// `out[e]` (resized to the target's size, `width` × `height`) with each pixel's class
+    /// in `classes[e]`, and returns each eye's counts.
+    ///
+    /// # Panics
+    ///
+    /// If the sources or the targets are not a left and a right eye of one head pose, if a
+    /// source's planes are not of its view's size, or if a target has `u32::MAX` pixels or
+    /// more.
+    pub fn warp(
+        &mut self,
+        sources: [WarpSource<'_>; 2],
+        targets: [&EyeView; 2],
+        out: [&mut Vec<u32>; 2],
+        classes: [&mut Vec<WarpClass>; 2],
+    ) -> [WarpCounts; 2] {
+        self.warp_at(tracer::simd_level(), &sources, targets, out, classes)
+    }
+
+    /// [`Warp::warp`] with its lane kernels at `level`.
+    pub(crate) fn warp_at(
+        &mut self,
+        level: Level,
+        sources: &[WarpSource<'_>; 2],
+        targets: [&EyeView; 2],
+        mut out: [&mut Vec<u32>; 2],
+        mut classes: [&mut Vec<WarpClass>; 2],
+    ) -> [WarpCounts; 2] {
+        check(sources, targets);
+        let (w, h) = (targets[0].width as usize, targets[0].height as usize);
+        let Self { reach, keys, covered } = self;
+        // Each source eye to each target eye, and the target rows each source row can reach
+        // in either.
+        let maps = [0, 1].map(|s| [0, 1].map(|t| WarpMap::new(&sources[s].view, targets[t])));
+        let [left_reach, right_reach] = reach;
+        rayon::join(
+            || rows_reached(level, &maps[0], sources[0].z, sources[0].view.width, left_reach),
+            || rows_reached(level, &maps[1], sources[1].z, sources[1].view.width, right_reach),
+        );
+        let shifts = [EyeShift::between(targets[0], targets[1]), EyeShift::between(targets[1], targets[0])];
+        for ((covered, out), classes) in covered.iter_mut().zip(out.iter_mut()).zip(classes.iter_mut()) {
+            covered.resize(h, false);
+            out.resize(w * h, 0);
+            classes.resize(w * h, WarpClass::Filled);
+        }
+        if w == 0 || h == 0 {
+            return [WarpCounts::default(); 2];
+        }
+        // Each thread lands in keys of its own, band after band, so that they stay in its
+        // core's cache.
+        if keys.len() < rayon::current_num_threads() {
+            keys.resize_with(rayon::current_num_threads(), Default::default);
+        }
+        let keys = &keys[..];
+        let [left_covered, right_covered] = covered;
+        let [left_out, right_out] = out;
+        let [left_classes, right_classes] = classes;
+        let band = BAND_ROWS * w;
+        let bands = (
+            (left_out.par_chunks_mut(band), right_out.par_chunks_mut(band)),
+            (left_classes.par_chunks_mut(band), right_classes.par_chunks_mut(band)),
+            (left_covered.par_chunks_mut(BAND_ROWS), right_covered.par_chunks_mut(BAND_ROWS)),
+        );
+        let reach = &*reach;
+        let counts = bands
+            .into_par_iter()
+            .enumerate()
+            .map(|(b, ((left_out, right_out), (left_classes, right_classes), (left_covered, right_covered)))| {
+                // A thread's own keys: no other thread locks them, and which keys a band
+                // gets changes nothing in it.
+                let mut keys = keys[rayon::current_thread_index().unwrap_or(0) % keys.len()]
+                    .lock()
+                    .unwrap_or_else(PoisonError::into_inner);
+                let [left, right] = &mut *keys;
+                left.reset(left_out.len());
+                right.reset(right_out.len());
+                let first = (b * BAND_ROWS) as u32;
+                for s in 0..2 {
+                    let source = Source {
+                        rgb: sources[s].rgb,
+                        z: sources[s].z,
+                        width: sources[s].view.width as usize,
+                        reach: &reach[s],
+                        map: &maps[s][s],
+                        shift: shifts[s],
+                    };
+                    let left = KeysMut { depth: &mut left.depth, colour: left_out };
+                    let right = KeysMut { depth: &mut right.depth, colour: right_out };
+                    let keys = if s == 0 { [left, right] } else { [right, left] };
+                    scatter(level, source, &mut Band { first, keys });
+                }
+                [
+                    resolve_band(level, left, w, left_out, left_classes, left_covered),
+                    resolve_band(level, right, w, right_out, right_classes, right_covered),
+                ]
+            })
+            .reduce(|| [WarpCounts::default(); 2], |a, b| [a[0] + b[0], a[1] + b[1]]);
+        rayon::join(
+            || fill_uncovered_rows(left_out, w, left_covered),
+            || fill_uncovered_rows(right_out, w, right_covered),
+        );
+        counts
+    }
+}
+
+/// [`Warp::warp`]'s preconditions.
+fn check(sources: &[WarpSource<'_>; 2], targets: [&EyeView; 2]) {
+    for (pair, what) in [([&sources[0].view, &sources[1].view], "sources"), (targets, "targets")] {
+        assert!(pair[0].eye == Eye::Left && pair[1].eye == Eye::Right, "the {what} must be [left, right]");
+        assert!(
+            pair[0].head_position() == pair[1].head_position()
+                && pair[0].world_from_head() == pair[1].world_from_head(),
+            "the {what} must be two eyes of one head pose"
+        );
+    }
+    let [left, right] = targets;
+    assert!(
+        (left.width, left.height, left.margin, left.window_size(), left.distance())
+            == (right.width, right.height, right.margin, right.window_size(), right.distance()),
+        "the targets must be two eyes of one camera: of one size, guard band, window and distance"
+    );
+    for s in sources {
+        let n = s.view.width as usize * s.view.height as usize;
+        assert!(s.rgb.len() == n && s.z.len() == n, "a source's rgb and z must be its view's size ({n} pixels)");
+    }
+    for t in targets {
+        let n = t.width as u64 * t.height as u64;
+        assert!(n < u64::from(u32::MAX), "a target of {n} pixels: fewer than u32::MAX");
+    }
+}

@@ -1,0 +1,322 @@
+//! Landing one source eye's pixels in a band of both target eyes' keys: the forward warp's
+//! lane kernel.
+//!
+//! Each source pixel is mapped by [`WarpMap`] to its own eye's target in SIMD lanes (a
+//! handful of multiplies and adds, one division), and from there to the other target eye
+//! by the disparity ([`EyeShift`]: one multiply-add more, as both target eyes share the
+//! head pose and the window). In each it lands on the pixel that contains its projected
+//! centre (the floor of its continuous coordinates). What lands is a key of two words: the
+//! first orders the keys, the second is the pixel's colour (`0x00RRGGBB`). The first word
+//! is the bits of the target depth n_z = z_t + d_t (positive, so its bits order as the
+//! floats do; +∞ for the background), with the sign bit flipped for the own eye's pixels:
+//! as signed numbers, every own eye's word is negative, every other eye's positive, and
+//! [`EMPTY`] (nothing landed) the largest. Each target pixel keeps the first key whose word
+//! is smaller than the one there: any pixel of its own eye before any of the other eye
+//! (whose pixels therefore show only in the holes the own eye left), then the nearest
+//! surface, then, on a tie, the one that landed first. Pixels land in a fixed order (the
+//! band's source rows from the top, left eye before right, pixels from the left), and the
+//! bands share no target pixel, so the result is the same whatever the threads or the lane
+//! width. The two words are kept in two planes, the first words in the band's [`Keys`] and
+//! the colours in the band's rows of the target image itself, so that a vector of pixels
+//! landing side by side is compared and stored as two vectors, and the winners' colours
+//! are in place when the band is done.
+//!
+//! A pass lands only what falls in one band of target rows, whose keys stay in the core's
+//! cache, and reads only the source rows that can reach the band
+//! ([`WarpMap::rows_reached`]).
+
+use fearless_simd::{dispatch, prelude::*, Level, Simd};
+
+use super::map::{EyeShift, WarpMap};
+
+type F<S> = <S as Simd>::f32s;
+type U<S> = <S as Simd>::u32s;
+type I<S> = <S as Simd>::i32s;
+type M<S> = <S as Simd>::mask32s;
+
+/// The first key word of a target pixel no source pixel reached: larger than every one
+/// that lands.
+pub(crate) const EMPTY: i32 = i32::MAX;
+/// The bits of a first key word that hold the depth's bits, in either eye's words.
+pub(crate) const DEPTH: i32 = i32::MAX;
+/// The colour bits of a pixel (`0x00RRGGBB`).
+pub(crate) const COLOUR: u32 = 0x00ff_ffff;
+
+/// A band's first key words ([`EMPTY`] where nothing landed), row-major.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Keys {
+    /// The first words.
+    pub depth: Vec<i32>,
+}
+
+impl Keys {
+    /// `n` keys where nothing landed.
+    pub fn reset(&mut self, n: usize) {
+        self.depth.clear();
+        self.depth.resize(n, EMPTY);
+    }
+}
+
+/// A band's keys, to land in: its first words and its rows of the target image, which take
+/// the colours (left as they were where nothing landed).
+#[derive(Debug)]
+pub(crate) struct KeysMut<'a> {
+    /// The first words.
+    pub depth: &'a mut [i32],
+    /// The colours.
+    pub colour: &'a mut [u32],
+}
+
+/// The target index of a lane that lands outside the target (no slot has it: the target
+/// has fewer than `u32::MAX` pixels).
+const OUTSIDE: u32 = u32::MAX;
+
+/// One source eye as a pass reads it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Source<'a> {
+    /// Its colours, rows of `width` pixels.
+    pub rgb: &'a [u32],
+    /// Its depth plane, rows of `width` pixels.
+    pub z: &'a [f32],
+    /// Its width in pixels.
+    pub width: usize,
+    /// The target rows each of its rows can reach, in either target eye
+    /// ([`WarpMap::rows_reached`]).
+    pub reach: &'a [Option<(u32, u32)>],
+    /// Its map to its own eye's target.
+    pub map: &'a WarpMap,
+    /// From its own eye's target to the other's.
+    pub shift: EyeShift,
+}
+
+/// A band of at most 64 consecutive target rows, in both target eyes.
+#[derive(Debug)]
+pub(crate) struct Band<'a> {
+    /// Its first target row.
+    pub first: u32,
+    /// The keys of the source's own eye's target, then of the other's, whole target rows.
+    pub keys: [KeysMut<'a>; 2],
+}
+
+/// Lands every pixel of the `source` rows that can reach the band in both targets' keys,
+/// at the SIMD `level`.
+pub(crate) fn scatter(level: Level, source: Source<'_>, band: &mut Band<'_>) {
+    if source.width == 0 || source.map.target_size.0 == 0 {
+        return;
+    }
+    dispatch!(level, simd => simd.vectorize(
+        #[inline(always)]
+        || scatter_in(simd, source, band),
+    ));
+}
+
+/// Whether the inclusive target rows `(lo, hi)` meet the `rows` rows from `first`.
+fn meets((lo, hi): (u32, u32), first: u32, rows: u32) -> bool {
+    lo < first + rows && hi >= first
+}
+
+/// The map's numbers splatted across the lanes, once per pass.
+struct Lanes<S: Simd> {
+    g: [F<S>; 3],
+    h_i: [F<S>; 3],
+    distance: F<S>,
+    /// The target's width in pixels.
+    width: F<S>,
+}
+
+impl<S: Simd> Lanes<S> {
+    #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
+    #[inline(always)]
+    fn new(simd: S, map: &WarpMap) -> Self {
+        let splat3 = |v: [f32; 3]| [F::<S>::splat(simd, v[0]), F::<S>::splat(simd, v[1]), F::<S>::splat(simd, v[2])];
+        Self {
+            g: splat3(map.g),
+            h_i: splat3(map.h_i),
+            distance: F::<S>::splat(simd, map.distance),
+            width: F::<S>::splat(simd, map.target_size.0 as f32),
+        }
+    }
+}
+
+/// The pass over the source rows that reach the band, a vector of pixels at a time.
+#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
+#[inline(always)]
+fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
+    let n = F::<S>::LEN;
+    let lanes = Lanes::new(simd, source.map);
+    let (shift, parallax) = (F::<S>::splat(simd, source.shift.shift), F::<S>::splat(simd, source.shift.parallax));
+    let first_columns = F::<S>::float_from(lane_index(simd));
+    let colour = U::<S>::splat(simd, COLOUR);
+    let sign = U::<S>::splat(simd, 1 << 31);
+    let target_width = source.map.target_size.0 as usize;
+    let [own_keys, other_keys] = &mut band.keys;
+    let len = own_keys.depth.len();
+    let rows = (len / target_width) as u32;
+    debug_assert!(rows <= 64 && len == rows as usize * target_width, "a band of whole rows, at most 64");
+    debug_assert!(
+        [own_keys.colour.len(), other_keys.depth.len(), other_keys.colour.len()] == [len; 3],
+        "both eyes' bands alike"
+    );
+    let first_row = F::<S>::splat(simd, band.first as f32);
+    // The last, partial vector of a row, padded (its padding lanes land nowhere: they are
+    // not emitted).
+    let (mut z_tail, mut rgb_tail) = ([0.0_f32; 16], [0_u32; 16]);
+    let rows_of = source.z.chunks_exact(source.width).zip(source.rgb.chunks_exact(source.width));
+    for (j, ((z_row, rgb_row), reach)) in rows_of.zip(source.reach).enumerate() {
+        let Some(reached) = *reach else { continue };
+        if !meets(reached, band.first, rows) {
+            continue;
+        }
+        let h = source.map.row(j as u32);
+        let h_row = [F::<S>::splat(simd, h[0]), F::<S>::splat(simd, h[1]), F::<S>::splat(simd, h[2])];
+        for (k, (z, rgb)) in z_row.chunks(n).zip(rgb_row.chunks(n)).enumerate() {
+            let count = z.len();
+            let (z, rgb) = if count == n {
+                (F::<S>::from_slice(simd, z), U::<S>::from_slice(simd, rgb))
+            } else {
+                z_tail[..count].copy_from_slice(z);
+                rgb_tail[..count].copy_from_slice(rgb);
+                (F::<S>::from_slice(simd, &z_tail[..n]), U::<S>::from_slice(simd, &rgb_tail[..n]))
+            };
+            let columns = first_columns + F::<S>::splat(simd, (k * n) as f32);
+            let p = project(simd, &lanes, h_row, columns, z);
+            let depth = p.finite.select(p.nz, F::<S>::splat(simd, f32::INFINITY)).bitcast::<U<S>>();
+            let (own_word, other_word) = ((depth ^ sign).bitcast::<I<S>>(), depth.bitcast::<I<S>>());
+            let low = rgb & colour;
+            // The row (the same in both eyes), then the column in each. The band's own
+            // indices: a lane that lands before the band wraps past its end, as does OUTSIDE
+            // (the target has fewer than u32::MAX pixels).
+            let row = land_row(simd, &lanes, &p, first_row);
+            let own = land(simd, &lanes, &row, p.px);
+            emit(simd, own_keys, own, own_word, low, count);
+            // The other eye, at the disparity: px + E·(1 − d/n_z); px + E for the
+            // background, whose 1/n_z is 2⁻¹⁰⁰ times its direction's, too small to move px.
+            let there = land(simd, &lanes, &row, p.px + shift + parallax * p.inv);
+            emit(simd, other_keys, there, other_word, low, count);
+        }
+    }
+}
+
+/// The w of a background pixel: 2¹⁰⁰, a power of two (so that w·h is exact) large enough
+/// that g + w·h rounds to w·h, the point at infinity, and small enough not to overflow.
+const FAR: f32 = (1_u128 << 100) as f32;
+
+/// Where source pixels land, one per lane: continuous target coordinates (px, py), n_z
+/// (the target depth plus d, > 0 in front of the target eye) and its reciprocal, and
+/// whether the pixel is a surface (finite depth) rather than background.
+struct Projected<S: Simd> {
+    px: F<S>,
+    py: F<S>,
+    nz: F<S>,
+    inv: F<S>,
+    finite: M<S>,
+}
+
+/// Projects the source pixels (`columns`, row of `h_row`) of depth `z` to the target: n =
+/// g + w·h, w = z + d; for the background w = [`FAR`], which makes px = h_x/h_z and
+/// py = h_y/h_z bit for bit (scaling by a power of two is exact), the direction alone.
+#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
+#[inline(always)]
+fn project<S: Simd>(simd: S, lanes: &Lanes<S>, h_row: [F<S>; 3], columns: F<S>, z: F<S>) -> Projected<S> {
+    let finite = z.simd_lt(F::<S>::splat(simd, f32::INFINITY));
+    let w = finite.select(z + lanes.distance, F::<S>::splat(simd, FAR));
+    let n = |a: usize| lanes.g[a] + w * (h_row[a] + columns * lanes.h_i[a]);
+    let (nx, ny, nz) = (n(0), n(1), n(2));
+    let inv = F::<S>::splat(simd, 1.0) / nz;
+    Projected { px: nx * inv, py: ny * inv, nz, inv, finite }
+}
+
+/// The row part of each lane's landing: whether it lands in front of the target eye, and
+/// the band-relative index of its row's first pixel, as a float (whole numbers, exact
+/// below 2²⁴; far outside the band where they are not).
+struct Row<S: Simd> {
+    ahead: M<S>,
+    first: F<S>,
+}
+
+/// [`Row`] of the projected lanes `p`, in the band from target row `first_row`.
+#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
+#[inline(always)]
+fn land_row<S: Simd>(simd: S, lanes: &Lanes<S>, p: &Projected<S>, first_row: F<S>) -> Row<S> {
+    Row { ahead: p.nz.simd_gt(F::<S>::splat(simd, 0.0)), first: (p.py.floor() - first_row) * lanes.width }
+}
+
+/// The pixel of the band each lane lands on, in the row `row` and at column coordinate
+/// `px`: its index in the band's keys, past their end (as an unsigned number) for a lane
+/// that lands outside the band, before it or after it, or outside the target.
+#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
+#[inline(always)]
+fn land<S: Simd>(simd: S, lanes: &Lanes<S>, row: &Row<S>, px: F<S>) -> U<S> {
+    let inside = row.ahead & px.simd_ge(F::<S>::splat(simd, 0.0)) & px.simd_lt(lanes.width);
+    // A row outside the band gives an index outside it, negative (a large unsigned number)
+    // or past its end; a float out of the i32 range converts to i32::MIN (x86) or
+    // saturates (aarch64), both outside.
+    let index = I::<S>::truncate_from(row.first + px.floor()).bitcast::<U<S>>();
+    inside.select(index, U::<S>::splat(simd, OUTSIDE))
+}
+
+/// Lands each of the first `count` lanes' keys (first words `word`, colours `colour`) on
+/// its pixel of the band (`local`, its index in the band's keys), where its first word is
+/// smaller than the one there. A whole vector landing on consecutive pixels (where the image
+/// neither stretches nor folds) is compared and stored as two vectors.
+#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
+#[inline(always)]
+fn emit<S: Simd>(simd: S, keys: &mut KeysMut<'_>, local: U<S>, word: I<S>, colour: U<S>, count: usize) {
+    let n = U::<S>::LEN;
+    let first = local.as_slice()[0] as usize;
+    if count == n
+        && first + n <= keys.depth.len()
+        && local.simd_eq(U::<S>::splat(simd, first as u32) + lane_index(simd)).all_true()
+    {
+        let (there, there_colour) = (&mut keys.depth[first..first + n], &mut keys.colour[first..first + n]);
+        let old = I::<S>::from_slice(simd, there);
+        let nearer = word.simd_lt(old);
+        // The other eye's pixels mostly land where the own eye's are already.
+        if nearer.any_true() {
+            nearer.select(word, old).store_slice(there);
+            nearer.select(colour, U::<S>::from_slice(simd, there_colour)).store_slice(there_colour);
+        }
+        return;
+    }
+    // Lanes that land outside the band (in the guard band's margin, or in the rows of
+    // another band) wrap past its end.
+    if local.simd_lt(U::<S>::splat(simd, keys.depth.len() as u32)).any_true() {
+        emit_lanes(keys, local.as_slice(), word.as_slice(), colour.as_slice(), count);
+    }
+}
+
+/// [`emit`] lane by lane, for the vectors that do not land side by side: scalar code, kept
+/// out of the kernel's loop.
+#[cold]
+#[inline(never)]
+fn emit_lanes(keys: &mut KeysMut<'_>, local: &[u32], word: &[i32], colour: &[u32], count: usize) {
+    for ((&t, &word), &colour) in local.iter().zip(word).zip(colour).take(count) {
+        if let (Some(old), Some(old_colour)) = (keys.depth.get_mut(t as usize), keys.colour.get_mut(t as usize)) {
+            if word < *old {
+                (*old, *old_colour) = (word, colour);
+            }
+        }
+    }
+}
+
+/// Lane l holds l.
+#[inline(always)]
+fn lane_index<S: Simd>(simd: S) -> U<S> {
+    const INDEX: [u32; 16] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15];
+    U::<S>::from_slice(simd, &INDEX[..U::<S>::LEN])
+}
+
+/// Where source pixel (i, j) of depth `z` lands in `map`'s target, by the kernel itself
+/// (lane 0, at the process's level): its continuous coordinates and n_z = z_t + d_t (for
+/// the background, of its direction only), or `None` behind the target eye.
+#[cfg(test)]
+pub(crate) fn land_one(map: &WarpMap, i: u32, j: u32, z: f32) -> Option<(glam::Vec2, f32)> {
+    fn lane0<S: Simd>(simd: S, map: &WarpMap, i: u32, j: u32, z: f32) -> (f32, f32, f32) {
+        let lanes = Lanes::new(simd, map);
+        let h = map.row(j).map(|x| F::<S>::splat(simd, x));
+        let p = project(simd, &lanes, h, F::<S>::splat(simd, i as f32), F::<S>::splat(simd, z));
+        (p.px.as_slice()[0], p.py.as_slice()[0], p.nz.as_slice()[0])
+    }
+    let (px, py, nz) = dispatch!(tracer::simd_level(), simd => lane0(simd, map, i, j, z));
+    (nz > 0.0).then(|| (glam::Vec2::new(px, py), nz))
+}
