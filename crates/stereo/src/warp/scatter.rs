@@ -169,7 +169,28 @@ fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
         }
         let h = source.map.row(j as u32);
         let h_row = [F::<S>::splat(simd, h[0]), F::<S>::splat(simd, h[1]), F::<S>::splat(simd, h[2])];
-        for (k, (z, rgb)) in z_row.chunks(n).zip(rgb_row.chunks(n)).enumerate() {
+        let at = RowMap { lanes: &lanes, h_row, first_row, shift, parallax, first_columns, sign, colour };
+        let lands = |k: usize, z: F<S>, rgb: U<S>| lands_vector(simd, &at, k, z, rgb);
+        // Four vectors at a time, all landed before any is kept: more independent work
+        // between the branches (12 % faster than one at a time; eight spill registers).
+        let quads = z_row.chunks_exact(4 * n).zip(rgb_row.chunks_exact(4 * n));
+        let done = quads.len() * 4 * n;
+        for (k, (z, rgb)) in quads.enumerate() {
+            let part = |q: usize| q * n..(q + 1) * n;
+            let (z0, z1, z2, z3) = (&z[part(0)], &z[part(1)], &z[part(2)], &z[part(3)]);
+            let (c0, c1, c2, c3) = (&rgb[part(0)], &rgb[part(1)], &rgb[part(2)], &rgb[part(3)]);
+            let v = [
+                lands(4 * k, F::<S>::from_slice(simd, z0), U::<S>::from_slice(simd, c0)),
+                lands(4 * k + 1, F::<S>::from_slice(simd, z1), U::<S>::from_slice(simd, c1)),
+                lands(4 * k + 2, F::<S>::from_slice(simd, z2), U::<S>::from_slice(simd, c2)),
+                lands(4 * k + 3, F::<S>::from_slice(simd, z3), U::<S>::from_slice(simd, c3)),
+            ];
+            for v in v {
+                emit(simd, own_keys, v.own, v.own_word, v.colour, n);
+                emit(simd, other_keys, v.there, v.other_word, v.colour, n);
+            }
+        }
+        for (k, (z, rgb)) in z_row[done..].chunks(n).zip(rgb_row[done..].chunks(n)).enumerate() {
             let count = z.len();
             let (z, rgb) = if count == n {
                 (F::<S>::from_slice(simd, z), U::<S>::from_slice(simd, rgb))
@@ -178,22 +199,57 @@ fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
                 rgb_tail[..count].copy_from_slice(rgb);
                 (F::<S>::from_slice(simd, &z_tail[..n]), U::<S>::from_slice(simd, &rgb_tail[..n]))
             };
-            let columns = first_columns + F::<S>::splat(simd, (k * n) as f32);
-            let p = project(simd, &lanes, h_row, columns, z);
-            let depth = p.finite.select(p.nz, F::<S>::splat(simd, f32::INFINITY)).bitcast::<U<S>>();
-            let (own_word, other_word) = ((depth ^ sign).bitcast::<I<S>>(), depth.bitcast::<I<S>>());
-            let low = rgb & colour;
-            // The row (the same in both eyes), then the column in each. The band's own
-            // indices: a lane that lands before the band wraps past its end, as does OUTSIDE
-            // (the target has fewer than u32::MAX pixels).
-            let row = land_row(simd, &lanes, &p, first_row);
-            let own = land(simd, &lanes, &row, p.px);
-            emit(simd, own_keys, own, own_word, low, count);
-            // The other eye, at the disparity: px + E·(1 − d/n_z); px + E for the
-            // background, whose 1/n_z is 2⁻¹⁰⁰ times its direction's, too small to move px.
-            let there = land(simd, &lanes, &row, p.px + shift + parallax * p.inv);
-            emit(simd, other_keys, there, other_word, low, count);
+            let v = lands(done / n + k, z, rgb);
+            emit(simd, own_keys, v.own, v.own_word, v.colour, count);
+            emit(simd, other_keys, v.there, v.other_word, v.colour, count);
         }
+    }
+}
+
+/// What [`lands_vector`] needs of the pass and of one source row, in lanes.
+struct RowMap<'a, S: Simd> {
+    lanes: &'a Lanes<S>,
+    h_row: [F<S>; 3],
+    first_row: F<S>,
+    shift: F<S>,
+    parallax: F<S>,
+    first_columns: F<S>,
+    sign: U<S>,
+    colour: U<S>,
+}
+
+/// Where a vector of pixels lands: its indices in the own eye's band and in the other's
+/// (past their end for none), its first word in each, and its colour.
+struct Landed<S: Simd> {
+    own: U<S>,
+    there: U<S>,
+    own_word: I<S>,
+    other_word: I<S>,
+    colour: U<S>,
+}
+
+/// Where vector `k` of a row's pixels (depths `z`, colours `rgb`) lands.
+#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
+#[inline(always)]
+fn lands_vector<S: Simd>(simd: S, at: &RowMap<'_, S>, k: usize, z: F<S>, rgb: U<S>) -> Landed<S> {
+    let n = F::<S>::LEN;
+    let columns = at.first_columns + F::<S>::splat(simd, (k * n) as f32);
+    let p = project(simd, at.lanes, at.h_row, columns, z);
+    let depth = p.finite.select(p.nz, F::<S>::splat(simd, f32::INFINITY)).bitcast::<U<S>>();
+    // The row (the same in both eyes), then the column in each. The band's own indices: a
+    // lane that lands before the band wraps past its end, as does OUTSIDE (the target has
+    // fewer than u32::MAX pixels).
+    let row = land_row(simd, at.lanes, &p, at.first_row);
+    let own = land(simd, at.lanes, &row, p.px);
+    // The other eye, at the disparity: px + E·(1 − d/n_z); px + E for the background,
+    // whose 1/n_z is 2⁻¹⁰⁰ times its direction's, too small to move px.
+    let there = land(simd, at.lanes, &row, p.px + at.shift + at.parallax * p.inv);
+    Landed {
+        own,
+        there,
+        own_word: (depth ^ at.sign).bitcast::<I<S>>(),
+        other_word: depth.bitcast::<I<S>>(),
+        colour: rgb & at.colour,
     }
 }
 
