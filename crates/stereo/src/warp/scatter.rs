@@ -294,7 +294,7 @@ struct Row<S: Simd> {
 #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
 fn land_row<S: Simd>(simd: S, lanes: &Lanes<S>, p: &Projected<S>, first_row: F<S>) -> Row<S> {
-    Row { ahead: p.nz.simd_gt(F::<S>::splat(simd, 0.0)), first: (p.py.floor() - first_row) * lanes.width }
+    Row { ahead: p.nz.simd_gt(F::<S>::splat(simd, 0.0)), first: (floor(simd, p.py) - first_row) * lanes.width }
 }
 
 /// The pixel of the band each lane lands on, in the row `row` and at column coordinate
@@ -307,8 +307,27 @@ fn land<S: Simd>(simd: S, lanes: &Lanes<S>, row: &Row<S>, px: F<S>) -> U<S> {
     // A row outside the band gives an index outside it, negative (a large unsigned number)
     // or past its end; a float out of the i32 range converts to i32::MIN (x86) or
     // saturates (aarch64), both outside.
-    let index = I::<S>::truncate_from(row.first + px.floor()).bitcast::<U<S>>();
+    let index = I::<S>::truncate_from(row.first + floor(simd, px)).bitcast::<U<S>>();
     inside.select(index, U::<S>::splat(simd, OUTSIDE))
+}
+
+/// ⌊x⌋ in each lane, exact below 2³¹ (far outside any image; beyond, a large or negative
+/// number, outside it too). SSE2 alone has no floor instruction, and `fearless_simd` then
+/// floors lane by lane through libm: there it is a truncation, less one where that rounded
+/// up. Both give the same bits.
+#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
+#[inline(always)]
+fn floor<S: Simd>(simd: S, x: F<S>) -> F<S> {
+    #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+    let native = simd.level().as_sse4_2().is_some();
+    #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+    let native = true;
+    if native {
+        x.floor()
+    } else {
+        let t = F::<S>::float_from(I::<S>::truncate_from(x));
+        x.simd_lt(t).select(t - F::<S>::splat(simd, 1.0), t)
+    }
 }
 
 /// Lands each of the first `count` lanes' keys (first words `word`, colours `colour`) on
