@@ -89,7 +89,7 @@ pub(crate) struct Source<'a> {
     pub shift: EyeShift,
 }
 
-/// A band of at most 64 consecutive target rows, in both target eyes.
+/// A band of consecutive target rows, in both target eyes.
 #[derive(Debug)]
 pub(crate) struct Band<'a> {
     /// Its first target row.
@@ -152,7 +152,7 @@ fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
     let [own_keys, other_keys] = &mut band.keys;
     let len = own_keys.depth.len();
     let rows = (len / target_width) as u32;
-    debug_assert!(rows <= 64 && len == rows as usize * target_width, "a band of whole rows, at most 64");
+    debug_assert!(len == rows as usize * target_width, "a band of whole rows");
     debug_assert!(
         [own_keys.colour.len(), other_keys.depth.len(), other_keys.colour.len()] == [len; 3],
         "both eyes' bands alike"
