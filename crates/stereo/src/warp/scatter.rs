@@ -89,7 +89,7 @@ pub(crate) struct Source<'a> {
     pub shift: EyeShift,
 }
 
-/// A band of at most 64 consecutive target rows, in both target eyes.
+/// A band of consecutive target rows, in both target eyes.
 #[derive(Debug)]
 pub(crate) struct Band<'a> {
     /// Its first target row.
@@ -152,7 +152,7 @@ fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
     let [own_keys, other_keys] = &mut band.keys;
     let len = own_keys.depth.len();
     let rows = (len / target_width) as u32;
-    debug_assert!(rows <= 64 && len == rows as usize * target_width, "a band of whole rows, at most 64");
+    debug_assert!(len == rows as usize * target_width, "a band of whole rows");
     debug_assert!(
         [own_keys.colour.len(), other_keys.depth.len(), other_keys.colour.len()] == [len; 3],
         "both eyes' bands alike"
@@ -169,7 +169,28 @@ fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
         }
         let h = source.map.row(j as u32);
         let h_row = [F::<S>::splat(simd, h[0]), F::<S>::splat(simd, h[1]), F::<S>::splat(simd, h[2])];
-        for (k, (z, rgb)) in z_row.chunks(n).zip(rgb_row.chunks(n)).enumerate() {
+        let at = RowMap { lanes: &lanes, h_row, first_row, shift, parallax, first_columns, sign, colour };
+        let lands = |k: usize, z: F<S>, rgb: U<S>| lands_vector(simd, &at, k, z, rgb);
+        // Four vectors at a time, all landed before any is kept: more independent work
+        // between the branches (12 % faster than one at a time; eight spill registers).
+        let quads = z_row.chunks_exact(4 * n).zip(rgb_row.chunks_exact(4 * n));
+        let done = quads.len() * 4 * n;
+        for (k, (z, rgb)) in quads.enumerate() {
+            let part = |q: usize| q * n..(q + 1) * n;
+            let (z0, z1, z2, z3) = (&z[part(0)], &z[part(1)], &z[part(2)], &z[part(3)]);
+            let (c0, c1, c2, c3) = (&rgb[part(0)], &rgb[part(1)], &rgb[part(2)], &rgb[part(3)]);
+            let v = [
+                lands(4 * k, F::<S>::from_slice(simd, z0), U::<S>::from_slice(simd, c0)),
+                lands(4 * k + 1, F::<S>::from_slice(simd, z1), U::<S>::from_slice(simd, c1)),
+                lands(4 * k + 2, F::<S>::from_slice(simd, z2), U::<S>::from_slice(simd, c2)),
+                lands(4 * k + 3, F::<S>::from_slice(simd, z3), U::<S>::from_slice(simd, c3)),
+            ];
+            for v in v {
+                emit(simd, own_keys, v.own, v.own_word, v.colour, n);
+                emit(simd, other_keys, v.there, v.other_word, v.colour, n);
+            }
+        }
+        for (k, (z, rgb)) in z_row[done..].chunks(n).zip(rgb_row[done..].chunks(n)).enumerate() {
             let count = z.len();
             let (z, rgb) = if count == n {
                 (F::<S>::from_slice(simd, z), U::<S>::from_slice(simd, rgb))
@@ -178,22 +199,57 @@ fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
                 rgb_tail[..count].copy_from_slice(rgb);
                 (F::<S>::from_slice(simd, &z_tail[..n]), U::<S>::from_slice(simd, &rgb_tail[..n]))
             };
-            let columns = first_columns + F::<S>::splat(simd, (k * n) as f32);
-            let p = project(simd, &lanes, h_row, columns, z);
-            let depth = p.finite.select(p.nz, F::<S>::splat(simd, f32::INFINITY)).bitcast::<U<S>>();
-            let (own_word, other_word) = ((depth ^ sign).bitcast::<I<S>>(), depth.bitcast::<I<S>>());
-            let low = rgb & colour;
-            // The row (the same in both eyes), then the column in each. The band's own
-            // indices: a lane that lands before the band wraps past its end, as does OUTSIDE
-            // (the target has fewer than u32::MAX pixels).
-            let row = land_row(simd, &lanes, &p, first_row);
-            let own = land(simd, &lanes, &row, p.px);
-            emit(simd, own_keys, own, own_word, low, count);
-            // The other eye, at the disparity: px + E·(1 − d/n_z); px + E for the
-            // background, whose 1/n_z is 2⁻¹⁰⁰ times its direction's, too small to move px.
-            let there = land(simd, &lanes, &row, p.px + shift + parallax * p.inv);
-            emit(simd, other_keys, there, other_word, low, count);
+            let v = lands(done / n + k, z, rgb);
+            emit(simd, own_keys, v.own, v.own_word, v.colour, count);
+            emit(simd, other_keys, v.there, v.other_word, v.colour, count);
         }
+    }
+}
+
+/// What [`lands_vector`] needs of the pass and of one source row, in lanes.
+struct RowMap<'a, S: Simd> {
+    lanes: &'a Lanes<S>,
+    h_row: [F<S>; 3],
+    first_row: F<S>,
+    shift: F<S>,
+    parallax: F<S>,
+    first_columns: F<S>,
+    sign: U<S>,
+    colour: U<S>,
+}
+
+/// Where a vector of pixels lands: its indices in the own eye's band and in the other's
+/// (past their end for none), its first word in each, and its colour.
+struct Landed<S: Simd> {
+    own: U<S>,
+    there: U<S>,
+    own_word: I<S>,
+    other_word: I<S>,
+    colour: U<S>,
+}
+
+/// Where vector `k` of a row's pixels (depths `z`, colours `rgb`) lands.
+#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
+#[inline(always)]
+fn lands_vector<S: Simd>(simd: S, at: &RowMap<'_, S>, k: usize, z: F<S>, rgb: U<S>) -> Landed<S> {
+    let n = F::<S>::LEN;
+    let columns = at.first_columns + F::<S>::splat(simd, (k * n) as f32);
+    let p = project(simd, at.lanes, at.h_row, columns, z);
+    let depth = p.finite.select(p.nz, F::<S>::splat(simd, f32::INFINITY)).bitcast::<U<S>>();
+    // The row (the same in both eyes), then the column in each. The band's own indices: a
+    // lane that lands before the band wraps past its end, as does OUTSIDE (the target has
+    // fewer than u32::MAX pixels).
+    let row = land_row(simd, at.lanes, &p, at.first_row);
+    let own = land(simd, at.lanes, &row, p.px);
+    // The other eye, at the disparity: px + E·(1 − d/n_z); px + E for the background,
+    // whose 1/n_z is 2⁻¹⁰⁰ times its direction's, too small to move px.
+    let there = land(simd, at.lanes, &row, p.px + at.shift + at.parallax * p.inv);
+    Landed {
+        own,
+        there,
+        own_word: (depth ^ at.sign).bitcast::<I<S>>(),
+        other_word: depth.bitcast::<I<S>>(),
+        colour: rgb & at.colour,
     }
 }
 
@@ -238,7 +294,7 @@ struct Row<S: Simd> {
 #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
 fn land_row<S: Simd>(simd: S, lanes: &Lanes<S>, p: &Projected<S>, first_row: F<S>) -> Row<S> {
-    Row { ahead: p.nz.simd_gt(F::<S>::splat(simd, 0.0)), first: (p.py.floor() - first_row) * lanes.width }
+    Row { ahead: p.nz.simd_gt(F::<S>::splat(simd, 0.0)), first: (floor(simd, p.py) - first_row) * lanes.width }
 }
 
 /// The pixel of the band each lane lands on, in the row `row` and at column coordinate
@@ -251,8 +307,27 @@ fn land<S: Simd>(simd: S, lanes: &Lanes<S>, row: &Row<S>, px: F<S>) -> U<S> {
     // A row outside the band gives an index outside it, negative (a large unsigned number)
     // or past its end; a float out of the i32 range converts to i32::MIN (x86) or
     // saturates (aarch64), both outside.
-    let index = I::<S>::truncate_from(row.first + px.floor()).bitcast::<U<S>>();
+    let index = I::<S>::truncate_from(row.first + floor(simd, px)).bitcast::<U<S>>();
     inside.select(index, U::<S>::splat(simd, OUTSIDE))
+}
+
+/// ⌊x⌋ in each lane, exact below 2³¹ (far outside any image; beyond, a large or negative
+/// number, outside it too). SSE2 alone has no floor instruction, and `fearless_simd` then
+/// floors lane by lane through libm: there it is a truncation, less one where that rounded
+/// up. Both give the same bits.
+#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
+#[inline(always)]
+fn floor<S: Simd>(simd: S, x: F<S>) -> F<S> {
+    #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+    let native = simd.level().as_sse4_2().is_some();
+    #[cfg(not(any(target_arch = "x86", target_arch = "x86_64")))]
+    let native = true;
+    if native {
+        x.floor()
+    } else {
+        let t = F::<S>::float_from(I::<S>::truncate_from(x));
+        x.simd_lt(t).select(t - F::<S>::splat(simd, 1.0), t)
+    }
 }
 
 /// Lands each of the first `count` lanes' keys (first words `word`, colours `colour`) on

@@ -396,3 +396,22 @@ fn every_landing_lies_in_its_rows_reach_and_the_other_eye_is_the_disparity_away(
         }
     }
 }
+
+#[test]
+#[should_panic(expected = "the sources must be [left, right]")]
+fn the_sources_must_be_left_then_right() {
+    let camera = seed_camera();
+    let views = [Eye::Right, Eye::Left].map(|eye| camera.view(eye, 8, 4));
+    let frames = views.map(|v| synthetic(&v, |_, _| (0, f32::INFINITY)));
+    warp(&frames, &views, &EYES.map(|eye| camera.view(eye, 8, 4)));
+}
+
+#[test]
+#[should_panic(expected = "the targets must be two eyes of one head pose")]
+fn the_targets_must_be_one_head_pose() {
+    let camera = seed_camera();
+    let views = EYES.map(|eye| camera.view(eye, 8, 4));
+    let frames = views.map(|v| synthetic(&v, |_, _| (0, f32::INFINITY)));
+    let turned = Camera { yaw_deg: 1.0, ..camera };
+    warp(&frames, &views, &[camera.view(Eye::Left, 8, 4), turned.view(Eye::Right, 8, 4)]);
+}
