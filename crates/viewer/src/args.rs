@@ -41,6 +41,7 @@ pub enum Command {
 
 /// Options of the viewer window.
 #[derive(Debug, Args)]
+#[expect(clippy::struct_excessive_bools, reason = "independent command-line switches, as clap declares them")]
 pub struct WindowArgs {
     /// Scene file (TOML).
     #[arg(long, value_name = "PATH", global = false)]
@@ -70,6 +71,26 @@ pub struct WindowArgs {
     /// Start with reuse off: every frame traced afresh, even while only the orbit moves.
     #[arg(long)]
     pub no_reuse: bool,
+    /// Start with the timewarp off: each traced frame is shown as it is, at the pose it was
+    /// traced for (the panel's "timewarp" tick turns it on again).
+    #[arg(long)]
+    pub no_timewarp: bool,
+    /// The timewarp's guard band: each eye is traced this percentage of its width and height
+    /// beyond each side (0 to 25).
+    #[arg(long, value_name = "PERCENT", default_value_t = 5, value_parser = clap::value_parser!(u32).range(0..=25))]
+    pub guard_band: u32,
+    /// With the timewarp on, the display's refresh rate: while the head moves, a warped frame
+    /// is presented this many times a second (1 to 240).
+    #[arg(long, value_name = "HZ", default_value_t = 90, value_parser = clap::value_parser!(u32).range(1..=240))]
+    pub display_hz: u32,
+    /// A structure file's biological assembly (PDB BIOMT, mmCIF pdbx_struct_oper_list)
+    /// instead of its asymmetric unit.
+    #[arg(long)]
+    pub assembly: bool,
+    /// A structure file's atoms' radii: this times their van der Waals radii (1 spheres,
+    /// 0.25 balls).
+    #[arg(long, value_name = "S", default_value_t = tracer::DEFAULT_RADIUS_SCALE)]
+    pub radius_scale: f32,
 }
 
 /// Camera and render overrides shared by `render` and `bench`.

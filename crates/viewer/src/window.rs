@@ -5,9 +5,10 @@
 //! The modules, in order: each uses only those listed before it (and the shared modules at
 //! the top of the crate: the arguments, the scene setup, the reference trace).
 //! - `timing` (scene clock, rate meters), `syslibs` (start-up checks), `frame_times` (the
-//!   frame-time history), `input` (keys and drags);
+//!   frame-time history), `input` (keys and drags), `pose_meter` (new poses a second,
+//!   input latency, frame age);
 //! - `worker` (the render thread and its requests), `present` (a frame into the window's
-//!   buffer), `settings` (the settings model, head movement, the request), `scene_watch`
+//!   buffer), `timewarp` (the traced frame warped to the head pose of the present), `settings` (the settings model, head movement, the request), `scene_watch`
 //!   (the scene file watched and reloaded, other files opened), `screenshot`, `fps_log`
 //!   (the stderr log), `ui` (the panel, drawing only), `os_window` (the window and
 //!   presenting into it);
@@ -16,6 +17,7 @@
 
 pub mod frame_times;
 pub mod input;
+pub mod pose_meter;
 pub mod syslibs;
 pub mod timing;
 
@@ -25,6 +27,7 @@ pub mod present;
 pub mod scene_watch;
 pub mod screenshot;
 pub mod settings;
+pub mod timewarp;
 pub mod ui;
 pub mod worker;
 

@@ -6,7 +6,9 @@
 
 use std::time::Duration;
 
+use crate::window::pose_meter::Medians;
 use crate::window::settings::Settings;
+use crate::window::timewarp::Warped;
 use crate::window::worker::FrameInfo;
 
 /// The environment variable that turns the log on (value `1`).
@@ -27,6 +29,12 @@ pub struct Report<'a> {
     pub settings: &'a Settings,
     /// Tab has hidden the UI: the frame presented with this line shows the eyes alone.
     pub ui_hidden: bool,
+    /// Presented frames a second that showed a new head pose.
+    pub pose_fps: f64,
+    /// Median input latency and traced-frame age at present over the window.
+    pub medians: Medians,
+    /// What the last timewarp did, when the last frame presented was warped.
+    pub warp: Option<Warped>,
 }
 
 /// The log: whether it is on, and the time spent redrawing since its last line.
@@ -68,7 +76,8 @@ fn line(r: &Report<'_>, busy: Duration, redraws: u32) -> String {
     let psnr = r.frame.and_then(|f| f.quality).map_or_else(|| "-".to_owned(), |q| format!("{:.2}", q.psnr_db));
     format!(
         "fps={:.1} render_fps={:.1} ui_ms={:.2} window={}x{} left_ms={left_ms:.1} right_ms={right_ms:.1} \
-         head={:.3},{:.3},{:.3} yaw={:.1} pitch={:.1} layout={} swap={} psnr={psnr} frame={} ui={}",
+         head={:.3},{:.3},{:.3} yaw={:.1} pitch={:.1} layout={} swap={} psnr={psnr} pose_fps={:.1} \
+         latency_ms={} age_ms={} timewarp={} warp_ms={} holes={} frame={} ui={}",
         r.ui_fps,
         r.render_fps,
         busy.as_secs_f64() * 1e3 / f64::from(redraws.max(1)),
@@ -81,9 +90,20 @@ fn line(r: &Report<'_>, busy: Duration, redraws: u32) -> String {
         s.pitch_deg,
         s.layout,
         s.swap_eyes,
+        r.pose_fps,
+        optional(r.medians.latency_ms, 1),
+        optional(r.medians.age_ms, 1),
+        if s.timewarp { "on" } else { "off" },
+        optional(r.warp.map(|w| w.ms), 2),
+        optional(r.warp.map(|w| 100.0 * w.hole_share()), 3),
         r.frame.map_or(0, |f| f.seq),
         if r.ui_hidden { "hidden" } else { "shown" },
     )
+}
+
+/// A number with `decimals`, or `-` for none.
+fn optional(value: Option<f64>, decimals: usize) -> String {
+    value.map_or_else(|| "-".to_owned(), |v| format!("{v:.decimals$}"))
 }
 
 #[cfg(test)]
@@ -107,20 +127,44 @@ mod tests {
             frame: None,
             settings: &settings,
             ui_hidden: false,
+            pose_fps: 0.0,
+            medians: Medians::default(),
+            warp: None,
         };
         assert_eq!(
             line(&report, Duration::from_millis(9), 3),
             "fps=60.0 render_fps=12.5 ui_ms=3.00 window=800x300 left_ms=0.0 right_ms=0.0 \
-             head=0.500,0.000,-1.250 yaw=30.0 pitch=0.0 layout=anaglyph swap=true psnr=- frame=0 ui=shown",
+             head=0.500,0.000,-1.250 yaw=30.0 pitch=0.0 layout=anaglyph swap=true psnr=- pose_fps=0.0 \
+             latency_ms=- age_ms=- timewarp=on warp_ms=- holes=- frame=0 ui=shown",
             "before the first frame"
         );
         let mut stats = FrameStats::default();
         (stats.left.ms, stats.right.ms) = (20.0, 5.5);
         let request = settings.request(&scene, 0.0, 8, 8);
         let quality = Some(Quality { psnr_db: f64::INFINITY, ..Quality::default() });
-        let frame = FrameInfo { seq: 7, request, samples: request.samples, stats, quality, wall_ms: 30.0 };
-        (report.frame, report.ui_hidden) = (Some(&frame), true);
+        let frame = FrameInfo {
+            seq: 7,
+            request,
+            samples: request.samples,
+            stats,
+            quality,
+            wall_ms: 30.0,
+            posted: std::time::Instant::now(),
+        };
+        (report.frame, report.ui_hidden, report.pose_fps) = (Some(&frame), true, 90.04);
+        report.medians = Medians { latency_ms: Some(7.25), age_ms: Some(80.0) };
+        let mut warp = Warped { ms: 2.5, ..Warped::default() };
+        warp.counts[0].warped = 95;
+        warp.counts[1].filled = 5;
+        warp.counts[1].warped = 100;
+        report.warp = Some(warp);
         let l = line(&report, Duration::ZERO, 0);
-        assert!(l.contains(" left_ms=20.0 right_ms=5.5 ") && l.ends_with(" psnr=inf frame=7 ui=hidden"), "{l}");
+        assert!(l.contains(" left_ms=20.0 right_ms=5.5 "), "{l}");
+        assert!(
+            l.ends_with(
+                " psnr=inf pose_fps=90.0 latency_ms=7.2 age_ms=80.0 timewarp=on warp_ms=2.50 holes=2.500 frame=7 ui=hidden"
+            ),
+            "{l}"
+        );
     }
 }

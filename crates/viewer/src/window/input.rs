@@ -7,7 +7,7 @@
 //! (held: `HEAD_SPEED` units a second, forward and sideways along the head's own axes, up and
 //! down straight along world y; see `settings.rs`); right-drag (or left-drag outside the
 //! panel) turns the head; R resets it; 1, 2, 3 choose side-by-side, cross-eyed, anaglyph;
-//! X swaps the eyes; M toggles the debug mask; Space pauses the revolving spheres; F12 or P
+//! X swaps the eyes; M toggles the debug mask; T the timewarp; Space pauses the revolving spheres; F12 or P
 //! saves screenshots; Tab hides and shows the whole UI; F11 toggles borderless fullscreen;
 //! ? or F1 opens and closes the key overlay; Esc closes the overlay, or else quits.
 //!
@@ -26,7 +26,7 @@ use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
 const MAX_MOVE_STEP: f32 = 0.1;
 
 /// Every key and what it does, in the order the key overlay and the README list them.
-pub const KEYS: [(&str, &str); 15] = [
+pub const KEYS: [(&str, &str); 16] = [
     ("W / Up, S / Down", "move the head forward, back"),
     ("A / Left, D / Right", "move the head left, right"),
     ("Q, E", "move the head down, up"),
@@ -34,7 +34,8 @@ pub const KEYS: [(&str, &str); 15] = [
     ("R", "reset the head to the scene's camera"),
     ("1, 2, 3", "layout: side by side, cross-eyed, anaglyph"),
     ("X", "swap the eyes"),
-    ("M", "debug mask over the right eye"),
+    ("M", "debug mask (over both eyes with the timewarp)"),
+    ("T", "timewarp on / off"),
     ("Space", "pause / resume the revolving spheres"),
     ("F12 or P", "save the stereo pair as PNGs"),
     ("Tab", "hide / show the whole UI"),
@@ -53,6 +54,8 @@ pub enum Command {
     TogglePause,
     /// M: show or hide the debug mask.
     ToggleMask,
+    /// T: the timewarp on or off.
+    ToggleTimewarp,
     /// F12 or P: save screenshots.
     Save,
     /// X: exchange the eyes.
@@ -82,6 +85,7 @@ impl Command {
             Key::Named(NamedKey::F12) => Some(Self::Save),
             Key::Character(c) if c == "?" => Some(Self::ToggleKeys),
             Key::Character(c) if c.eq_ignore_ascii_case("m") => Some(Self::ToggleMask),
+            Key::Character(c) if c.eq_ignore_ascii_case("t") => Some(Self::ToggleTimewarp),
             Key::Character(c) if c.eq_ignore_ascii_case("p") => Some(Self::Save),
             Key::Character(c) if c.eq_ignore_ascii_case("x") => Some(Self::SwapEyes),
             Key::Character(c) if c.eq_ignore_ascii_case("r") => Some(Self::ResetHead),
@@ -217,6 +221,12 @@ impl Input {
         self.drag.active = false;
     }
 
+    /// Whether `physical` is a movement key (its press moves the head).
+    #[must_use]
+    pub fn moves_head(physical: PhysicalKey) -> bool {
+        HeldKeys::slot(physical).is_some()
+    }
+
     /// Whether the head is moving or turning (a movement key is held or a drag is on).
     #[must_use]
     pub fn is_moving(&self) -> bool {
@@ -257,6 +267,7 @@ mod tests {
         assert_eq!(Command::of_key(&ch("P")), Some(Command::Save), "either case");
         assert_eq!(Command::of_key(&ch("x")), Some(Command::SwapEyes), "X swaps");
         assert_eq!(Command::of_key(&ch("r")), Some(Command::ResetHead), "R resets");
+        assert_eq!(Command::of_key(&ch("T")), Some(Command::ToggleTimewarp), "T, either case");
         for (k, layout) in Layout::ALL.into_iter().enumerate() {
             assert_eq!(Command::of_key(&ch(&(k + 1).to_string())), Some(Command::Layout(layout)), "{layout}");
         }

@@ -8,7 +8,8 @@
 //! where [`Layout::slots`] puts them: side by side, cross-eyed (eyes swapped), or the red–cyan
 //! anaglyph, which the worker composes and which is shown centred at the eye size. The
 //! debug mask is the worker's overlay image (the mask's colours at the eye size, filtered
-//! from the samples when supersampled), blended half and half over the right eye.
+//! from the samples when supersampled), blended half and half over the right eye; a
+//! timewarp's mask (`timewarp.rs`) is blended over both eyes.
 //!
 //! This runs on the UI thread without rayon: the global pool belongs to the tracer, and
 //! waiting on it would make the UI wait for the render.
@@ -109,6 +110,8 @@ impl Compositor {
         // The frame the mask was switched on in may not have its colours yet: it shows
         // without them, and the next frame has them.
         let show_mask = look.show_mask && frame.mask_overlay.len() == n;
+        // A timewarp's mask covers the left eye too.
+        let show_left_mask = look.show_mask && frame.left_overlay.len() == n;
         if ew == 0 || fw == 0 || fh == 0 || !complete {
             dst.fill(BACKGROUND);
             return false;
@@ -119,7 +122,7 @@ impl Compositor {
         // Same width: whole rows are copied, not gathered column by column.
         let direct = fw == ew;
         let Look { layout, swap, .. } = look;
-        let (left, right, mask) = (&frame.left, &frame.right, &frame.mask_overlay);
+        let (left, right, mask, left_mask) = (&frame.left, &frame.right, &frame.mask_overlay, &frame.left_overlay);
         let anaglyph = (layout == Layout::Anaglyph && frame.anaglyph.len() == fw * fh).then_some(&frame.anaglyph);
         let halves = if layout == Layout::Anaglyph { Layout::SideBySide } else { layout };
         let left_first = halves.slots(swap)[0] == Eye::Left;
@@ -138,7 +141,9 @@ impl Compositor {
             let (second, pad) = rest.split_at_mut(ew);
             let (l, r) = if left_first { (first, second) } else { (second, first) };
             let span = src_row..src_row + fw;
-            if direct {
+            if show_left_mask {
+                fill_eye(l, columns, |c| blend_half(left[src_row + c], left_mask[src_row + c]));
+            } else if direct {
                 l.copy_from_slice(&left[span.clone()]);
             } else {
                 fill_eye(l, columns, |c| left[src_row + c]);
@@ -189,6 +194,8 @@ mod tests {
             swap: false,
             reuse: false,
             light: None,
+            timewarp: false,
+            guard: (0, 0),
         };
         Finished {
             info: Some(FrameInfo {
@@ -198,12 +205,14 @@ mod tests {
                 stats: stereo::FrameStats::default(),
                 quality: None,
                 wall_ms: 0.0,
+                posted: std::time::Instant::now(),
             }),
             left: (0..n as u32).collect(),
             right: (0..n as u32).map(|p| p | 0x0010_0000).collect(),
             mask: vec![PixelClass::Reprojected; n],
             mask_overlay: vec![mask_color(PixelClass::Reprojected); n],
             anaglyph: Vec::new(),
+            ..Finished::default()
         }
     }
 

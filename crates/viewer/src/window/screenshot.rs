@@ -167,6 +167,8 @@ mod tests {
             swap: false,
             reuse: false,
             light: None,
+            timewarp: false,
+            guard: (0, 0),
         };
         let info = FrameInfo {
             seq: 1,
@@ -175,6 +177,7 @@ mod tests {
             stats: stereo::FrameStats::default(),
             quality: None,
             wall_ms: 0.0,
+            posted: std::time::Instant::now(),
         };
         let frame = Finished {
             info: Some(info),
@@ -183,6 +186,7 @@ mod tests {
             mask: vec![stereo::PixelClass::Reprojected; 8],
             mask_overlay: vec![0; 2],
             anaglyph: Vec::new(),
+            ..Finished::default()
         };
         let look = Look { layout: stereo::Layout::SideBySide, swap: false, show_mask: true };
         let paths = save(&dir, &frame, look, UNIX_EPOCH).unwrap();

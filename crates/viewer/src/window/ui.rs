@@ -16,7 +16,11 @@ use stereo::{mask_color, Layout, Mode, KEPT_COLOR, KEPT_LEGEND, MASK_LEGEND};
 
 use crate::window::frame_times::{FrameTimes, SERIES_LEN, SERIES_NAMES};
 use crate::window::input::KEYS;
-use crate::window::settings::{Settings, MAX_ORBIT_SPEED, MAX_REFLECTION_DEPTH, MAX_RENDER_SCALE, MIN_RENDER_SCALE};
+use crate::window::pose_meter::Medians;
+use crate::window::settings::{
+    Settings, MAX_GUARD_BAND, MAX_ORBIT_SPEED, MAX_REFLECTION_DEPTH, MAX_RENDER_SCALE, MIN_RENDER_SCALE,
+};
+use crate::window::timewarp::{Warped, TIMEWARP_LEGEND};
 use crate::window::worker::FrameInfo;
 
 /// The hint shown until Tab is first pressed.
@@ -56,6 +60,19 @@ pub struct Readout<'a> {
     pub scene: SceneReadout<'a>,
     /// Whether the window is fullscreen.
     pub fullscreen: bool,
+    /// What a moving head sees: new poses a second, input latency, frame age.
+    pub motion: Motion,
+}
+
+/// The panel's timewarp figures.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Motion {
+    /// Presented frames a second that showed a new head pose.
+    pub pose_fps: f64,
+    /// Median input latency and traced-frame age at present.
+    pub medians: Medians,
+    /// The last warp, when the timewarp is on.
+    pub warp: Option<Warped>,
 }
 
 /// The scene file shown, why the last load failed, and the scenes beside it.
@@ -129,7 +146,11 @@ pub fn panel(ctx: &egui::Context, settings: &mut Settings, readout: &Readout<'_>
                 statistics(ui, settings, readout);
                 if settings.show_mask {
                     ui.separator();
-                    legend(ui);
+                    if settings.timewarp {
+                        timewarp_legend(ui);
+                    } else {
+                        legend(ui);
+                    }
                 }
             });
         });
@@ -221,6 +242,20 @@ fn controls(ui: &mut egui::Ui, s: &mut Settings, readout: &Readout<'_>, actions:
         ui.checkbox(&mut s.reuse, "reuse").on_hover_text(
             "while only the orbit moves, retrace only the pixels that can change (the image is the same)",
         );
+    });
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut s.timewarp, "timewarp (T)").on_hover_text(
+            "show every frame warped to the head pose of that moment, by its depth, while the \
+             tracer catches up",
+        );
+        ui.add_enabled(
+            s.timewarp,
+            Slider::new(&mut s.guard_band, 0.0..=MAX_GUARD_BAND)
+                .text("guard")
+                .custom_formatter(|v, _| format!("{:.0} %", v * 100.0))
+                .custom_parser(|t| t.trim().trim_end_matches('%').trim().parse::<f64>().ok().map(|v| v / 100.0)),
+        )
+        .on_hover_text("trace this share of each eye beyond each side, for the timewarp to turn into");
     });
     ui.horizontal(|ui| {
         actions.reset = ui.button("reset camera (R)").clicked();
@@ -324,6 +359,14 @@ fn statistics(ui: &mut egui::Ui, s: &Settings, r: &Readout<'_>) {
             ui.end_row();
         };
         row("fps", format!("{:.1} UI · {:.1} render", r.ui_fps, r.render_fps));
+        let ms = |v: Option<f64>| v.map_or_else(|| "–".to_owned(), |v| format!("{v:.0} ms"));
+        let m = &r.motion;
+        row("new poses", format!("{:.1} /s · latency {}", m.pose_fps, ms(m.medians.latency_ms)));
+        if let Some(w) = m.warp.filter(|_| s.timewarp) {
+            let state = if w.fresh { "fresh" } else { "warped" };
+            row("timewarp", format!("{state} · {:.1} ms · holes {:.2} %", w.ms, 100.0 * w.hole_share()));
+        }
+        row("frame age", ms(m.medians.age_ms));
         let Some(f) = r.frame else {
             row("frame", "rendering…".to_owned());
             return;
@@ -397,16 +440,29 @@ fn frame_time_plot(ui: &mut egui::Ui, history: &FrameTimes) {
     });
 }
 
+/// The timewarp mask's legend.
+fn timewarp_legend(ui: &mut egui::Ui) {
+    ui.label(RichText::new("timewarp mask, blended 50 % over both eyes").small());
+    for (colour, name) in TIMEWARP_LEGEND {
+        swatch(ui, colour, name);
+    }
+}
+
+/// A colour swatch and its name.
+fn swatch(ui: &mut egui::Ui, colour: u32, name: &str) {
+    ui.horizontal(|ui| {
+        let [r, g, b] = tracer::unpack_rgb(colour);
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
+        ui.painter().rect_filled(rect, 2.0, Color32::from_rgb(r, g, b));
+        ui.label(name);
+    });
+}
+
 fn legend(ui: &mut egui::Ui) {
     ui.label(RichText::new("mask, blended 50 % over the right eye").small());
     let entries = MASK_LEGEND.map(|(class, name)| (mask_color(class), name));
     for (colour, name) in entries.into_iter().chain([(KEPT_COLOR, KEPT_LEGEND)]) {
-        ui.horizontal(|ui| {
-            let [r, g, b] = tracer::unpack_rgb(colour);
-            let (rect, _) = ui.allocate_exact_size(egui::vec2(12.0, 12.0), egui::Sense::hover());
-            ui.painter().rect_filled(rect, 2.0, Color32::from_rgb(r, g, b));
-            ui.label(name);
-        });
+        swatch(ui, colour, name);
     }
 }
 

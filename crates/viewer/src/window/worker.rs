@@ -64,6 +64,12 @@ pub struct Request {
     pub swap: bool,
     /// Where the scene's first light is this frame (`None`: where the scene puts it).
     pub light: Option<Vec3>,
+    /// Keep the traced eyes with their depth and a guard band for the timewarp
+    /// ([`Finished::traced`]).
+    pub timewarp: bool,
+    /// The guard band, samples beyond each side of the traced size (horizontally,
+    /// vertically): traced, never shown as such, for the timewarp to turn into.
+    pub guard: (u32, u32),
 }
 
 /// What is known about a finished frame besides its pixels.
@@ -84,6 +90,40 @@ pub struct FrameInfo {
     /// Wall time of the whole job (including the PSNR reference trace, the anaglyph and the
     /// copies for the UI), milliseconds.
     pub wall_ms: f64,
+    /// When the request was posted: the moment of the head pose the frame shows.
+    pub posted: Instant,
+}
+
+/// The traced eyes as the timewarp reads them: each eye's colours and depths at the sampled
+/// size with the request's guard band around it, (samples.0 + 2·guard.0) × (samples.1 +
+/// 2·guard.1). Empty unless the request asked for them ([`Request::timewarp`]).
+#[derive(Debug, Default)]
+pub struct Traced {
+    /// The guard band they were traced with.
+    pub guard: (u32, u32),
+    /// Left colours, `0x00RRGGBB`.
+    pub left: Vec<u32>,
+    /// Left depths beyond the window (the film's `z`), +∞ for background.
+    pub left_z: Vec<f32>,
+    /// Right colours.
+    pub right: Vec<u32>,
+    /// Right depths.
+    pub right_z: Vec<f32>,
+}
+
+impl Traced {
+    /// Whether there are eyes to warp.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.left.is_empty()
+    }
+
+    fn clear(&mut self) {
+        self.left.clear();
+        self.left_z.clear();
+        self.right.clear();
+        self.right_z.clear();
+    }
 }
 
 /// A finished stereo frame: both eyes and the right eye's mask colours, `width × height`
@@ -104,6 +144,19 @@ pub struct Finished {
     pub mask_overlay: Vec<u32>,
     /// The red–cyan anaglyph (`0x00RRGGBB`) when the request asked for it, else empty.
     pub anaglyph: Vec<u32>,
+    /// The timewarp's mask colours over the left eye (the right eye's are
+    /// [`Finished::mask_overlay`]); empty unless a timewarp made them.
+    pub left_overlay: Vec<u32>,
+    /// The eyes as traced, with depth and guard band, when the request asked for them.
+    pub traced: Traced,
+}
+
+/// The worker's scratch for a frame traced with a guard band: each eye's shown part cut out
+/// of the band, before it is filtered, and the mask's.
+#[derive(Debug, Default)]
+struct Cut {
+    eyes: [Vec<u32>; 2],
+    mask: Vec<PixelClass>,
 }
 
 impl Finished {
@@ -122,28 +175,45 @@ impl Finished {
 
     /// Copies a frame rendered at `samples` in for `request`, filtered down to its eye size,
     /// reusing this frame's allocations. The metadata is the caller's to set.
-    fn fill_from(&mut self, frame: &StereoFrame, samples: (u32, u32), request: &Request) {
+    fn fill_from(&mut self, frame: &StereoFrame, samples: (u32, u32), request: &Request, cut: &mut Cut) {
         let eye = (request.width, request.height);
+        let guard = if request.timewarp { request.guard } else { (0, 0) };
+        let Self { left, right, mask_overlay: overlay, mask, traced, left_overlay, .. } = self;
+        left_overlay.clear();
         // Four copies of an eye's size: side by side on the pool (one after the other they
         // were ~1 ms of every frame in which the tracer's threads waited).
-        let (left, right, overlay, mask) = (&mut self.left, &mut self.right, &mut self.mask_overlay, &mut self.mask);
+        let Cut { eyes: [left_cut, right_cut], mask: shown_mask } = cut;
         rayon::join(
             || {
                 rayon::join(
-                    || stereo::downsample(&frame.left().rgb, samples, left, eye),
-                    || stereo::downsample(&frame.right().rgb, samples, right, eye),
+                    || shown_eye(&frame.left().rgb, (samples, guard), left_cut, left, eye),
+                    || shown_eye(&frame.right().rgb, (samples, guard), right_cut, right, eye),
                 )
             },
             || {
-                // The right pixels a reused frame kept show in the mask's "kept" colour.
-                let made = frame.made().map(|(_, right)| right);
-                if request.overlay {
+                mask.clear();
+                if guard == (0, 0) {
+                    mask.extend_from_slice(frame.mask());
+                } else {
+                    cut_band(frame.mask(), samples, guard, shown_mask);
+                    mask.extend_from_slice(shown_mask);
+                }
+                // The timewarp shows its own mask; without it, the right pixels a reused
+                // frame kept show in the mask's "kept" colour.
+                if request.overlay && !request.timewarp {
+                    let made = frame.made().map(|(_, right)| right);
                     stereo::downsample_mask_kept(frame.mask(), made, samples, overlay, eye);
                 } else {
                     overlay.clear();
                 }
-                mask.clear();
-                mask.extend_from_slice(frame.mask());
+                traced.clear();
+                if request.timewarp {
+                    traced.guard = guard;
+                    traced.left.extend_from_slice(&frame.left().rgb);
+                    traced.left_z.extend_from_slice(&frame.left().z);
+                    traced.right.extend_from_slice(&frame.right().rgb);
+                    traced.right_z.extend_from_slice(frame.right_depth());
+                }
             },
         );
         if request.anaglyph {
@@ -157,9 +227,38 @@ impl Finished {
     }
 }
 
+/// An eye's shown part of `image`, traced at `samples` with `guard` around it (`cut` keeps
+/// the part cut out), filtered down to `eye` into `out`.
+fn shown_eye(
+    image: &[u32],
+    (samples, guard): ((u32, u32), (u32, u32)),
+    cut: &mut Vec<u32>,
+    out: &mut Vec<u32>,
+    eye: (u32, u32),
+) {
+    if guard == (0, 0) {
+        stereo::downsample(image, samples, out, eye);
+    } else {
+        cut_band(image, samples, guard, cut);
+        stereo::downsample(cut, samples, out, eye);
+    }
+}
+
+/// The `size` part of `image` inside a guard band of `guard` pixels each side, into `out`.
+fn cut_band<T: Copy>(image: &[T], size: (u32, u32), guard: (u32, u32), out: &mut Vec<T>) {
+    let (w, h, gx, gy) = (size.0 as usize, size.1 as usize, guard.0 as usize, guard.1 as usize);
+    let stride = w + 2 * gx;
+    debug_assert_eq!(image.len(), stride * (h + 2 * gy), "the image is the size with its band");
+    out.clear();
+    for row in image.chunks_exact(stride).skip(gy).take(h) {
+        out.extend_from_slice(&row[gx..gx + w]);
+    }
+}
+
 #[derive(Default)]
 struct Inbox {
-    request: Option<Request>,
+    /// The newest request, and when it was posted.
+    request: Option<(Request, Instant)>,
     /// A scene to render from the next request on.
     scene: Option<Scene>,
     quit: bool,
@@ -216,7 +315,7 @@ impl Worker {
             return;
         }
         self.last_posted = Some(request);
-        lock(&self.shared.inbox).request = Some(request);
+        lock(&self.shared.inbox).request = Some((request, Instant::now()));
         self.shared.wake.notify_one();
     }
 
@@ -269,10 +368,37 @@ impl Drop for Worker {
     }
 }
 
+/// The tracer's threads' priority, of thread-priority's 0 (lowest) to 99 (highest): on
+/// Linux a niceness of 10 (the crate maps 0..=99 onto 19..=-20; the UI's threads keep 0),
+/// whose scheduler weights give a thread at 0 about nine times the CPU of one at 10 when
+/// both want it. The tracer saturates the cores; the display tick, wanting a few
+/// milliseconds of them at the display's rate, gets them at once.
+const TRACER_PRIORITY: u8 = 22;
+
+/// Runs the calling thread at [`TRACER_PRIORITY`]. Failing leaves the priority as it was:
+/// the timewarp then shares the cores evenly with the tracer, which is slower, not wrong.
+pub fn lower_this_thread() {
+    if let Ok(value) = TRACER_PRIORITY.try_into() {
+        // An error leaves the thread as it was (see above).
+        let _ = thread_priority::set_current_thread_priority(thread_priority::ThreadPriority::Crossplatform(value));
+    }
+}
+
+/// Builds rayon's global pool, which the tracer uses, with its threads at
+/// [`TRACER_PRIORITY`]; nothing if the pool was already built (its first use builds it).
+pub fn lower_the_tracer_pool() {
+    // An error only says that the pool exists already: it keeps its priority.
+    let _ = rayon::ThreadPoolBuilder::new()
+        .thread_name(|i| format!("tracer-{i}"))
+        .start_handler(|_| lower_this_thread())
+        .build_global();
+}
+
 /// The worker thread's state: scene, tracer and all buffers, reused frame after frame. The
 /// scene is a working copy whose first light the requests move; `memory` bounds the
 /// supersampled frames.
 fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
+    lower_this_thread();
     let mut tracer = Tracer::new(&scene, 0.0);
     let mut scene_light = scene.lights.first().map(|l| l.position);
     // The first light's position the tracer was built with; `None`: build it afresh (a new
@@ -282,11 +408,12 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
     let mut frame = StereoFrame::new();
     let mut reference = Reference::default();
     let mut back = Finished::default();
+    let mut cut = Cut::default();
     let mut seq = 0u64;
     // The last frame rendered, for a request that differs from it only in the overlay.
     let mut last: Option<FrameInfo> = None;
     loop {
-        let request = {
+        let (request, posted) = {
             let mut inbox = lock(&shared.inbox);
             loop {
                 if inbox.quit {
@@ -306,7 +433,7 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
         let started = Instant::now();
         if let Some(info) = last.filter(|info| Request { overlay: request.overlay, ..info.request } == request) {
             // The mask switched on or off: the same frame, its overlay made or dropped.
-            back.fill_from(&frame, info.samples, &request);
+            back.fill_from(&frame, info.samples, &request, &mut cut);
             seq += 1;
             let wall_ms = started.elapsed().as_secs_f64() * 1e3;
             back.info = Some(FrameInfo { seq, request, wall_ms, ..info });
@@ -334,15 +461,17 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
             eye
         };
         frame.set_reuse(request.reuse.then_some(&scene));
-        let stats = frame.render(&tracer, &request.camera, samples.0, samples.1, request.opts);
-        back.fill_from(&frame, samples, &request);
+        frame.set_depths(request.timewarp);
+        let guard = if request.timewarp { request.guard } else { (0, 0) };
+        let stats = frame.render_banded(&tracer, &request.camera, samples, guard, request.opts);
+        back.fill_from(&frame, samples, &request, &mut cut);
         let quality = request.psnr.then(|| {
             reference.trace(&tracer, &request.camera, samples.0, samples.1);
             reference.compare_filtered(&back.right, samples, eye)
         });
         seq += 1;
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-        back.info = Some(FrameInfo { seq, request, samples, stats, quality, wall_ms });
+        back.info = Some(FrameInfo { seq, request, samples, stats, quality, wall_ms, posted });
         last = back.info;
         let mut out = lock(&shared.outbox);
         std::mem::swap(&mut out.frame, &mut back);
@@ -378,6 +507,8 @@ mod tests {
             swap: false,
             reuse: false,
             light: None,
+            timewarp: false,
+            guard: (0, 0),
         }
     }
 
@@ -465,6 +596,37 @@ mod tests {
         assert_eq!(info.quality, Some(reference.compare_filtered(&right, (64, 48), (32, 24))), "the filtered eyes");
     }
 
+    /// With the timewarp, the eyes are traced with a guard band and their depth: the frame
+    /// keeps them for the warp, and its eyes are the shown part, the frame without the band
+    /// byte for byte.
+    #[test]
+    fn a_timewarp_request_keeps_the_banded_eyes_and_depths() {
+        let mut worker = Worker::spawn_with_memory(scene(), None).unwrap();
+        let camera = Camera { ipd: 1.0, ..Camera::default() };
+        let plain = Request { camera, overlay: false, ..request(32, false) };
+        worker.post(plain);
+        let (left, right) = {
+            let f = wait_for(&mut worker, 1);
+            assert!(f.traced.is_empty(), "nothing kept without the timewarp");
+            (f.left.clone(), f.right.clone())
+        };
+        worker.post(Request { timewarp: true, guard: (3, 2), ..plain });
+        let f = wait_for(&mut worker, 2);
+        assert_eq!((&f.left, &f.right), (&left, &right), "the shown part is the plain frame");
+        let t = &f.traced;
+        let n = (32 + 6) * (24 + 4);
+        assert_eq!(t.guard, (3, 2));
+        assert_eq!([t.left.len(), t.left_z.len(), t.right.len(), t.right_z.len()], [n; 4], "banded planes");
+        let mut direct = StereoFrame::new();
+        let mut tracer = Tracer::new(&scene(), 0.0);
+        tracer.set_max_depth(2);
+        direct.set_depths(true);
+        direct.render_banded(&tracer, &camera, (32, 24), (3, 2), plain.opts);
+        assert_eq!((&t.left, &t.left_z), (&direct.left().rgb, &direct.left().z), "the left eye as traced");
+        assert_eq!((&t.right, &t.right_z[..]), (&direct.right().rgb, direct.right_depth()), "the right eye as traced");
+        assert!(t.left_z.iter().any(|z| z.is_finite()), "the sphere is in view");
+    }
+
     #[test]
     fn the_mask_colours_are_made_only_when_asked_for() {
         let mut worker = Worker::spawn_with_memory(scene(), None).unwrap();
@@ -519,6 +681,27 @@ mod tests {
         assert_eq!(wait_for(&mut alone, 1).left, after, "exactly what a worker started on the new scene renders");
     }
 
+    /// The tracer's threads run at a niceness of 10 on Linux, which the kernel reports as
+    /// field 19 of the thread's stat line.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn the_tracers_threads_run_at_a_lower_priority() {
+        let nice = || {
+            let stat = std::fs::read_to_string("/proc/thread-self/stat").unwrap();
+            // After the command's closing parenthesis: state is field 3, nice field 19.
+            let fields: Vec<&str> = stat[stat.rfind(')').unwrap() + 2..].split(' ').collect();
+            fields[16].parse::<i32>().unwrap()
+        };
+        let (before, after) = std::thread::spawn(move || {
+            let before = nice();
+            lower_this_thread();
+            (before, nice())
+        })
+        .join()
+        .unwrap();
+        assert_eq!((before, after), (0, 10), "a new thread at 0, lowered to 10");
+    }
+
     /// A handle whose render thread never started: what `post` sends stays in the inbox,
     /// where the test takes it out as the thread would.
     fn unstarted() -> Worker {
@@ -530,7 +713,7 @@ mod tests {
     #[test]
     fn an_unchanged_request_is_not_sent_again() {
         let mut worker = unstarted();
-        let take = |w: &Worker| lock(&w.shared.inbox).request.take();
+        let take = |w: &Worker| lock(&w.shared.inbox).request.take().map(|(r, _)| r);
         worker.post(request(16, false));
         assert_eq!(take(&worker), Some(request(16, false)), "the first request is sent");
         worker.post(request(16, false));

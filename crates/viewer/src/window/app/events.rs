@@ -8,7 +8,7 @@ use winit::event::{ElementState, KeyEvent, WindowEvent};
 use winit::event_loop::ActiveEventLoop;
 
 use super::viewer::Viewer;
-use crate::window::input::{self, Command};
+use crate::window::input::{self, Command, Input};
 use crate::window::os_window::Window;
 
 impl Viewer {
@@ -33,6 +33,10 @@ impl Viewer {
             } => {
                 let pressed = state == ElementState::Pressed;
                 let egui_wants = self.egui.egui_wants_keyboard_input();
+                if pressed && !egui_wants && Input::moves_head(physical_key) {
+                    // A press or a repeat: the head moves from the next walk on.
+                    self.meters.pose.input(Instant::now());
+                }
                 if let Some(command) = self.input.key(physical_key, &logical_key, pressed, repeat, egui_wants) {
                     self.apply(command, window, event_loop);
                 }
@@ -46,6 +50,7 @@ impl Viewer {
             WindowEvent::CursorMoved { position, .. } => {
                 if let Some((dx, dy)) = self.input.cursor_moved(position) {
                     self.settings.turn_head(dx, dy);
+                    self.meters.pose.input(Instant::now());
                 }
             }
             WindowEvent::CursorLeft { .. } => self.input.cursor_left(),
@@ -78,6 +83,7 @@ impl Viewer {
                 self.sync_clock(Instant::now());
             }
             Command::ToggleMask => s.show_mask ^= true,
+            Command::ToggleTimewarp => s.timewarp ^= true,
             Command::SwapEyes => s.swap_eyes ^= true,
             Command::ResetHead => s.reset_camera(self.watch.scene()),
             Command::Layout(layout) => s.layout = layout,

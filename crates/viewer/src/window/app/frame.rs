@@ -17,7 +17,7 @@ use crate::window::fps_log::Report;
 use crate::window::frame_times;
 use crate::window::os_window::{Size, Window};
 use crate::window::present;
-use crate::window::ui::{self, Actions, Readout, SceneReadout};
+use crate::window::ui::{self, Actions, Motion, Readout, SceneReadout};
 use crate::window::worker::FrameInfo;
 
 /// Time between UI ticks (240 Hz: above VR headsets' 90 and high-refresh monitors' 144, so a
@@ -55,6 +55,7 @@ impl Viewer {
         }
         m.render.update(now, m.last_seq);
         if m.ui.update(now, m.presented) {
+            m.pose.update(now);
             self.fps_log.write(&Report {
                 ui_fps: m.ui.rate(),
                 render_fps: m.render.rate(),
@@ -62,6 +63,9 @@ impl Viewer {
                 frame: info.as_ref(),
                 settings: &self.settings,
                 ui_hidden: self.chrome.hidden,
+                pose_fps: m.pose.rate(),
+                medians: m.pose.medians(),
+                warp: self.settings.timewarp.then(|| self.timewarp.last()),
             });
         }
         info
@@ -85,6 +89,11 @@ impl Viewer {
             saved: self.screenshots.note.recent(now),
             scene: SceneReadout { name: w.name(), error: w.error(), files: w.files(), folder_error: w.folder_error() },
             fullscreen: window.is_fullscreen(),
+            motion: Motion {
+                pose_fps: m.pose.rate(),
+                medians: m.pose.medians(),
+                warp: self.settings.timewarp.then(|| self.timewarp.last()),
+            },
         };
         let mut settings = self.settings;
         let mut actions = Actions::default();
@@ -137,7 +146,8 @@ impl Viewer {
         }
     }
 
-    /// Presents the frame on screen with `ui` over it, counts it, and ends the run when
+    /// Presents the frame on screen with `ui` over it — with the timewarp on, the traced
+    /// frame warped to the head pose of this moment — counts it, and ends the run when
     /// `--frames` is reached.
     fn present(
         &mut self,
@@ -147,11 +157,21 @@ impl Viewer {
         event_loop: &ActiveEventLoop,
     ) -> anyhow::Result<()> {
         let look = self.settings.look();
-        let Some(eyes) = window.present(size, self.worker.current(), look, &self.egui, ui, self.dump.as_mut())? else {
+        let traced = self.worker.current();
+        let pose = self.settings.camera(&self.watch.scene().camera);
+        let (pose_at, warped) = (Instant::now(), self.settings.timewarp);
+        let warped = warped.then(|| self.timewarp.show(traced, &pose, look)).flatten();
+        let shown_pose =
+            if warped.is_some() { Some((pose, pose_at)) } else { traced.info.map(|i| (i.request.camera, i.posted)) };
+        let frame = warped.unwrap_or(traced);
+        let Some(eyes) = window.present(size, frame, look, &self.egui, ui, self.dump.as_mut())? else {
             return Ok(());
         };
         let m = &mut self.meters;
         m.presented += 1;
+        if let (true, Some((pose, pose_at)), Some(info)) = (eyes, shown_pose, traced.info) {
+            m.pose.presented(&pose, pose_at, info.posted, Instant::now());
+        }
         let (width, height) = size.get();
         if eyes || present::eye_size(width, height).0 == 0 {
             m.presented_with_eyes += 1;
@@ -178,7 +198,12 @@ impl Viewer {
             // A moving head alone is not a reason to repaint: until the worker has a frame
             // of the new pose there is nothing new to show, and repainting at every tick
             // would take the cores from the tracer (the head walks on every tick below).
-            let due = p.dirty || self.worker.has_fresh() || now - p.last_redraw >= IDLE_REDRAW;
+            // With the timewarp, a moving head is: every display tick shows it.
+            let timewarp = self.settings.timewarp;
+            let due = p.dirty
+                || self.worker.has_fresh()
+                || now - p.last_redraw >= IDLE_REDRAW
+                || (timewarp && self.input.is_moving());
             if let Some(window) = window {
                 if due {
                     window.request_redraw();
@@ -194,9 +219,11 @@ impl Viewer {
                     self.post_request((size.width, size.height), now);
                 }
             }
-            // Keep the cadence, but never try to catch up on missed frames.
+            // Keep the cadence (the display's with the timewarp), but never try to catch up
+            // on missed frames.
+            let interval = if timewarp { self.config.display_interval } else { FRAME_INTERVAL };
             let p = &mut self.pacing;
-            p.next_tick = (p.next_tick + FRAME_INTERVAL).max(now + FRAME_INTERVAL / 2);
+            p.next_tick = (p.next_tick + interval).max(now + interval / 2);
         }
         event_loop.set_control_flow(ControlFlow::WaitUntil(self.pacing.next_tick));
     }

@@ -5,6 +5,7 @@
 use std::time::{Duration, Instant};
 
 use crate::window::frame_times::FrameTimes;
+use crate::window::pose_meter::PoseMeter;
 use crate::window::timing::RateMeter;
 use crate::window::worker::{FrameInfo, Request};
 
@@ -30,6 +31,8 @@ pub(super) struct Meters {
     pub(super) history: FrameTimes,
     /// What the panel shows of them.
     pub(super) shown: Shown,
+    /// New poses a second, input latency and frame age.
+    pub(super) pose: PoseMeter,
 }
 
 impl Meters {
@@ -43,6 +46,7 @@ impl Meters {
             render: RateMeter::new(now, 0),
             history: FrameTimes::default(),
             shown: Shown::default(),
+            pose: PoseMeter::new(now),
         }
     }
 }
@@ -103,6 +107,7 @@ mod tests {
                 stats: FrameStats::default(),
                 quality: None,
                 wall_ms: 1.0,
+                posted: Instant::now(),
             }
         };
         let (t0, history) = (Instant::now(), FrameTimes::default());

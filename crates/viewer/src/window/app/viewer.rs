@@ -7,7 +7,7 @@
 //! own head pose.
 
 use std::path::Path;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use winit::dpi::LogicalSize;
 use winit::event_loop::ActiveEventLoop;
@@ -21,6 +21,7 @@ use crate::window::os_window::{Dump, Window};
 use crate::window::scene_watch::{Change, SceneWatch};
 use crate::window::screenshot::Screenshots;
 use crate::window::settings::Settings;
+use crate::window::timewarp::Timewarp;
 use crate::window::timing::SceneClock;
 use crate::window::ui;
 use crate::window::worker::Worker;
@@ -35,6 +36,8 @@ pub(super) struct Config {
     pub(super) size: LogicalSize<f64>,
     /// `--frames`: stop after this many frames showing the eyes.
     pub(super) frames: Option<u64>,
+    /// With the timewarp on, the time between display ticks (`--display-hz`).
+    pub(super) display_interval: Duration,
 }
 
 /// When to redraw: the tick's cadence, and whether anything changed since the last redraw.
@@ -56,6 +59,7 @@ pub(super) struct Viewer {
     pub(super) settings: Settings,
     pub(super) clock: SceneClock,
     pub(super) worker: Worker,
+    pub(super) timewarp: Timewarp,
     pub(super) egui: egui::Context,
     pub(super) input: Input,
     pub(super) pacing: Pacing,
@@ -79,6 +83,8 @@ impl Viewer {
         settings.paused = clock.is_paused();
         settings.live_psnr = args.live_psnr;
         settings.reuse = !args.no_reuse;
+        settings.timewarp = !args.no_timewarp;
+        settings.guard_band = args.guard_band as f32 / 100.0;
         if let Some(percent) = args.render_scale {
             settings.render_scale = percent as f32 / 100.0;
         }
@@ -93,8 +99,10 @@ impl Viewer {
             config: Config {
                 size: LogicalSize::new(f64::from(args.width), f64::from(args.height)),
                 frames: args.frames,
+                display_interval: Duration::from_secs(1) / args.display_hz.max(1),
             },
             worker: Worker::spawn(watch.scene().clone())?,
+            timewarp: Timewarp::new()?,
             watch,
             chrome: Chrome::new(now),
             settings,

@@ -32,6 +32,7 @@ fn idle_readout(history: &FrameTimes) -> Readout<'_> {
         saved: None,
         scene: SceneReadout { name: "s.toml", ..SceneReadout::default() },
         fullscreen: false,
+        motion: Motion::default(),
     }
 }
 
@@ -212,9 +213,44 @@ fn the_panel_fits_the_default_window_with_everything_open() {
     assert!(window.max.y <= 592.1, "the panel ends above the window's bottom margin: {window:?}");
     assert!(window.height() > 500.0, "and uses the height it has: {window:?}");
     assert!(window.width() < 330.0, "the long error wraps: {window:?}");
-    // The title is on screen and the legend can be scrolled to.
+    // The title is on screen and the legend can be scrolled to: the timewarp's while it is
+    // on, the stereo mask's without it.
     assert!(harness.get_by_label("stereotrace").rect().min.y >= 8.0, "the title is visible");
+    let _ = harness.get_by_label("timewarp mask, blended 50 % over both eyes");
+    harness.state_mut().settings.timewarp = false;
+    harness.run();
     let _ = harness.get_by_label("mask, blended 50 % over the right eye");
+    assert!(harness.query_by_label("timewarp mask, blended 50 % over both eyes").is_none(), "one legend at a time");
+}
+
+/// The panel's "timewarp" tick turns the timewarp off and on; its guard band slider only
+/// works while it is on; the figures of a warp are shown beside the new poses a second.
+#[test]
+fn the_timewarp_tick_turns_it_off_and_on() {
+    let history = FrameTimes::default();
+    let mut readout = idle_readout(&history);
+    let mut warp = Warped { ms: 2.5, ..Warped::default() };
+    (warp.counts[0].warped, warp.counts[0].other_eye) = (990, 10);
+    readout.motion =
+        Motion { pose_fps: 89.5, medians: Medians { latency_ms: Some(8.0), age_ms: Some(75.0) }, warp: Some(warp) };
+    let mut harness = harness(&scene(), readout);
+    assert!(harness.state().settings.timewarp, "on by default");
+    let _ = harness.get_by_label("89.5 /s · latency 8 ms");
+    let _ = harness.get_by_label("warped · 2.5 ms · holes 1.00 %");
+    let _ = harness.get_by_label("75 ms");
+    let guard = harness.state().settings.guard_band;
+    nudge(&mut harness, "guard", egui::Key::ArrowRight);
+    assert!(harness.state().settings.guard_band > guard, "the band widens while the timewarp is on");
+    harness.get_by_label("timewarp (T)").click();
+    harness.run();
+    assert!(!harness.state().settings.timewarp, "the tick turns it off");
+    assert!(harness.query_by_label("warped · 2.5 ms · holes 1.00 %").is_none(), "no warp figures without it");
+    let guard = harness.state().settings.guard_band;
+    nudge(&mut harness, "guard", egui::Key::ArrowRight);
+    assert_eq!(harness.state().settings.guard_band, guard, "no guard band to change without it");
+    harness.get_by_label("timewarp (T)").click();
+    harness.run();
+    assert!(harness.state().settings.timewarp, "and on again");
 }
 
 /// The scene section: the folder's scenes in a list whose pick is reported, and a scene

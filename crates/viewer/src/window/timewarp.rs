@@ -1,0 +1,189 @@
+//! The viewer's timewarp: every presented frame is the last traced stereo pair warped to the
+//! head pose of the moment it is presented ([`stereo::Warp`], a 6-DoF forward warp by each
+//! eye's depth), so the picture follows the head at the display's rate while the tracer
+//! traces the newest pose as fast as it can. This is what VR runtimes do between a
+//! renderer and the headset (Oculus's asynchronous timewarp and spacewarp, SteamVR's motion
+//! smoothing; van Waveren, "The asynchronous time warp for virtual reality on consumer
+//! hardware", VRST 2016).
+//!
+//! The warp runs on a rayon pool of its own, whose threads keep the normal priority, while
+//! the tracer's threads run at a lower one (`worker.rs`): the two cores go to the tracer
+//! except for the few milliseconds a display tick asks for, which it gets at once instead of
+//! queueing behind the tracer's jobs in the global pool.
+//!
+//! Both eyes go to one pose, from one traced pair. A supersampled pair is warped at its
+//! samples and filtered down to the eye size, as the worker filters a traced one. The debug
+//! mask colours each pixel by where it came from: traced at this very pose (fresh), warped
+//! from its own eye, a hole filled from the other eye, or a hole filled by the warp's row
+//! rule ([`TIMEWARP_LEGEND`]); it is blended over both eyes.
+
+use std::time::Instant;
+
+use stereo::{Layout, Warp, WarpClass, WarpCounts, WarpSource};
+use tracer::{Camera, Eye};
+
+use crate::window::present::Look;
+use crate::window::worker::Finished;
+
+/// Mask colour of a pixel shown at the pose it was traced for.
+pub const FRESH_COLOR: u32 = 0x0040_D040;
+/// Mask colour of a pixel warped from its own eye's traced frame.
+pub const WARPED_COLOR: u32 = 0x0040_80FF;
+/// Mask colour of a hole filled by the other eye's warped pixel.
+pub const OTHER_EYE_COLOR: u32 = 0x00FF_A020;
+/// Mask colour of a hole neither eye covers, filled along its row.
+pub const HOLE_COLOR: u32 = 0x00FF_30FF;
+
+/// The timewarp mask's colours and names, for the panel's legend.
+pub const TIMEWARP_LEGEND: [(u32, &str); 4] = [
+    (FRESH_COLOR, "fresh: traced at this pose"),
+    (WARPED_COLOR, "warped from its own eye"),
+    (OTHER_EYE_COLOR, "hole, filled from the other eye"),
+    (HOLE_COLOR, "hole, filled along its row"),
+];
+
+/// What the last warp did.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Warped {
+    /// Each eye's pixels by where they came from (at the sampled size).
+    pub counts: [WarpCounts; 2],
+    /// The pose is the traced one: the frame is shown as traced.
+    pub fresh: bool,
+    /// Wall time of the warp and its filtering, milliseconds.
+    pub ms: f64,
+}
+
+impl Warped {
+    /// The share of both eyes' pixels that are holes (filled from the other eye or by the
+    /// row rule).
+    #[must_use]
+    pub fn hole_share(&self) -> f64 {
+        let [l, r] = self.counts;
+        let holes = l.other_eye + l.filled + r.other_eye + r.filled;
+        holes as f64 / (l.total() + r.total()).max(1) as f64
+    }
+}
+
+/// The warp, its own thread pool and the frame it makes, kept from tick to tick: once warm
+/// nothing is allocated.
+pub struct Timewarp {
+    pool: rayon::ThreadPool,
+    warp: Warp,
+    /// The frame shown: the traced frame's info, the warped eyes, their mask colours.
+    out: Finished,
+    /// Each eye's warp at the sampled size, and its pixels' classes.
+    sampled: [Vec<u32>; 2],
+    classes: [Vec<WarpClass>; 2],
+    /// Mask colours at the sampled size, before they are filtered.
+    colours: [Vec<u32>; 2],
+    last: Warped,
+}
+
+impl Timewarp {
+    /// A timewarp with a pool of one thread per core.
+    ///
+    /// # Errors
+    ///
+    /// If the pool's threads cannot be started.
+    pub fn new() -> anyhow::Result<Self> {
+        let threads = std::thread::available_parallelism().map_or(1, std::num::NonZeroUsize::get);
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .thread_name(|i| format!("warp-{i}"))
+            .build()
+            .map_err(|e| anyhow::anyhow!("cannot start the timewarp's threads: {e}"))?;
+        Ok(Self {
+            pool,
+            warp: Warp::new(),
+            out: Finished::default(),
+            sampled: Default::default(),
+            classes: Default::default(),
+            colours: Default::default(),
+            last: Warped::default(),
+        })
+    }
+
+    /// What the last [`Timewarp::show`] did.
+    #[must_use]
+    pub fn last(&self) -> Warped {
+        self.last
+    }
+
+    /// The frame to present for `traced` at the head pose `pose` (its scene's camera with
+    /// the settings' head, IPD and distance), shown as `look` asks: `traced` warped to
+    /// `pose`, or `None` when it was traced without what the warp needs.
+    pub fn show(&mut self, traced: &Finished, pose: &Camera, look: Look) -> Option<&Finished> {
+        let info = traced.info?;
+        let planes = &traced.traced;
+        let samples = info.samples;
+        let eye = (info.request.width, info.request.height);
+        let banded = |n: u32, g: u32| n as usize + 2 * g as usize;
+        let n = banded(samples.0, planes.guard.0) * banded(samples.1, planes.guard.1);
+        if planes.is_empty() || [planes.left.len(), planes.right.len(), planes.left_z.len()] != [n; 3] {
+            return None;
+        }
+        let started = Instant::now();
+        let traced_at = info.request.camera;
+        let view = |camera: &Camera, e: Eye, guard| camera.view_with_margin(e, samples.0, samples.1, guard);
+        let sources = [
+            WarpSource { view: view(&traced_at, Eye::Left, planes.guard), rgb: &planes.left, z: &planes.left_z },
+            WarpSource { view: view(&traced_at, Eye::Right, planes.guard), rgb: &planes.right, z: &planes.right_z },
+        ];
+        let targets = [view(pose, Eye::Left, (0, 0)), view(pose, Eye::Right, (0, 0))];
+        let fresh = *pose == traced_at;
+        let Self { pool, warp, out, sampled, classes, colours, .. } = self;
+        let counts = pool.install(|| {
+            let [left, right] = sampled;
+            let [left_classes, right_classes] = classes;
+            let counts = warp.warp(sources, [&targets[0], &targets[1]], [left, right], [left_classes, right_classes]);
+            let [left_colours, right_colours] = colours;
+            let Finished { left, right, mask_overlay, left_overlay, anaglyph, .. } = out;
+            rayon::join(
+                || {
+                    stereo::downsample(&sampled[0], samples, left, eye);
+                    mask_colours(look.show_mask, fresh, &classes[0], left_colours, samples, left_overlay, eye);
+                },
+                || {
+                    stereo::downsample(&sampled[1], samples, right, eye);
+                    mask_colours(look.show_mask, fresh, &classes[1], right_colours, samples, mask_overlay, eye);
+                },
+            );
+            if look.layout == Layout::Anaglyph {
+                stereo::compose(Layout::Anaglyph, info.request.swap, left, right, eye.0, eye.1, anaglyph);
+            } else {
+                anaglyph.clear();
+            }
+            counts
+        });
+        out.info = Some(info);
+        out.mask.clear();
+        out.mask.extend_from_slice(&traced.mask);
+        self.last = Warped { counts, fresh, ms: started.elapsed().as_secs_f64() * 1e3 };
+        Some(&self.out)
+    }
+}
+
+/// The mask's colours of an eye's `classes` (at `samples`), filtered down to `eye` into
+/// `out` when `shown`, else `out` emptied; `fresh`: the frame is at its traced pose.
+fn mask_colours(
+    shown: bool,
+    fresh: bool,
+    classes: &[WarpClass],
+    colours: &mut Vec<u32>,
+    samples: (u32, u32),
+    out: &mut Vec<u32>,
+    eye: (u32, u32),
+) {
+    if !shown {
+        out.clear();
+        return;
+    }
+    let own = if fresh { FRESH_COLOR } else { WARPED_COLOR };
+    colours.clear();
+    colours.extend(classes.iter().map(|c| match c {
+        WarpClass::Warped => own,
+        WarpClass::OtherEye => OTHER_EYE_COLOR,
+        WarpClass::Filled => HOLE_COLOR,
+    }));
+    stereo::downsample(colours, samples, out, eye);
+}
