@@ -69,7 +69,8 @@ impl Warped {
 pub struct Timewarp {
     pool: rayon::ThreadPool,
     warp: Warp,
-    /// The frame shown: the traced frame's info, the warped eyes, their mask colours.
+    /// The frame shown: the traced frame's info, the warped eyes, their mask colours (its
+    /// class mask stays empty: the mask colours are the warp's).
     out: Finished,
     /// Each eye's warp at the sampled size, and its pixels' classes.
     sampled: [Vec<u32>; 2],
@@ -133,18 +134,26 @@ impl Timewarp {
         let fresh = *pose == traced_at;
         let Self { pool, warp, out, sampled, classes, colours, .. } = self;
         let counts = pool.install(|| {
-            let [left, right] = sampled;
-            let [left_classes, right_classes] = classes;
-            let counts = warp.warp(sources, [&targets[0], &targets[1]], [left, right], [left_classes, right_classes]);
-            let [left_colours, right_colours] = colours;
             let Finished { left, right, mask_overlay, left_overlay, anaglyph, .. } = out;
+            let [left_classes, right_classes] = classes;
+            // At the eye's size the warp lands in the shown frame itself; supersampled, in the
+            // samples, filtered down after.
+            let same = samples == eye;
+            let [left_sampled, right_sampled] = sampled;
+            let planes = if same { [&mut *left, &mut *right] } else { [left_sampled, right_sampled] };
+            let counts = warp.warp(sources, [&targets[0], &targets[1]], planes, [left_classes, right_classes]);
+            let [left_colours, right_colours] = colours;
             rayon::join(
                 || {
-                    stereo::downsample(&sampled[0], samples, left, eye);
+                    if !same {
+                        stereo::downsample(&sampled[0], samples, left, eye);
+                    }
                     mask_colours(look.show_mask, fresh, &classes[0], left_colours, samples, left_overlay, eye);
                 },
                 || {
-                    stereo::downsample(&sampled[1], samples, right, eye);
+                    if !same {
+                        stereo::downsample(&sampled[1], samples, right, eye);
+                    }
                     mask_colours(look.show_mask, fresh, &classes[1], right_colours, samples, mask_overlay, eye);
                 },
             );
@@ -156,8 +165,6 @@ impl Timewarp {
             counts
         });
         out.info = Some(info);
-        out.mask.clear();
-        out.mask.extend_from_slice(&traced.mask);
         self.last = Warped { counts, fresh, ms: started.elapsed().as_secs_f64() * 1e3 };
         Some(&self.out)
     }
@@ -186,4 +193,110 @@ fn mask_colours(
         WarpClass::Filled => HOLE_COLOR,
     }));
     stereo::downsample(colours, samples, out, eye);
+}
+
+#[cfg(test)]
+mod tests {
+    use std::time::Instant;
+
+    use stereo::{FrameStats, Options, StereoFrame};
+    use tracer::{Scene, Tracer};
+
+    use super::*;
+    use crate::window::worker::{FrameInfo, Request, Traced};
+
+    /// A traced frame of a sphere at `camera`, `size` with a guard band `guard`, as the
+    /// worker hands it over for the timewarp.
+    fn traced(camera: Camera, size: (u32, u32), guard: (u32, u32)) -> Finished {
+        let scene = Scene::from_toml(
+            "[[lights]]\nposition = [0.0, 5.0, 0.0]\n[[spheres]]\ncenter = [0.0, 0.0, 12.0]\nradius = 2.0\n",
+            "t.toml",
+        )
+        .unwrap();
+        let tracer = Tracer::new(&scene, 0.0);
+        let mut frame = StereoFrame::new();
+        frame.set_depths(true);
+        frame.render_banded(&tracer, &camera, size, guard, Options::default());
+        let request = Request {
+            camera,
+            depth: 1,
+            opts: Options::default(),
+            time: 0.0,
+            width: size.0,
+            height: size.1,
+            samples: size,
+            psnr: false,
+            anaglyph: false,
+            overlay: true,
+            swap: false,
+            reuse: false,
+            light: None,
+            timewarp: true,
+            guard,
+        };
+        let info = FrameInfo {
+            seq: 1,
+            request,
+            samples: size,
+            stats: FrameStats::default(),
+            quality: None,
+            wall_ms: 0.0,
+            posted: Instant::now(),
+        };
+        let (w, gx, gy) = (size.0 + 2 * guard.0, guard.0 as usize, guard.1 as usize);
+        let cut = |image: &[u32]| -> Vec<u32> {
+            image
+                .chunks_exact(w as usize)
+                .skip(gy)
+                .take(size.1 as usize)
+                .flat_map(|r| r[gx..gx + size.0 as usize].to_vec())
+                .collect()
+        };
+        Finished {
+            info: Some(info),
+            left: cut(&frame.left().rgb),
+            right: cut(&frame.right().rgb),
+            traced: Traced {
+                guard,
+                left: frame.left().rgb.clone(),
+                left_z: frame.left().z.clone(),
+                right: frame.right().rgb.clone(),
+                right_z: frame.right_depth().to_vec(),
+            },
+            ..Finished::default()
+        }
+    }
+
+    const MASK: Look = Look { layout: Layout::SideBySide, swap: false, show_mask: true };
+
+    /// At the pose it was traced for, the frame is shown as traced, bit for bit, and its
+    /// mask says fresh; a turned head gets warped pixels and, at the edge the turn exposes
+    /// beyond the band, holes.
+    #[test]
+    fn the_traced_pose_shows_the_frame_as_traced_and_a_turn_warps_it() {
+        let camera = Camera { ipd: 1.0, ..Camera::default() };
+        let frame = traced(camera, (48, 32), (2, 2));
+        let mut timewarp = Timewarp::new().unwrap();
+        let shown = timewarp.show(&frame, &camera, MASK).unwrap();
+        assert_eq!((&shown.left, &shown.right), (&frame.left, &frame.right), "the traced pose: as traced");
+        assert!(shown.left_overlay.iter().chain(&shown.mask_overlay).all(|&c| c == FRESH_COLOR), "all fresh");
+        assert!(timewarp.last().fresh && timewarp.last().hole_share() == 0.0);
+        let turned = Camera { yaw_deg: 8.0, ..camera };
+        let shown = timewarp.show(&frame, &turned, MASK).unwrap();
+        assert_ne!(shown.left, frame.left, "a turn moves the picture");
+        let colours = |c: u32| shown.left_overlay.iter().filter(|&&p| p == c).count();
+        assert!(colours(WARPED_COLOR) > 0 && colours(FRESH_COLOR) == 0, "warped, none fresh");
+        assert!(colours(OTHER_EYE_COLOR) + colours(HOLE_COLOR) > 0, "8° is beyond a 2-pixel band: an exposed edge");
+        let last = timewarp.last();
+        assert!(!last.fresh && last.hole_share() > 0.0, "{last:?}");
+    }
+
+    /// A frame traced without the timewarp's planes is not warped.
+    #[test]
+    fn a_frame_without_depths_is_not_warped() {
+        let camera = Camera::default();
+        let mut frame = traced(camera, (16, 8), (0, 0));
+        frame.traced = Traced::default();
+        assert!(Timewarp::new().unwrap().show(&frame, &camera, MASK).is_none());
+    }
 }
