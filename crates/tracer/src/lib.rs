@@ -97,7 +97,7 @@ pub use material::Material;
 pub use ray::{reflect, spawn_ray, Ray};
 pub use render::{Pixels, Renderer, Target};
 pub use scene::{Light, Motion, RenderSettings, Scene, SceneSphere, Structure, MAX_DEPTH_LIMIT, MAX_LIGHTS};
-pub use scene_file::{MAX_SPHERES, MAX_TOML_BYTES};
+pub use scene_file::{is_scene_file_name, MAX_SPHERES, MAX_TOML_BYTES};
 pub use shade::Shaded;
 pub use simd::{lane_width, level as simd_level, LANES_VAR};
 pub use snapshot::Snapshot;

@@ -194,6 +194,14 @@ pub const MAX_TOML_BYTES: u64 = 64 << 20;
 /// structure readers' own limit).
 pub const MAX_SPHERES: usize = 16 << 20;
 
+/// Whether `path` is named as a scene file: `.toml`, or a structure file that
+/// [`Scene::load`] reads (`.pdb`, `.ent`, `.cif`, `.mmcif`, `.gro`, `.xyz`, each optionally
+/// `.gz`).
+#[must_use]
+pub fn is_scene_file_name(path: &Path) -> bool {
+    path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) || molecule::Format::from_path(path).is_some()
+}
+
 impl Scene {
     /// Reads and validates a scene file: TOML (`.toml`), or a structure file (`.pdb`,
     /// `.ent`, `.cif`, `.mmcif`, `.gro`, `.xyz`, each optionally `.gz`) framed as a scene of

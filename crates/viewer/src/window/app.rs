@@ -40,13 +40,14 @@ use crate::window::syslibs;
 /// Opens the window and runs until it is closed, Esc is pressed or `--frames` is reached.
 pub fn run(args: &WindowArgs) -> anyhow::Result<()> {
     let scene_path = crate::setup::resolve_scene(args.scene.as_deref().unwrap_or(Path::new(DEFAULT_SCENE)));
-    let scene = Scene::load_with(&scene_path, crate::setup::load_options(args.assembly, args.radius_scale)?)?;
+    let options = crate::setup::load_options(args.assembly, args.radius_scale)?;
+    let scene = Scene::load_with(&scene_path, options)?;
     // Before the worker starts: the tracer's threads run below the UI's and the timewarp's.
     crate::window::worker::lower_the_tracer_pool();
     let backend = syslibs::backend_from_env()?;
     syslibs::check_runtime_libraries(backend)?;
     let event_loop = os_window::build_event_loop(backend)?;
-    let watch = SceneWatch::new(scene_path, scene, Instant::now());
+    let watch = SceneWatch::new(scene_path, scene, options, Instant::now());
     let mut app = App { viewer: Viewer::new(args, watch)?, state: State::Initial };
     event_loop.run_app(&mut app).context("the window's event loop failed")?;
     app.viewer.finish()

@@ -42,7 +42,7 @@ pub const KEYS: [(&str, &str); 16] = [
     ("F11", "borderless fullscreen on / off"),
     ("? or F1", "this list on / off"),
     ("Esc", "close this list, else quit"),
-    ("drop a .toml file", "open that scene"),
+    ("drop a scene file", "open it (.toml or a structure)"),
 ];
 
 /// What a key press asks the viewer to do.

@@ -1,6 +1,12 @@
 //! Live scene editing: the viewer's scene file is watched and reloaded on save, another
-//! `.toml` file can be opened (dropped on the window, or picked from the panel's list of the
-//! scene's folder), and a broken file never replaces the last good scene.
+//! scene file (`.toml`, or a structure file) can be opened (dropped on the window, or picked
+//! from the panel's list of the scene's folder), and a broken file never replaces the last
+//! good scene.
+//!
+//! A file is read on a thread of its own, so that a large structure never stalls the
+//! window: [`SceneWatch::loading`] says what is being read meanwhile, and the poll that
+//! finds it done adopts it (or its error). Reading runs with the options the viewer was
+//! started with (`--assembly`, `--radius-scale`).
 //!
 //! Watching is a modification-time poll on the UI thread, twice a second ([`POLL_INTERVAL`]):
 //! one `stat` of the file (its modification time and length; an editor that saves by
@@ -12,9 +18,10 @@
 //! ([`tracer::SceneError`]) — until a good save arrives.
 
 use std::path::{Path, PathBuf};
+use std::sync::mpsc::{self, Receiver, TryRecvError};
 use std::time::{Duration, Instant, SystemTime};
 
-use tracer::Scene;
+use tracer::{LoadOptions, Scene};
 
 /// How often the scene file and its folder are looked at.
 pub const POLL_INTERVAL: Duration = Duration::from_millis(500);
@@ -38,7 +45,20 @@ pub struct Change {
     pub same_file: bool,
 }
 
-/// The scene file being shown, the last good scene, and the `.toml` files beside it.
+/// A file being read on its own thread.
+#[derive(Debug)]
+struct Loading {
+    path: PathBuf,
+    /// Whether it is the file shown (a reload).
+    same_file: bool,
+    /// Its stamp when the read began.
+    stamp: Stamp,
+    started: Instant,
+    /// The read's result, when it is done: the scene, or the error's message.
+    result: Receiver<Result<Scene, String>>,
+}
+
+/// The scene file being shown, the last good scene, and the scene files beside it.
 #[derive(Debug)]
 pub struct SceneWatch {
     /// The file shown (as given or resolved, not canonicalised, so messages name it so).
@@ -61,13 +81,20 @@ pub struct SceneWatch {
     files: Vec<PathBuf>,
     /// Why the folder could not be listed, if it could not.
     folder_error: Option<String>,
+    /// How structure files are read.
+    options: LoadOptions,
+    /// The file being read, if one is.
+    loading: Option<Loading>,
 }
 
 impl SceneWatch {
-    /// Watches `path`, from which `scene` was just loaded; the first poll is due at `now`.
+    /// Watches `path`, from which `scene` was just loaded with `options` (which later reads
+    /// use too); the first poll is due at `now`.
     #[must_use]
-    pub fn new(path: PathBuf, scene: Scene, now: Instant) -> Self {
+    pub fn new(path: PathBuf, scene: Scene, options: LoadOptions, now: Instant) -> Self {
         let mut watch = Self {
+            options,
+            loading: None,
             stamp: stamp(&path),
             name: file_name(&path),
             path,
@@ -109,13 +136,19 @@ impl SceneWatch {
         self.error.as_deref()
     }
 
+    /// The file being read, and since when, while one is.
+    #[must_use]
+    pub fn loading(&self) -> Option<(&Path, Instant)> {
+        self.loading.as_ref().map(|l| (&*l.path, l.started))
+    }
+
     /// How many loads (reloads, drops, picks) have failed so far.
     #[must_use]
     pub fn failures(&self) -> u64 {
         self.failures
     }
 
-    /// The `.toml` files in the scene's folder, sorted by name.
+    /// The scene files in the scene's folder, sorted by name.
     #[must_use]
     pub fn files(&self) -> &[PathBuf] {
         &self.files
@@ -134,10 +167,22 @@ impl SceneWatch {
         &self.folder
     }
 
-    /// Looks at the file when a poll is due at `now`: reloads it when its stamp changed
-    /// since the last load, and lists the folder again when it changed. Returns the change
-    /// when the reload succeeded.
+    /// Adopts a file whose read has finished: returns the change when it loaded. Otherwise,
+    /// unless a read is under way, looks at the file when a poll is due at `now`: starts
+    /// reading it again when its stamp changed since the last load, and lists the folder
+    /// again when it changed.
     pub fn poll(&mut self, now: Instant) -> Option<Change> {
+        if let Some(loading) = &self.loading {
+            let result = match loading.result.try_recv() {
+                Ok(result) => result,
+                Err(TryRecvError::Empty) => return None,
+                Err(TryRecvError::Disconnected) => {
+                    Err(format!("{}: the reading thread stopped", loading.path.display()))
+                }
+            };
+            let loading = self.loading.take()?;
+            return self.finish(loading, result);
+        }
         if now < self.next_poll {
             return None;
         }
@@ -146,55 +191,67 @@ impl SceneWatch {
             self.list_folder();
         }
         let current = stamp(&self.path);
-        if current == self.stamp {
-            return None;
+        if current != self.stamp {
+            self.stamp = current;
+            self.start(self.path.clone(), true);
         }
-        self.stamp = current;
-        let path = self.path.clone();
-        self.load(path, true)
+        None
     }
 
-    /// Opens another scene file (dropped on the window or picked in the panel). A file that
-    /// is not `.toml` or does not load keeps the current scene and sets the error. Opening
-    /// the file already shown is a reload of it.
-    pub fn open(&mut self, path: &Path) -> Option<Change> {
-        if !path.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")) {
-            let message = format!("{}: not a scene file: scenes are .toml files", path.display());
-            eprintln!("stereotrace: error: {message}");
-            self.error = Some(message);
-            self.failures += 1;
-            return None;
-        }
+    /// Opens another scene file (dropped on the window or picked in the panel): starts
+    /// reading it, in place of any read under way. One that does not load keeps the current
+    /// scene and sets the error. Opening the file already shown is a reload of it.
+    pub fn open(&mut self, path: &Path) {
         let same_file = same_file(path, &self.path);
-        let change = self.load(path.to_path_buf(), same_file)?;
-        if !same_file {
-            self.list_folder();
-        }
-        Some(change)
+        self.start(path.to_path_buf(), same_file);
     }
 
-    /// Loads `path`; on success it becomes the current file and scene.
-    fn load(&mut self, path: PathBuf, same_file: bool) -> Option<Change> {
-        let stamp_before = stamp(&path);
-        match Scene::load(&path) {
+    /// Starts reading `path` on a thread of its own.
+    fn start(&mut self, path: PathBuf, same_file: bool) {
+        let (send, result) = mpsc::channel();
+        let options = self.options;
+        let reading = path.clone();
+        let spawned = std::thread::Builder::new().name("scene-read".into()).spawn(move || {
+            // The viewer may have moved on (another file opened): then nobody listens.
+            let _ = send.send(Scene::load_with(&reading, options).map_err(|e| e.to_string()));
+        });
+        let stamp = stamp(&path);
+        match spawned {
+            Ok(_) => self.loading = Some(Loading { path, same_file, stamp, started: Instant::now(), result }),
+            Err(e) => self.fail(format!("{}: cannot start reading it: {e}", path.display())),
+        }
+    }
+
+    /// Adopts a finished read: on success its file and scene become current.
+    fn finish(&mut self, loading: Loading, result: Result<Scene, String>) -> Option<Change> {
+        let Loading { path, same_file, stamp, .. } = loading;
+        match result {
             Ok(scene) => {
                 self.error = None;
-                self.stamp = stamp_before;
+                self.stamp = stamp;
                 self.name = file_name(&path);
                 self.path = path;
                 eprintln!("stereotrace: loaded {}", self.path.display());
+                if !same_file {
+                    self.list_folder();
+                }
                 Some(Change { previous: std::mem::replace(&mut self.scene, scene), same_file })
             }
-            Err(e) => {
-                eprintln!("stereotrace: error: {e}");
-                self.error = Some(e.to_string());
-                self.failures += 1;
+            Err(message) => {
+                self.fail(message);
                 None
             }
         }
     }
 
-    /// Lists the `.toml` files of the current scene's folder.
+    /// A load failed: says why, on stderr and in the panel.
+    fn fail(&mut self, message: String) {
+        eprintln!("stereotrace: error: {message}");
+        self.error = Some(message);
+        self.failures += 1;
+    }
+
+    /// Lists the scene files of the current scene's folder.
     fn list_folder(&mut self) {
         self.folder = match self.path.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
@@ -205,11 +262,11 @@ impl SceneWatch {
         match std::fs::read_dir(&self.folder) {
             Ok(entries) => {
                 self.folder_error = None;
-                let tomls = entries
+                let scenes = entries
                     .filter_map(Result::ok)
                     .map(|e| e.path())
-                    .filter(|p| p.is_file() && p.extension().is_some_and(|e| e.eq_ignore_ascii_case("toml")));
-                self.files.extend(tomls);
+                    .filter(|p| p.is_file() && tracer::is_scene_file_name(p));
+                self.files.extend(scenes);
                 self.files.sort();
             }
             Err(e) => self.folder_error = Some(format!("{}: cannot list the folder: {e}", self.folder.display())),
@@ -274,6 +331,27 @@ mod tests {
         watch.scene().spheres[0].radius
     }
 
+    /// Polls at `now` until no read is under way (reads run on their own thread), and
+    /// returns the change the last poll found.
+    fn settle(watch: &mut SceneWatch, now: Instant) -> Option<Change> {
+        let deadline = Instant::now() + Duration::from_secs(30);
+        loop {
+            let change = watch.poll(now);
+            if change.is_some() || watch.loading().is_none() {
+                return change;
+            }
+            assert!(Instant::now() < deadline, "the read never finished");
+            std::thread::sleep(Duration::from_millis(1));
+        }
+    }
+
+    /// Opens `path` and waits for its read.
+    fn open(watch: &mut SceneWatch, path: &Path) -> Option<Change> {
+        watch.open(path);
+        assert!(watch.loading().is_some_and(|(p, _)| p == path), "the read is under way");
+        settle(watch, Instant::now())
+    }
+
     #[test]
     fn a_broken_save_keeps_the_scene_and_reports_the_error_until_a_good_one_reloads() {
         let dir = TempDir::new("reload");
@@ -281,27 +359,30 @@ mod tests {
         let scene = Scene::load(&path).unwrap();
         let t0 = Instant::now();
         let mut settings = Settings::from_scene(&scene);
-        let mut watch = SceneWatch::new(path.clone(), scene, t0);
-        assert!(watch.poll(t0).is_none(), "nothing changed");
+        let mut watch = SceneWatch::new(path.clone(), scene, LoadOptions::default(), t0);
+        assert!(settle(&mut watch, t0).is_none(), "nothing changed");
 
         // The user walks; then saves a broken file.
         settings.move_head(2.0, 0.5);
         let walked = settings.position;
         dir.write("scene.toml", BROKEN);
         assert!(watch.poll(t0 + POLL_INTERVAL / 2).is_none(), "no poll before the interval");
-        assert!(watch.poll(t0 + POLL_INTERVAL).is_none(), "the broken save is not taken");
+        assert!(watch.loading().is_none(), "nothing read before the interval");
+        assert!(settle(&mut watch, t0 + POLL_INTERVAL).is_none(), "the broken save is not taken");
         assert_eq!(radius(&watch), 1.0, "the last good scene stays");
         let expected = format!("{}:3: spheres[0].radius = -2: must be > 0", path.display());
         assert_eq!(watch.error(), Some(&*expected), "file, line of the table, field, value, why");
         assert_eq!(Scene::load(&path).unwrap_err().to_string(), expected, "the command line's wording");
         assert_eq!(watch.failures(), 1, "one failed load");
-        assert!(watch.poll(t0 + 2 * POLL_INTERVAL).is_none(), "an unchanged broken file is not read again");
+        assert!(settle(&mut watch, t0 + 2 * POLL_INTERVAL).is_none(), "an unchanged broken file is not read again");
         assert_eq!(watch.failures(), 1, "not read again");
         assert!(watch.error().is_some(), "the error stays until a good save");
 
         // Fixed: it reloads, and the head stays where the user walked to.
         dir.write("scene.toml", FIXED);
-        let change = watch.poll(t0 + 3 * POLL_INTERVAL).expect("the fixed file reloads");
+        assert!(watch.poll(t0 + 3 * POLL_INTERVAL).is_none(), "the read starts");
+        assert!(watch.loading().is_some(), "and is under way");
+        let change = settle(&mut watch, t0 + 3 * POLL_INTERVAL).expect("the fixed file reloads");
         assert!(change.same_file, "a reload of the same file");
         assert_eq!(radius(&watch), 3.0, "the new scene");
         assert_eq!(change.previous.spheres[0].radius, 1.0, "it replaced the last good one");
@@ -318,14 +399,15 @@ mod tests {
         let broken = dir.write("c.toml", BROKEN);
         let picture = dir.write("d.png", "not a scene");
         let t0 = Instant::now();
-        let mut watch = SceneWatch::new(first.clone(), Scene::load(&first).unwrap(), t0);
+        let mut watch = SceneWatch::new(first.clone(), Scene::load(&first).unwrap(), LoadOptions::default(), t0);
         assert_eq!(watch.files(), [first.clone(), other.clone(), broken.clone()], "the folder's .toml files, sorted");
         assert_eq!(watch.folder(), dir.0, "the scene's own folder");
 
-        assert!(watch.open(&picture).is_none(), "a PNG is no scene");
-        assert_eq!(watch.error(), Some(&*format!("{}: not a scene file: scenes are .toml files", picture.display())));
+        assert!(open(&mut watch, &picture).is_none(), "a PNG is no scene");
+        let error = watch.error().unwrap_or_default();
+        assert!(error.starts_with(&format!("{}: not a scene file:", picture.display())), "{error}");
         assert_eq!(watch.path(), first, "the scene stays");
-        assert!(watch.open(&broken).is_none(), "a broken scene is not taken");
+        assert!(open(&mut watch, &broken).is_none(), "a broken scene is not taken");
         let expected = format!("{}:3: spheres[0].radius = -2: must be > 0", broken.display());
         assert_eq!(watch.error(), Some(&*expected), "the load error");
         assert_eq!(watch.path(), first, "the scene still stays");
@@ -333,13 +415,27 @@ mod tests {
         // Another file: it starts at its own head pose.
         let mut settings = Settings::from_scene(watch.scene());
         settings.move_head(1.0, 0.0);
-        let change = watch.open(&other).expect("b.toml opens");
+        let change = open(&mut watch, &other).expect("b.toml opens");
         assert!(!change.same_file, "another file");
         assert_eq!((watch.path(), watch.error(), watch.name()), (&*other, None, "b.toml"));
         settings.reset_camera(watch.scene());
         assert_eq!(settings.position, Vec3::new(0.0, 0.0, -4.0), "the new file's head pose");
         // Dropping the file shown is a reload of it.
-        assert!(watch.open(&dir.0.join(".").join("b.toml")).expect("reopens").same_file, "the same file");
+        assert!(open(&mut watch, &dir.0.join(".").join("b.toml")).expect("reopens").same_file, "the same file");
+    }
+
+    /// A structure file beside the scene is listed, and opens as a scene of its atoms.
+    #[test]
+    fn a_structure_file_is_listed_and_opens() {
+        let dir = TempDir::new("structure");
+        let first = dir.write("a.toml", GOOD);
+        let water = dir.write("water.xyz", "3\nwater\nO 0.0 0.0 0.0\nH 0.76 0.59 0.0\nH -0.76 0.59 0.0\n");
+        let mut watch =
+            SceneWatch::new(first.clone(), Scene::load(&first).unwrap(), LoadOptions::default(), Instant::now());
+        assert_eq!(watch.files(), [first, water.clone()], "scenes and structures, sorted");
+        let change = open(&mut watch, &water).expect("the structure opens");
+        assert!(!change.same_file);
+        assert_eq!((watch.name(), watch.scene().sphere_count()), ("water.xyz", 3), "its three atoms");
     }
 
     #[test]
@@ -347,18 +443,18 @@ mod tests {
         let dir = TempDir::new("list");
         let first = dir.write("a.toml", GOOD);
         let t0 = Instant::now();
-        let mut watch = SceneWatch::new(first.clone(), Scene::load(&first).unwrap(), t0);
+        let mut watch = SceneWatch::new(first.clone(), Scene::load(&first).unwrap(), LoadOptions::default(), t0);
         assert_eq!(watch.files().len(), 1);
         std::thread::sleep(Duration::from_millis(20));
         let second = dir.write("z.toml", GOOD);
         // A folder's time can be coarse: make sure it moved.
         std::fs::File::open(&dir.0).unwrap().set_modified(SystemTime::now() + Duration::from_secs(2)).unwrap_or(());
-        watch.poll(t0 + POLL_INTERVAL);
+        settle(&mut watch, t0 + POLL_INTERVAL);
         assert_eq!(watch.files(), [first.clone(), second], "the new file is listed");
 
         // The folder goes away: the scene stays, the list is empty and says why.
         drop(dir);
-        assert!(watch.poll(t0 + 2 * POLL_INTERVAL).is_none(), "nothing to reload");
+        assert!(settle(&mut watch, t0 + 2 * POLL_INTERVAL).is_none(), "nothing to reload");
         assert!(watch.files().is_empty(), "no files");
         assert!(
             watch.folder_error().unwrap_or_default().contains("cannot list the folder"),

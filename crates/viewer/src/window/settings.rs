@@ -139,6 +139,13 @@ impl Settings {
         s
     }
 
+    /// Takes another scene's scale, camera and light (a new file opened).
+    pub fn adopt_scene(&mut self, scene: &Scene) {
+        self.scale = scene.head_speed() / HEAD_SPEED;
+        self.reset_camera(scene);
+        self.reset_light(scene);
+    }
+
     /// Restores the head pose, IPD, distance and reflection depth from the scene (clamped to
     /// the sliders' ranges).
     pub fn reset_camera(&mut self, scene: &Scene) {

@@ -183,13 +183,13 @@ fn scene(ui: &mut egui::Ui, r: &SceneReadout<'_>, actions: &mut Actions) {
                 }
             }
             if r.files.is_empty() {
-                ui.label(RichText::new(r.folder_error.unwrap_or("no .toml files beside this scene")).small().weak());
+                ui.label(RichText::new(r.folder_error.unwrap_or("no scene files beside this one")).small().weak());
             }
         });
     })
     .response
     .on_hover_text(
-        "the .toml files in the scene's folder; the file is reloaded when saved, and a dropped .toml file opens",
+        "the scene files (.toml and structures) in the scene's folder; the file is reloaded when saved, and a dropped scene file opens",
     );
     if let Some(error) = r.error {
         ui.label(RichText::new("not loaded (still showing the last good scene):").small().color(ERROR_COLOR));
@@ -310,6 +310,18 @@ pub fn tab_hint(ctx: &egui::Context) {
         ctx,
         |ui| {
             egui::Frame::popup(&ctx.global_style()).show(ui, |ui| ui.label(TAB_HINT));
+        },
+    );
+}
+
+/// A progress note in the middle of the window (a scene being read or built).
+pub fn progress(ctx: &egui::Context, note: &str) {
+    egui::Area::new(egui::Id::new("progress")).anchor(Align2::CENTER_CENTER, [0.0, 0.0]).interactable(false).show(
+        ctx,
+        |ui| {
+            // No spinner: it would repaint at the tick's rate, taking the cores from the build;
+            // the note's seconds move at the idle redraws.
+            egui::Frame::popup(&ctx.global_style()).show(ui, |ui| ui.label(RichText::new(note).size(16.0)));
         },
     );
 }

@@ -268,6 +268,18 @@ struct Inbox {
 struct Outbox {
     frame: Finished,
     fresh: bool,
+    /// The tracer being built, while it is.
+    building: Option<Building>,
+}
+
+/// The worker is building its tracer for a scene (the BVH, the light maps): what a large
+/// scene's first frame waits for, which the window shows.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Building {
+    /// The scene's spheres.
+    pub spheres: usize,
+    /// When the build began.
+    pub since: Instant,
 }
 
 #[derive(Default)]
@@ -343,6 +355,11 @@ impl Worker {
         lock(&self.shared.outbox).fresh
     }
 
+    /// The tracer being built, while it is.
+    pub fn building(&self) -> Option<Building> {
+        lock(&self.shared.outbox).building
+    }
+
     /// The frame returned by the last [`Worker::latest`].
     pub fn current(&self) -> &Finished {
         &self.front
@@ -399,12 +416,12 @@ pub fn lower_the_tracer_pool() {
 /// supersampled frames.
 fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
     lower_this_thread();
-    let mut tracer = Tracer::new(&scene, 0.0);
+    let mut tracer = build(shared, &scene, || Tracer::new(&scene, 0.0));
     let mut scene_light = scene.lights.first().map(|l| l.position);
     // The first light's position the tracer was built with; `None`: build it afresh (a new
     // scene). Otherwise a frame only advances the tracer in time: a still scene, however
-    // large, costs nothing there.
-    let mut built: Option<Option<Vec3>> = None;
+    // large, costs nothing there. The tracer just built has the scene's own light.
+    let mut built: Option<Option<Vec3>> = Some(scene_light);
     let mut frame = StereoFrame::new();
     let mut reference = Reference::default();
     let mut back = Finished::default();
@@ -450,7 +467,7 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
         if built == Some(light) {
             tracer.advance(&scene, request.time);
         } else {
-            tracer.update(&scene, request.time);
+            build(shared, &scene, || tracer.update(&scene, request.time));
             built = Some(light);
         }
         tracer.set_max_depth(request.depth);
@@ -477,6 +494,14 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
         std::mem::swap(&mut out.frame, &mut back);
         out.fresh = true;
     }
+}
+
+/// Runs `work`, a build of the tracer for `scene`, with the outbox saying so meanwhile.
+fn build<T>(shared: &Shared, scene: &Scene, work: impl FnOnce() -> T) -> T {
+    lock(&shared.outbox).building = Some(Building { spheres: scene.sphere_count(), since: Instant::now() });
+    let built = work();
+    lock(&shared.outbox).building = None;
+    built
 }
 
 #[cfg(test)]

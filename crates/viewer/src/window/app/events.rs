@@ -41,7 +41,7 @@ impl Viewer {
                     self.apply(command, window, event_loop);
                 }
             }
-            WindowEvent::DroppedFile(path) => self.open(&path, window),
+            WindowEvent::DroppedFile(path) => self.open(&path),
             WindowEvent::Focused(false) => self.input.focus_lost(),
             WindowEvent::MouseInput { state, button, .. } => {
                 let on_panel = self.egui.is_pointer_over_egui() || self.egui.egui_wants_pointer_input();

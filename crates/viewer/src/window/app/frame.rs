@@ -100,7 +100,11 @@ impl Viewer {
         let folder = &mut self.screenshots.folder;
         let chrome = &mut self.chrome;
         let hint = chrome.hint(now);
+        let note = super::chrome::progress(w.loading(), self.worker.building(), now);
         let mut output = self.egui.run_ui(raw_input, |ui| {
+            if let Some(note) = &note {
+                ui::progress(ui.ctx(), note);
+            }
             // Asked for, the key overlay shows even with the UI hidden (until closed).
             if chrome.keys_open {
                 ui::keys_overlay(ui.ctx(), &mut chrome.keys_open);
@@ -131,7 +135,7 @@ impl Viewer {
             window.set_fullscreen(!window.is_fullscreen());
         }
         if let Some(path) = actions.open_scene.and_then(|k| self.watch.files().get(k)).cloned() {
-            self.open(&path, window);
+            self.open(&path);
         }
         output
     }

@@ -3,8 +3,8 @@
 //! meters, the UI over the eyes — made from the command line, and the scene changes it
 //! adopts: a good save of the file reloads it keeping the head where it is, a broken one
 //! keeps the last good scene and shows the error in the panel (and shows the UI if it was
-//! hidden); a `.toml` file dropped on the window, or picked in the panel's list, opens at its
-//! own head pose.
+//! hidden); a scene file dropped on the window, or picked in the panel's list, opens at its
+//! own head pose and scale.
 
 use std::path::Path;
 use std::time::{Duration, Instant};
@@ -150,8 +150,7 @@ impl Viewer {
             if same_file {
                 self.settings.follow_reload(&previous, scene);
             } else {
-                self.settings.reset_camera(scene);
-                self.settings.reset_light(scene);
+                self.settings.adopt_scene(scene);
                 window.set_title(&title(self.watch.name()));
             }
             self.worker.set_scene(scene.clone());
@@ -162,14 +161,15 @@ impl Viewer {
         self.pacing.dirty = true;
     }
 
-    /// Opens a scene file (dropped on the window or picked in the panel).
-    pub(super) fn open(&mut self, path: &Path, window: &Window) {
-        let failures = self.watch.failures();
-        let change = self.watch.open(path);
-        self.adopt(change, failures, window);
+    /// Opens a scene file (dropped on the window or picked in the panel): it is read on a
+    /// thread of its own, and adopted by the poll that finds it read.
+    pub(super) fn open(&mut self, path: &Path) {
+        self.watch.open(path);
+        self.pacing.dirty = true;
     }
 
-    /// Reloads the scene file when a poll is due and it was saved.
+    /// Adopts a scene file read since the last poll, and starts reading the scene file
+    /// again when a poll is due and it was saved.
     pub(super) fn poll_scene(&mut self, now: Instant, window: &Window) {
         let failures = self.watch.failures();
         let change = self.watch.poll(now);
