@@ -2,7 +2,7 @@
 //!
 //! Every shadow ray towards light k ends at the light, so seen from the light all shadow
 //! rays are rays *from* one point, like an eye's primary rays. Around each light we lay a
-//! cube map of 6 × 64 × 64 cells and list in each cell the spheres whose angular disc, seen
+//! cube map of 6 × 64 × 64 cells (finer for crowded scenes, within a memory budget) and list in each cell the spheres whose angular disc, seen
 //! from the light, covers it; a shadow ray from a surface point p then tests only the
 //! spheres of the cell in direction p − light (four at a time, in packets: `packet.rs`),
 //! instead of walking the BVH. This is the shadow-ray counterpart of the screen bins
@@ -81,14 +81,25 @@ struct Rect {
     sphere: u32,
     /// Light × 6 + face: at most 32 lights.
     light_face: u8,
-    /// The inclusive rectangle of cells `[u0, v0, u1, v1]` (cells fit a byte: [`RES`] ≤ 256).
+    /// The inclusive rectangle of cells `[u0, v0, u1, v1]` (cells fit a byte: [`FINE`] ≤ 256).
     cells: [u8; 4],
 }
 
-/// Cells along each edge of a cube face.
-const RES: u32 = 64;
-/// Cells per light: six faces.
-const CELLS: usize = 6 * (RES * RES) as usize;
+/// Cells along each edge of a cube face at the finest: a rectangle's cells fit a byte. A
+/// cube map of `FINE >> shift` cells an edge takes a fine cell index shifted right by
+/// `shift`, in the build and the lookup alike.
+const FINE: u32 = 256;
+/// The shift to [`FINE`] of a scene of up to [`CROWDED`] spheres: 64 cells an edge.
+const COARSE_SHIFT: u32 = 2;
+/// Spheres above which a finer cube map may pay: each cell of a 64-cell map lists so many
+/// packets that a lit point's shadow ray reads hundreds (1M spheres: 64 cells 0.53 of
+/// Embree's time, 192 cells 0.42).
+const CROWDED: usize = 200_000;
+/// Bytes a sphere that the cube maps' packets may hold, all lights together: the finest map
+/// within it is taken. (A field of a million spheres and two lights takes 75 bytes a
+/// sphere at 256 cells an edge, 57 at 128; 2BTV's 2.9M-atom assembly 63 at 128, whose
+/// 200 bytes a sphere in all leave it 64 cells.)
+const BYTES_PER_SPHERE: usize = 60;
 /// Growth of a sphere's radius, relative to its distance from the light.
 const RADIUS_MARGIN: f64 = 1e-4;
 /// Widening of each angle interval, in radians.
@@ -97,8 +108,10 @@ const ANGLE_MARGIN: f64 = 1e-4;
 /// The cube maps of all lights, rebuilt each frame into reused buffers.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct LightBins {
-    /// Cell c of light k holds `packets[first[k·CELLS + c]..first[k·CELLS + c + 1]]`,
-    /// nearest to the light first.
+    /// The shift from [`FINE`] cells an edge to this map's `FINE >> shift`.
+    shift: u32,
+    /// Cell c of light k holds `packets[first[k·cells + c]..first[k·cells + c + 1]]`
+    /// (cells = 6·(FINE >> shift)² per light), nearest to the light first.
     first: Vec<u32>,
     packets: Vec<SpherePacket>,
     /// Per packet, a lower bound on the distance from its light of its spheres' points (the
@@ -140,10 +153,10 @@ fn face_interval(x: f64, z: f64, r: f64) -> Option<(f64, f64)> {
     (lo <= hi).then(|| (lo.tan(), hi.tan()))
 }
 
-/// Cell index along a face edge of the coordinate u ∈ [−1, 1] (clamped).
+/// Cell index along a face edge of [`FINE`] cells of the coordinate u ∈ [−1, 1] (clamped).
 fn cell(u: f64) -> u32 {
     // Truncation is the floor once clamped to be non-negative (and skips libm's `floor`).
-    ((u + 1.0) * 0.5 * f64::from(RES)).clamp(0.0, f64::from(RES - 1)) as u32
+    ((u + 1.0) * 0.5 * f64::from(FINE)).clamp(0.0, f64::from(FINE - 1)) as u32
 }
 
 impl LightBins {
@@ -161,6 +174,11 @@ impl LightBins {
     /// Bins the spheres `(centers[k], radii[k])` around each light. `spawn_offset` bounds
     /// the offset of any shadow ray's origin from its surface point.
     pub(crate) fn build(&mut self, centers: &[Vec3], radii: &[f32], lights: &[Light], spawn_offset: f32) {
+        self.build_at(centers, radii, lights, spawn_offset, None);
+    }
+
+    /// [`LightBins::build`], with the map's shift given, or chosen if `None`.
+    fn build_at(&mut self, centers: &[Vec3], radii: &[f32], lights: &[Light], spawn_offset: f32, shift: Option<u32>) {
         self.rects.clear();
         for (k, light) in lights.iter().enumerate() {
             let l = light.position.as_dvec3();
@@ -180,7 +198,7 @@ impl LightBins {
                 for face in 0..6 {
                     let (m, sign, a, b) = face_axes(face);
                     let rect = if contains_light {
-                        Some([0, 0, RES - 1, RES - 1])
+                        Some([0, 0, FINE - 1, FINE - 1])
                     } else {
                         let z = sign * q[m];
                         face_interval(q[a], z, r)
@@ -194,12 +212,14 @@ impl LightBins {
                 }
             }
         }
+        self.shift = shift.unwrap_or_else(|| self.choose_shift(centers.len(), lights.len()));
+        let shift = self.shift;
         // Counting sort into cells, then each cell's list cut into packets.
-        let total_cells = lights.len() * CELLS;
+        let total_cells = lights.len() * self.cells_per_light();
         self.fill.clear();
         self.fill.resize(total_cells, 0);
         for rect in &self.rects {
-            for index in rect.cells() {
+            for index in rect.cells(shift) {
                 self.fill[index] += 1;
             }
         }
@@ -220,7 +240,7 @@ impl LightBins {
             let j = rect.sphere as usize;
             let light = lights[usize::from(rect.light_face / 6)].position.as_dvec3();
             let near = near_bound(centers[j], radii[j], spawn_offset, light);
-            for index in rect.cells() {
+            for index in rect.cells(shift) {
                 let slot = self.fill[index] as usize;
                 self.fill[index] += 1;
                 let p = self.first[index] as usize + slot / LANES;
@@ -250,7 +270,9 @@ impl LightBins {
             2
         };
         let major = w[m];
-        if major == 0.0 || !major.is_finite() || (k + 1) * CELLS >= self.first.len() {
+        let (shift, cells) = (self.shift, self.cells_per_light());
+        let res = FINE >> shift;
+        if major == 0.0 || !major.is_finite() || (k + 1) * cells >= self.first.len() {
             return None;
         }
         let face = 2 * m + usize::from(major < 0.0);
@@ -258,7 +280,7 @@ impl LightBins {
         // In f32: its rounding (~10⁻⁷) is far inside the bound's padding.
         let inv = major.abs().recip();
         let (u, v) = (f64::from(w[a] * inv), f64::from(w[b] * inv));
-        let index = k * CELLS + face * (RES * RES) as usize + (cell(v) * RES + cell(u)) as usize;
+        let index = k * cells + face * (res * res) as usize + ((cell(v) >> shift) * res + (cell(u) >> shift)) as usize;
         Some(Cell { first: self.first[index], end: self.first[index + 1] })
     }
 
@@ -287,6 +309,42 @@ impl LightBins {
         false
     }
 
+    /// The shift of the map to build from `self.rects` for `spheres` spheres and `lights`
+    /// lights: the coarse map for a scene of up to [`CROWDED`] spheres, else the finest
+    /// whose packets fit [`BYTES_PER_SPHERE`].
+    fn choose_shift(&mut self, spheres: usize, lights: usize) -> u32 {
+        if spheres <= CROWDED {
+            return COARSE_SHIFT;
+        }
+        self.finest_within(BYTES_PER_SPHERE * spheres, lights)
+    }
+
+    /// The least shift whose packets of `self.rects` around `lights` lights take at most
+    /// `budget` bytes; the coarse map if none does.
+    fn finest_within(&mut self, budget: usize, lights: usize) -> u32 {
+        (0..COARSE_SHIFT).find(|&shift| self.packet_bytes(shift, lights) <= budget).unwrap_or(COARSE_SHIFT)
+    }
+
+    /// The bytes of the packets (and their bounds) of `self.rects` in maps of
+    /// `FINE >> shift` cells an edge around `lights` lights, counted in `self.fill`.
+    fn packet_bytes(&mut self, shift: u32, lights: usize) -> usize {
+        self.fill.clear();
+        self.fill.resize(lights * 6 * ((FINE >> shift) as usize).pow(2), 0);
+        for rect in &self.rects {
+            for index in rect.cells(shift) {
+                self.fill[index] += 1;
+            }
+        }
+        let packets: usize = self.fill.iter().map(|&n| n.div_ceil(LANES as u32) as usize).sum();
+        packets * (size_of::<SpherePacket>() + size_of::<f32>())
+    }
+
+    /// Cells per light: six faces of `(FINE >> shift)`² cells.
+    #[inline]
+    fn cells_per_light(&self) -> usize {
+        6 * ((FINE >> self.shift) as usize).pow(2)
+    }
+
     /// Whether `cell` lists no sphere but `skip`, so that nothing in it can block a ray
     /// leaving `skip`. The common case of a lit point: its cell lists the sphere it lies on.
     #[inline]
@@ -313,12 +371,14 @@ pub(crate) struct Cell {
 }
 
 impl Rect {
-    /// Indices of its cells in [`LightBins::first`]'s order.
-    fn cells(self) -> impl Iterator<Item = usize> {
+    /// Indices of its cells in [`LightBins::first`]'s order, in a map of `FINE >> shift`
+    /// cells an edge.
+    fn cells(self, shift: u32) -> impl Iterator<Item = usize> {
+        let res = FINE >> shift;
         let (k, face) = (usize::from(self.light_face / 6), u32::from(self.light_face % 6));
-        let base = k * CELLS + (face * RES * RES) as usize;
-        let [u0, v0, u1, v1] = self.cells.map(u32::from);
-        (v0..=v1).flat_map(move |v| (u0..=u1).map(move |u| base + (v * RES + u) as usize))
+        let base = (k * 6 + face as usize) * (res * res) as usize;
+        let [u0, v0, u1, v1] = self.cells.map(|c| u32::from(c) >> shift);
+        (v0..=v1).flat_map(move |v| (u0..=u1).map(move |u| base + (v * res + u) as usize))
     }
 }
 
@@ -341,7 +401,17 @@ mod tests {
     /// answer as the BVH does (both leaving out the sphere a ray leaves outwards). Returns
     /// how many of the rays were blocked.
     fn assert_same_as_bvh(scene: &Scene, t: f32, points: usize) -> usize {
-        let tracer = Tracer::new(scene, t);
+        assert_same_as_bvh_at(scene, t, points, None)
+    }
+
+    /// [`assert_same_as_bvh`] with cube maps of `FINE >> shift` cells an edge.
+    fn assert_same_as_bvh_at(scene: &Scene, t: f32, points: usize, shift: Option<u32>) -> usize {
+        let mut tracer = Tracer::new(scene, t);
+        if shift.is_some() {
+            // A spawn offset above any of these scenes': a looser bound is still a bound.
+            let (centers, radii) = (&tracer.scene.centers, &tracer.scene.radii);
+            tracer.accel.lights.build_at(centers, radii, &scene.lights, 1e-3, shift);
+        }
         let mut blocked = 0;
         for s in 0..tracer.sphere_count() {
             let (c, r) = (tracer.scene.centers[s], tracer.scene.radii[s]);
@@ -374,6 +444,37 @@ mod tests {
             let blocked = assert_same_as_bvh(&scene(name), 0.9, 40);
             assert!(blocked > 0, "{name}: some shadow rays are blocked");
         }
+    }
+
+    #[test]
+    fn finer_maps_answer_like_the_bvh() {
+        // A scene above `CROWDED` spheres takes a finer map; each answers as the BVH does.
+        for shift in 0..=COARSE_SHIFT {
+            let blocked = assert_same_as_bvh_at(&scene("thousand.toml"), 0.9, 12, Some(shift));
+            assert!(blocked > 0, "shift {shift}: some shadow rays are blocked");
+        }
+    }
+
+    #[test]
+    fn the_finest_map_within_the_budget_is_chosen() {
+        let s = scene("thousand.toml");
+        let tracer = Tracer::new(&s, 0.0);
+        let (centers, radii, lights) = (&tracer.scene.centers, &tracer.scene.radii, s.lights.len());
+        let mut bins = LightBins::default();
+        bins.build(centers, radii, &s.lights, 1e-3);
+        assert_eq!(bins.shift, COARSE_SHIFT, "a scene of up to CROWDED spheres keeps the coarse map");
+        // A crowded scene's choice: the finest map whose packets fit the budget.
+        let bytes = [0, 1, 2].map(|shift| bins.packet_bytes(shift, lights));
+        assert!(bytes[0] > bytes[1] && bytes[1] > bytes[2], "finer maps take more: {bytes:?}");
+        for shift in 0..=COARSE_SHIFT {
+            let b = bytes[shift as usize];
+            assert_eq!(bins.finest_within(b, lights), shift, "a budget of {b} bytes");
+            assert_eq!(bins.finest_within(b - 1, lights), (shift + 1).min(COARSE_SHIFT), "{} bytes", b - 1);
+        }
+        assert_eq!(
+            bins.choose_shift(CROWDED + 1, lights),
+            bins.finest_within(BYTES_PER_SPHERE * (CROWDED + 1), lights)
+        );
     }
 
     #[test]
