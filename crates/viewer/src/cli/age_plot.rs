@@ -29,6 +29,8 @@ pub struct Series {
 pub struct AgeFigure<'a> {
     /// The title.
     pub title: String,
+    /// One display frame, ms (the ages are whole frames).
+    pub frame_ms: f64,
     /// A series per method.
     pub series: &'a [Series],
 }
@@ -68,7 +70,8 @@ impl Drawing for AgeFigure<'_> {
             .y_label_area_size(64)
             .build_cartesian_2d(-pad..top_age + pad, y0..ceiling + 5.0)?;
         let y_label = format!("PSNR vs a trace at its pose, dB (∞ drawn at {ceiling:.0})");
-        mesh(&mut chart, "age of the traced frame shown (ms)", &y_label, &|y| {
+        let x_label = format!("age of the traced frame shown, ms (a display frame: {:.1} ms)", self.frame_ms);
+        mesh(&mut chart, &x_label, &y_label, &|y| {
             if *y > ceiling - 0.01 && *y < ceiling + 0.01 {
                 "∞".into()
             } else {

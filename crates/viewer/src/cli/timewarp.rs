@@ -296,7 +296,7 @@ pub fn run(args: &TimewarpArgs) -> Result<()> {
     let mut runs: Vec<Run> = Vec::new();
     'runs: for &n in values {
         let mut run = Run { trace_every: n, rows: Vec::new(), trace_ms: Vec::new(), banded_ms: Vec::new() };
-        bar.set_message(format!("a trace every {n}"));
+        bar.set_message(every(n));
         for k in 0..frames {
             if stop.load(Ordering::SeqCst) {
                 runs.push(run);
@@ -314,7 +314,7 @@ pub fn run(args: &TimewarpArgs) -> Result<()> {
             bar.inc(1);
             if bar.is_hidden() && ((k + 1) % hz == 0 || k + 1 == frames) {
                 // No terminal for the bar: a line per displayed second instead (logs, tests).
-                eprintln!("timewarp: a trace every {n}: frame {}/{frames} done", k + 1);
+                eprintln!("timewarp: {}: frame {}/{frames} done", every(n), k + 1);
             }
         }
         runs.push(run);
@@ -330,7 +330,8 @@ pub fn run(args: &TimewarpArgs) -> Result<()> {
     }
     if let Some(path) = &args.plot {
         if !rows.is_empty() {
-            plot::write(path, &AgeFigure { title: inputs.title(), series: &series(&rows, hz) })?;
+            let figure = AgeFigure { title: inputs.title(), frame_ms: inputs.frame_ms, series: &series(&rows, hz) };
+            plot::write(path, &figure)?;
         }
     }
     if args.json {
@@ -358,6 +359,15 @@ pub fn run(args: &TimewarpArgs) -> Result<()> {
     Ok(())
 }
 
+/// "a trace every N frames", or "every frame".
+fn every(n: u32) -> String {
+    if n == 1 {
+        "a trace every frame".into()
+    } else {
+        format!("a trace every {n} frames")
+    }
+}
+
 /// What the reports name besides the measurements.
 struct Inputs<'a> {
     args: &'a TimewarpArgs,
@@ -373,7 +383,7 @@ impl Inputs<'_> {
         let name =
             std::path::Path::new(&self.scene).file_name().map_or(self.scene.clone(), |n| n.to_string_lossy().into());
         let every = match a.trace_every.0.as_slice() {
-            [n] => format!("a trace every {n} frames"),
+            [n] => every(*n),
             [first, .., last] if a.trace_every.0.windows(2).all(|w| w[1] == w[0] + 1) => {
                 format!("a trace every {first}..{last} frames")
             }
@@ -437,8 +447,8 @@ fn table(inputs: &Inputs, runs: &[Run]) -> String {
     for run in runs {
         let _ = writeln!(
             out,
-            "\na trace every {} frames: {} frames; stereo trace {:.2} ms (banded, with depths: {:.2} ms)",
-            run.trace_every,
+            "\n{}: {} frames; stereo trace {:.2} ms (banded, with depths: {:.2} ms)",
+            every(run.trace_every),
             run.frames(),
             median(run.trace_ms.clone()),
             median(run.banded_ms.clone())
