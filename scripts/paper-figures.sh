@@ -43,4 +43,8 @@ echo "== §5.1: the ray shares (bench), and the IPD sweep"
 st bench --frames 5 --json >"$data/bench.json"
 st sweep --param ipd --from 0 --to 2 --steps 11 --frames 3 --csv "$data/sweep-ipd.csv" --plot "$img/sweep-ipd.png"
 
+echo "== the timewarp: PSNR of the displayed frame against its age, seed scene turning 30°/s"
+st timewarp --scene assets/scenes/seed.toml --width 800 --height 600 --motion yaw=30 --display-hz 90 \
+  --trace-every 1..6 --plot "$img/timewarp-seed.png" --json >"$data/timewarp-seed.json"
+
 echo "== done: $(ls "$img" | wc -l) images in $img, reports in $data"

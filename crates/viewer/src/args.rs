@@ -7,6 +7,7 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
 use stereo::{Layout, Mode};
 
 use crate::crop::Crop;
+use crate::motion::Motion;
 
 /// Default scene, relative to the workspace root (also found next to the executable's
 /// workspace when run from elsewhere; see `setup::resolve_scene`).
@@ -37,6 +38,9 @@ pub enum Command {
     Bench(BenchArgs),
     /// Every mode over a range of one parameter: cost and quality per step, as CSV and a plot.
     Sweep(SweepArgs),
+    /// A head moving at constant speed: a frame traced every N display frames, each displayed
+    /// frame that traced frame warped to its own pose, scored against a trace there.
+    Timewarp(TimewarpArgs),
 }
 
 /// Options of the viewer window.
@@ -255,10 +259,99 @@ pub enum SweepParam {
     Time,
 }
 
+/// `stereotrace timewarp`.
+#[derive(Debug, Args)]
+pub struct TimewarpArgs {
+    #[command(flatten)]
+    pub frame: FrameArgs,
+    /// How each traced frame's right eye is made (the viewer's default: exact).
+    #[arg(long, value_name = "MODE", default_value = "exact", value_parser = parse_mode)]
+    pub mode: Mode,
+    /// The head's constant motion from the scene's pose: KEY=NUMBER pairs separated by
+    /// commas, yaw and pitch in degrees a second, x, y, z in scene units a second along the
+    /// starting head's axes (right, up, forward); e.g. yaw=30,x=0.3.
+    #[arg(long, value_name = "yaw=DEG_PER_S,…", allow_hyphen_values = true)]
+    pub motion: Motion,
+    /// The display's refresh rate: a frame is displayed this many times a second (1 to 240).
+    #[arg(long, value_name = "HZ", default_value_t = 90, value_parser = clap::value_parser!(u32).range(1..=240))]
+    pub display_hz: u32,
+    /// A frame is traced every N display frames (N ≥ 1); several runs with a list (1,2,4) or
+    /// a range (1..6, inclusive).
+    #[arg(long, value_name = "N|LIST|A..B", value_parser = parse_trace_every)]
+    pub trace_every: TraceEvery,
+    /// Seconds of display (more than 0, at most 60): round(T × HZ) displayed frames.
+    #[arg(long, value_name = "T", default_value_t = 1.0, allow_negative_numbers = true)]
+    pub seconds: f64,
+    /// The guard band the frames are traced with, as the viewer's timewarp traces them: this
+    /// percentage of each eye's width and height beyond each side (0 to 25).
+    #[arg(long, value_name = "PERCENT", default_value_t = 5, value_parser = clap::value_parser!(u32).range(0..=25))]
+    pub guard_band: u32,
+    /// Print one JSON object of medians (an array of them for several --trace-every values)
+    /// instead of the table.
+    #[arg(long)]
+    pub json: bool,
+    /// CSV file to write: a row per displayed frame and warp method.
+    #[arg(long, value_name = "F.csv")]
+    pub csv: Option<PathBuf>,
+    /// Plot to write, PSNR against the age of the frame shown, a line per method: PNG, or SVG
+    /// when the name ends in .svg.
+    #[arg(long, value_name = "F.png|F.svg")]
+    pub plot: Option<PathBuf>,
+}
+
+/// Largest `timewarp --trace-every` value.
+pub const MAX_TRACE_EVERY: u32 = 1000;
+
+/// `timewarp --trace-every`: the values of N, one run each, in the order given.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct TraceEvery(pub Vec<u32>);
+
+/// `N`, `A,B,…` or `A..B` (inclusive), each 1 to [`MAX_TRACE_EVERY`], none twice.
+fn parse_trace_every(s: &str) -> Result<TraceEvery, String> {
+    let expected =
+        format!("expected a whole number of display frames 1 to {MAX_TRACE_EVERY}, a list (1,2,4) or a range (1..6)");
+    let number = |t: &str| -> Result<u32, String> {
+        match t.trim().parse::<u32>() {
+            Ok(n) if (1..=MAX_TRACE_EVERY).contains(&n) => Ok(n),
+            _ => Err(format!("`{}` in `{s}`: {expected}", t.trim())),
+        }
+    };
+    let values: Vec<u32> = if let Some((a, b)) = s.split_once("..") {
+        let (a, b) = (number(a)?, number(b)?);
+        if a > b {
+            return Err(format!("`{s}`: the range's first value is above its last"));
+        }
+        (a..=b).collect()
+    } else {
+        s.split(',').map(number).collect::<Result<_, _>>()?
+    };
+    if let Some(n) = values.iter().enumerate().find_map(|(k, n)| values[..k].contains(n).then_some(n)) {
+        return Err(format!("`{s}`: {n} is given twice"));
+    }
+    Ok(TraceEvery(values))
+}
+
 fn parse_mode(s: &str) -> Result<Mode, String> {
     s.parse()
 }
 
 fn parse_layout(s: &str) -> Result<Layout, String> {
     s.parse()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn trace_every_takes_a_number_a_list_or_a_range() {
+        assert_eq!(parse_trace_every("3"), Ok(TraceEvery(vec![3])));
+        assert_eq!(parse_trace_every("1, 2,4"), Ok(TraceEvery(vec![1, 2, 4])));
+        assert_eq!(parse_trace_every("1..6"), Ok(TraceEvery((1..=6).collect())));
+        for bad in ["0", "-1", "1.5", "", "1,,2", "1..", "6..1", "1..1001", "2,2"] {
+            assert!(parse_trace_every(bad).is_err(), "{bad:?} is refused");
+        }
+        assert!(parse_trace_every("0").unwrap_err().starts_with("`0` in `0`: expected a whole number"));
+        assert_eq!(parse_trace_every("2,2").unwrap_err(), "`2,2`: 2 is given twice");
+    }
 }

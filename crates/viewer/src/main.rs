@@ -1,5 +1,5 @@
-//! `stereotrace`: the stereo viewer window, and the headless `render`, `bench` and `sweep`
-//! commands.
+//! `stereotrace`: the stereo viewer window, and the headless `render`, `bench`, `sweep` and
+//! `timewarp` commands.
 //!
 //! Exit codes: 0 success, 2 bad input (scene file, arguments), 1 any other failure.
 //!
@@ -7,11 +7,13 @@
 //! use, `window/` the viewer window; what both use stays at the top. The modules, in order:
 //! each uses only modules listed before it (and the package's library, `lib.rs`, for PNG
 //! output).
-//! - shared: `crop` (a rectangle of an eye image, the type of `render --crop`), `args` (the
+//! - shared: `crop` (a rectangle of an eye image, the type of `render --crop`), `motion` (a
+//!   head's constant motion, the type of `timewarp --motion`), `args` (the
 //!   command line, clap), `setup` (a scene with the overrides applied, the memory check, the
 //!   scene path resolved), `reference` (the full trace quality is measured against);
 //! - `cli`, the headless commands: `report` (the JSON keys), `render` and `bench`; `plot`
-//!   (the sweep's figure) and `sweep`, which measures with `bench`'s loop;
+//!   (the sweep's figure) and `sweep`, which measures with `bench`'s loop; `age_plot` and
+//!   `timewarp` (warped frames scored against traces at their poses);
 //! - `window`, the viewer window: `timing`, `syslibs`, `frame_times`, `input`; `worker`,
 //!   `present`, `settings`, `scene_watch`, `screenshot`, `fps_log`, `ui`, `os_window`; then
 //!   `app`, the event loop's handler (its parts: `chrome`, `meters`, `viewer`, `frame`,
@@ -22,6 +24,7 @@
 mod args;
 mod cli;
 mod crop;
+mod motion;
 mod reference;
 mod setup;
 mod window;
@@ -39,6 +42,7 @@ fn main() -> ExitCode {
         Some(Command::Render(args)) => cli::render::run(&args),
         Some(Command::Bench(args)) => cli::bench::run(&args),
         Some(Command::Sweep(args)) => cli::sweep::run(&args),
+        Some(Command::Timewarp(args)) => cli::timewarp::run(&args),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,

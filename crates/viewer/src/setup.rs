@@ -102,6 +102,14 @@ impl FrameSetup {
     }
 }
 
+/// The timewarp's guard band around an eye traced at `size`: `share` of its width and of its
+/// height beyond each side, rounded to whole samples (the viewer's and `timewarp`'s alike).
+#[must_use]
+pub fn guard_band((width, height): (u32, u32), share: f32) -> (u32, u32) {
+    let band = |n: u32| (n as f32 * share).round() as u32;
+    (band(width), band(height))
+}
+
 /// Checks `STEREOTRACE_LANES`: unset, or `4` to force the tracer's 4-lane SIMD fallback.
 /// Anything else is refused rather than silently ignored.
 pub fn check_lanes_env() -> Result<()> {

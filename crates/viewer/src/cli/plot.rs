@@ -1,5 +1,7 @@
 //! The sweep's figure, drawn with `plotters` (its bitmap backend for PNG, its SVG backend for
-//! SVG): two panels against the swept parameter, a line per mode.
+//! SVG): two panels against the swept parameter, a line per mode. What every figure shares
+//! (the file, the font, the mesh, the legend, the ceiling infinite PSNRs are drawn on) is
+//! here too, for `age_plot.rs`'s: a figure is a [`Drawing`].
 //!
 //! - **Cost**: the right eye over the left eye, in rays (solid) and in time (dashed). A full
 //!   trace is 1 on both; the seed paper's §5.1 figure (13 % of all rays for the right eye) is
@@ -24,7 +26,7 @@ use viewer::{write_bytes, write_png};
 static FONT: &[u8] = include_bytes!("../../fonts/DejaVuSans-subset.ttf");
 
 /// The font family the figure's text asks for, which [`register_font`] provides.
-const FAMILY: &str = "sans-serif";
+pub(crate) const FAMILY: &str = "sans-serif";
 
 /// The figure's size in pixels (SVG: user units).
 pub const SIZE: (u32, u32) = (1000, 900);
@@ -51,25 +53,49 @@ pub struct Figure<'a> {
     pub lines: &'a [Line],
 }
 
+/// A figure: its size and how it is drawn, on either backend.
+pub trait Drawing {
+    /// The figure's size in pixels (SVG: user units).
+    fn size(&self) -> (u32, u32);
+
+    /// Draws the figure on `root`, which is [`Drawing::size`] large.
+    ///
+    /// # Errors
+    ///
+    /// The backend's.
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Drawn<DB>;
+}
+
+impl Drawing for Figure<'_> {
+    fn size(&self) -> (u32, u32) {
+        SIZE
+    }
+
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>) -> Drawn<DB> {
+        draw(root, self)
+    }
+}
+
 /// Writes the figure to `path`: SVG when its extension is `svg` (any case), else PNG.
 /// The file appears whole or not at all.
-pub fn write(path: &Path, fig: &Figure) -> Result<()> {
+pub fn write(path: &Path, fig: &impl Drawing) -> Result<()> {
     register_font()?;
     let failed = |e: String| anyhow!("cannot draw the plot {}: {e}", path.display());
+    let size = fig.size();
     if is_svg(path) {
         let mut svg = String::new();
         {
-            let root = SVGBackend::with_string(&mut svg, SIZE).into_drawing_area();
-            draw(&root, fig).map_err(|e| failed(e.to_string()))?;
+            let root = SVGBackend::with_string(&mut svg, size).into_drawing_area();
+            fig.draw(&root).map_err(|e| failed(e.to_string()))?;
             root.present().map_err(|e| failed(e.to_string()))?;
         }
         write_bytes(path, svg.as_bytes())
     } else {
-        let (w, h) = SIZE;
+        let (w, h) = size;
         let mut rgb = vec![0u8; w as usize * h as usize * 3];
         {
-            let root = BitMapBackend::with_buffer(&mut rgb, SIZE).into_drawing_area();
-            draw(&root, fig).map_err(|e| failed(e.to_string()))?;
+            let root = BitMapBackend::with_buffer(&mut rgb, size).into_drawing_area();
+            fig.draw(&root).map_err(|e| failed(e.to_string()))?;
             root.present().map_err(|e| failed(e.to_string()))?;
         }
         let pixels: Vec<u32> =
@@ -100,7 +126,13 @@ fn register_font() -> Result<()> {
 /// to a multiple of 10, and at least 60 dB.
 #[must_use]
 pub fn psnr_ceiling(lines: &[Line]) -> f64 {
-    let top = finite_psnrs(lines).fold(f64::NEG_INFINITY, f64::max);
+    ceiling_above(finite_psnrs(lines))
+}
+
+/// [`psnr_ceiling`] of any PSNRs (the infinite ones are left out).
+#[must_use]
+pub fn ceiling_above(psnrs: impl Iterator<Item = f64>) -> f64 {
+    let top = psnrs.filter(|p| p.is_finite()).fold(f64::NEG_INFINITY, f64::max);
     if top.is_finite() {
         (10.0 * (top / 10.0).ceil() + 10.0).max(60.0)
     } else {
@@ -140,7 +172,8 @@ fn x_range(lines: &[Line]) -> (f64, f64) {
     }
 }
 
-type Drawn<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+/// What drawing on a backend returns.
+pub type Drawn<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
 
 /// Width of a panel's legend column, pixels.
 const LEGEND_WIDTH: u32 = 210;
@@ -154,28 +187,30 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, fig: &Figure) -> Draw
 }
 
 /// One legend entry: a label and how its sample line is drawn.
-struct Entry {
-    label: String,
-    style: ShapeStyle,
-    dashed: bool,
+pub(crate) struct Entry {
+    pub(crate) label: String,
+    pub(crate) style: ShapeStyle,
+    pub(crate) dashed: bool,
     /// A hollow circle on the sample (the mark of an infinite PSNR).
-    ring: bool,
+    pub(crate) ring: bool,
 }
 
 impl Entry {
-    fn line(label: impl Into<String>, style: ShapeStyle) -> Self {
+    pub(crate) fn line(label: impl Into<String>, style: ShapeStyle) -> Self {
         Self { label: label.into(), style, dashed: false, ring: false }
     }
 }
 
 /// A panel: the chart's area and its legend's column to the right.
-fn panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>) -> (DrawingArea<DB, Shift>, DrawingArea<DB, Shift>) {
+pub(crate) fn panel<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+) -> (DrawingArea<DB, Shift>, DrawingArea<DB, Shift>) {
     let (w, _) = area.dim_in_pixel();
     area.split_horizontally(w.saturating_sub(LEGEND_WIDTH))
 }
 
 /// Draws `entries` down the legend column, from below the panel's caption.
-fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[Entry]) -> Drawn<DB> {
+pub(crate) fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[Entry]) -> Drawn<DB> {
     let font = (FAMILY, 15).into_font().color(&BLACK);
     for (k, e) in entries.iter().enumerate() {
         let y = 60 + 24 * k as i32;
@@ -195,7 +230,7 @@ fn legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, entries: &[Entry]) 
 }
 
 /// The mesh: labelled axes, a light grid.
-fn mesh<DB: DrawingBackend>(
+pub(crate) fn mesh<DB: DrawingBackend>(
     chart: &mut ChartContext<DB, Cartesian2d<RangedCoordf64, RangedCoordf64>>,
     x_label: &str,
     y_label: &str,

@@ -298,10 +298,8 @@ impl Settings {
 
     /// The guard band around `samples` (the traced size), samples beyond each side.
     #[must_use]
-    pub fn guard(&self, (width, height): (u32, u32)) -> (u32, u32) {
-        let share = self.guard_band.clamp(0.0, MAX_GUARD_BAND);
-        let band = |n: u32| (n as f32 * share).round() as u32;
-        (band(width), band(height))
+    pub fn guard(&self, samples: (u32, u32)) -> (u32, u32) {
+        crate::setup::guard_band(samples, self.guard_band.clamp(0.0, MAX_GUARD_BAND))
     }
 }
 
