@@ -198,7 +198,8 @@ binary = f"`{env['PR_BIN']}`" + ("" if env["PR_BUILT"] == "yes" else " (given wi
 
 print("# Performance: one run")
 print()
-print("Written by `scripts/perf-report.sh`; do not edit by hand, run the script again. How the")
+print("Written by `scripts/perf-report.sh` (all but [Scale](#scale), kept from the last page); do not")
+print("edit by hand, run the script again. How the")
 print("numbers are measured and what each column means:")
 print("[performance-notes.md](performance-notes.md).")
 print()
@@ -270,6 +271,12 @@ for k, (cmd, r) in enumerate(runs):
             print(f"| {name} | {a['fresh_ms']:.2f} | {a['reused_ms']:.2f} | {pct(ratio, 0)} | {pct(a['retraced_share'], 2)} |")
         print()
 PY
+# The page's last part, from the marker on, is written by hand (the scale table, from
+# benches/embree-anchor): kept as it is.
+marker='<!-- kept by perf-report.sh -->'
+if [[ -f $out ]] && grep -qF "$marker" "$out"; then
+  sed -n "/$marker/,\$p" "$out" >> "$tmp_page"
+fi
 chmod 644 "$tmp_page"
 mv -f "$tmp_page" "$out"
 tmp_page=
