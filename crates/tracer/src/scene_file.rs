@@ -14,8 +14,8 @@ use toml::Spanned;
 use crate::camera::{Camera, Eye};
 use crate::error::SceneError;
 use crate::material::Material;
-use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere, Structure, MAX_DEPTH_LIMIT, MAX_LIGHTS};
-use crate::structure::{read_structure, LoadOptions, StructureOptions};
+use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
+use crate::structure::LoadOptions;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -27,22 +27,7 @@ struct SceneFile {
     #[serde(default)]
     spheres: Vec<Spanned<SphereDef>>,
     #[serde(default)]
-    structures: Vec<Spanned<StructureDef>>,
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct StructureDef {
-    path: String,
-    radius_scale: Option<f32>,
-    #[serde(default)]
-    assembly: bool,
-    offset: Option<[f32; 3]>,
-    color: Option<[f32; 3]>,
-    diffuse: Option<f32>,
-    specular: Option<f32>,
-    shininess: Option<f32>,
-    reflectivity: Option<f32>,
+    structures: Vec<Spanned<structures::StructureDef>>,
 }
 
 #[derive(Deserialize)]
@@ -221,7 +206,7 @@ impl Scene {
         let meta = std::fs::metadata(path).map_err(|source| SceneError::Io { path: path.to_path_buf(), source })?;
         let not_a_scene = |reason: String| SceneError::NotAScene { path: path.to_path_buf(), reason };
         if !meta.is_file() {
-            return Err(not_a_scene(format!("not a regular file ({})", file_kind(&meta))));
+            return Err(not_a_scene(format!("not a regular file ({})", read::file_kind(&meta))));
         }
         if meta.len() > MAX_TOML_BYTES {
             return Err(not_a_scene(format!(
@@ -235,7 +220,7 @@ impl Scene {
                     .to_owned(),
             ));
         }
-        let src = read_bounded(path, MAX_TOML_BYTES)?;
+        let src = read::read_bounded(path, MAX_TOML_BYTES)?;
         Self::from_toml(&src, path)
     }
 
@@ -324,7 +309,7 @@ impl Scene {
             spheres.push(sphere(&ck, k, s.span().start, s.get_ref())?);
         }
 
-        let structures = structures(&ck, &file.structures, spheres.len())?;
+        let structures = structures::structures(&ck, &file.structures, spheres.len())?;
         if spheres.is_empty() && structures.is_empty() {
             return Err(ck.invalid(
                 src.len(),
@@ -337,63 +322,6 @@ impl Scene {
         check_camera_outside_spheres(&ck, &file, &scene)?;
         Ok(scene)
     }
-}
-
-/// The `[[structures]]` tables, read and placed, refusing a scene of more than
-/// [`MAX_SPHERES`] spheres (`spheres` of its own).
-fn structures(ck: &Checker, defs: &[Spanned<StructureDef>], spheres: usize) -> Result<Vec<Structure>, SceneError> {
-    let mut structures = Vec::with_capacity(defs.len());
-    let mut count = spheres;
-    for (k, s) in defs.iter().enumerate() {
-        let structure = structure(ck, k, s.span().start, s.get_ref())?;
-        count += structure.positions.len();
-        if count > MAX_SPHERES {
-            let why = format!("the scene would have {count} spheres, above the limit of {MAX_SPHERES}");
-            return Err(ck.invalid(s.span().start, &format!("structures[{k}].path"), &s.get_ref().path, &why));
-        }
-        structures.push(structure);
-    }
-    Ok(structures)
-}
-
-/// A `[[structures]]` table: the file (relative to the scene file's folder) read and placed.
-fn structure(ck: &Checker, k: usize, at: usize, s: &StructureDef) -> Result<Structure, SceneError> {
-    let f = |name: &str| format!("structures[{k}].{name}");
-    let d = StructureOptions::default();
-    let unit =
-        |name: &str, v: Option<f32>, dv: f32| ck.range(at, &f(name), v.unwrap_or(dv), 0.0, 1.0, "must be 0 to 1");
-    let radius_scale = ck.finite(at, &f("radius_scale"), s.radius_scale.unwrap_or(d.radius_scale))?;
-    if radius_scale <= 0.0 {
-        return Err(ck.invalid(
-            at,
-            &f("radius_scale"),
-            radius_scale,
-            "must be > 0 (1 for van der Waals spheres, 0.25 for CPK balls)",
-        ));
-    }
-    let m = d.material;
-    let options = StructureOptions {
-        radius_scale,
-        assembly: s.assembly,
-        offset: s.offset.map(|o| ck.vec3(at, &f("offset"), o)).transpose()?.unwrap_or(Vec3::ZERO),
-        material: Material {
-            color: m.color,
-            diffuse: unit("diffuse", s.diffuse, m.diffuse)?,
-            specular: unit("specular", s.specular, m.specular)?,
-            shininess: ck.range(
-                at,
-                &f("shininess"),
-                s.shininess.unwrap_or(m.shininess),
-                1.0,
-                10_000.0,
-                "must be 1 to 10000",
-            )?,
-            reflectivity: unit("reflectivity", s.reflectivity, m.reflectivity)?,
-        },
-        color: s.color.map(|c| ck.color(at, &f("color"), c, 1.0)).transpose()?,
-    };
-    let file = ck.path.parent().unwrap_or_else(|| Path::new("")).join(&s.path);
-    read_structure(&file, &options).map_err(|e| ck.invalid(at, &f("path"), &s.path, &e.to_string()))
 }
 
 fn sphere(ck: &Checker, k: usize, at: usize, s: &SphereDef) -> Result<SceneSphere, SceneError> {
@@ -493,43 +421,6 @@ fn check_camera_outside_spheres(ck: &Checker, file: &SceneFile, scene: &Scene) -
     Ok(())
 }
 
-/// What kind of file-system object `meta` describes, for messages (the structure readers'
-/// words).
-fn file_kind(meta: &std::fs::Metadata) -> &'static str {
-    use std::os::unix::fs::FileTypeExt;
-    let t = meta.file_type();
-    if t.is_dir() {
-        "directory"
-    } else if t.is_fifo() {
-        "FIFO"
-    } else if t.is_char_device() {
-        "character device"
-    } else if t.is_block_device() {
-        "block device"
-    } else if t.is_socket() {
-        "socket"
-    } else {
-        "not a file"
-    }
-}
-
-/// The text of the file at `path`, refusing more than `limit` bytes however the file grew
-/// since its size was looked at.
-fn read_bounded(path: &Path, limit: u64) -> Result<String, SceneError> {
-    use std::io::Read;
-    let io = |source| SceneError::Io { path: path.to_path_buf(), source };
-    let file = std::fs::File::open(path).map_err(io)?;
-    let mut src = String::new();
-    file.take(limit + 1).read_to_string(&mut src).map_err(io)?;
-    if src.len() as u64 > limit {
-        return Err(SceneError::NotAScene {
-            path: path.to_path_buf(),
-            reason: format!("more than the limit of {limit} bytes for a TOML scene"),
-        });
-    }
-    Ok(src)
-}
-
 fn parse_error(ck: &Checker, e: &toml::de::Error, path: PathBuf) -> SceneError {
     let (line, excerpt) = match e.span() {
         Some(span) => {
@@ -542,5 +433,7 @@ fn parse_error(ck: &Checker, e: &toml::de::Error, path: PathBuf) -> SceneError {
     SceneError::Parse { path, line, message: format!("{}{excerpt}", e.message().trim_end()) }
 }
 
+mod read;
+mod structures;
 #[cfg(test)]
 mod tests;
