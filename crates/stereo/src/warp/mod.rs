@@ -74,6 +74,7 @@
 //! on one core, a quarter of it waiting on memory; four vectors of a row are landed
 //! before any is kept, which gives the core more independent work between the branches.
 
+mod crack;
 mod map;
 mod resolve;
 mod scatter;
@@ -87,9 +88,10 @@ use fearless_simd::Level;
 use rayon::prelude::*;
 use tracer::{Eye, EyeView, Film};
 
+use crack::{tolerance, Window, REACH};
 use map::{rows_reached, EyeShift, WarpMap};
-use resolve::{fill_uncovered_rows, resolve_band};
-use scatter::{scatter, Band, Keys, KeysMut, Source};
+use resolve::{fill_uncovered_rows, resolve};
+use scatter::{scatter, Band, Keys, KeysMut, Source, EMPTY};
 
 /// Target rows per band: each band's keys (32 rows of 800 pixels, both eyes: 200 kB) stay
 /// in the core's cache while both eyes land in them and they are resolved (16 measured
@@ -122,6 +124,9 @@ impl<'a> WarpSource<'a> {
 pub enum WarpClass {
     /// From this eye's traced frame.
     Warped,
+    /// A crack in this eye's warped surface (where the new view magnifies it), filled
+    /// from the surface around it by the crack rule (module doc): this eye's too.
+    Crack,
     /// A hole this eye left, filled by the other eye's warped pixel.
     OtherEye,
     /// A hole neither eye covers, filled by the hole rule (module doc).
@@ -133,6 +138,9 @@ pub enum WarpClass {
 pub struct WarpCounts {
     /// Pixels from this eye ([`WarpClass::Warped`]).
     pub warped: u64,
+    /// Cracks in this eye's surface, filled from it ([`WarpClass::Crack`]): this eye's
+    /// pixels too, not holes.
+    pub crack: u64,
     /// Holes filled by the other eye ([`WarpClass::OtherEye`]).
     pub other_eye: u64,
     /// Holes filled by the hole rule ([`WarpClass::Filled`]).
@@ -143,7 +151,19 @@ impl WarpCounts {
     /// All the pixels counted: the eye's size.
     #[must_use]
     pub fn total(&self) -> u64 {
-        self.warped + self.other_eye + self.filled
+        self.warped + self.crack + self.other_eye + self.filled
+    }
+
+    /// This eye's pixels: warped, and its cracks filled from its own surface.
+    #[must_use]
+    pub fn own(&self) -> u64 {
+        self.warped + self.crack
+    }
+
+    /// The holes this eye left: filled from the other eye or by the hole rule.
+    #[must_use]
+    pub fn holes(&self) -> u64 {
+        self.other_eye + self.filled
     }
 }
 
@@ -153,6 +173,7 @@ impl std::ops::Add for WarpCounts {
     fn add(self, other: Self) -> Self {
         Self {
             warped: self.warped + other.warped,
+            crack: self.crack + other.crack,
             other_eye: self.other_eye + other.other_eye,
             filled: self.filled + other.filled,
         }
@@ -165,12 +186,27 @@ impl std::ops::Add for WarpCounts {
 pub struct Warp {
     /// The target rows each row of each source eye can reach, in either target eye.
     reach: [Vec<Option<(u32, u32)>>; 2],
-    /// Each thread's visibility keys of one band of each target eye (`scatter.rs`), reused
-    /// band after band.
-    keys: Vec<Mutex<[Keys; 2]>>,
+    /// Each thread's scratch, reused band after band.
+    scratch: Vec<Mutex<Scratch>>,
+    /// Each band's first and last [`SEAM`] rows of keys, of each target eye (`EMPTY` past
+    /// the band's rows), for the crack rule at the seams between bands.
+    seams: [Vec<i32>; 2],
     /// Which rows of each target eye something reached.
     covered: [Vec<bool>; 2],
 }
+
+/// One thread's scratch.
+#[derive(Debug, Default)]
+struct Scratch {
+    /// The visibility keys of one band of each target eye (`scatter.rs`).
+    keys: [Keys; 2],
+    /// A row's keys as the hole rule sees them, after the crack rule (`crack.rs`).
+    row: Vec<i32>,
+}
+
+/// The rows of keys kept at each edge of a band: the rows the crack rule resolves at a seam
+/// ([`REACH`] on each side), and the rows it reads beyond them.
+const SEAM: usize = 2 * REACH;
 
 impl Warp {
     /// A warp with empty buffers; the first frame sizes them.
@@ -210,7 +246,7 @@ impl Warp {
     ) -> [WarpCounts; 2] {
         check(sources, targets);
         let (w, h) = (targets[0].width as usize, targets[0].height as usize);
-        let Self { reach, keys, covered } = self;
+        let Self { reach, scratch, seams, covered } = self;
         // Each source eye to each target eye, and the target rows each source row can reach
         // in either.
         let maps = [0, 1].map(|s| [0, 1].map(|t| WarpMap::new(&sources[s].view, targets[t])));
@@ -220,40 +256,51 @@ impl Warp {
             || rows_reached(level, &maps[1], sources[1].z, sources[1].view.width, right_reach),
         );
         let shifts = [EyeShift::between(targets[0], targets[1]), EyeShift::between(targets[1], targets[0])];
-        for ((covered, out), classes) in covered.iter_mut().zip(out.iter_mut()).zip(classes.iter_mut()) {
+        let bands = h.div_ceil(BAND_ROWS);
+        for (((covered, seams), out), classes) in
+            covered.iter_mut().zip(seams.iter_mut()).zip(out.iter_mut()).zip(classes.iter_mut())
+        {
             covered.resize(h, false);
+            seams.resize(bands * 2 * SEAM * w, EMPTY);
             out.resize(w * h, 0);
             classes.resize(w * h, WarpClass::Filled);
         }
         if w == 0 || h == 0 {
             return [WarpCounts::default(); 2];
         }
+        let tolerance = tolerance(targets[0]);
         // Each thread lands in keys of its own, band after band, so that they stay in its
         // core's cache.
-        if keys.len() < rayon::current_num_threads() {
-            keys.resize_with(rayon::current_num_threads(), Default::default);
+        if scratch.len() < rayon::current_num_threads() {
+            scratch.resize_with(rayon::current_num_threads(), Default::default);
         }
-        let keys = &keys[..];
+        // A thread's own scratch: no other thread locks it, and which one a band or a seam
+        // gets changes nothing in it.
+        let scratch = &scratch[..];
+        let lock = || {
+            scratch[rayon::current_thread_index().unwrap_or(0) % scratch.len()]
+                .lock()
+                .unwrap_or_else(PoisonError::into_inner)
+        };
         let [left_covered, right_covered] = covered;
+        let [left_seams, right_seams] = seams;
         let [left_out, right_out] = out;
         let [left_classes, right_classes] = classes;
         let band = BAND_ROWS * w;
-        let bands = (
+        let edges = 2 * SEAM * w;
+        let band_iter = (
             (left_out.par_chunks_mut(band), right_out.par_chunks_mut(band)),
             (left_classes.par_chunks_mut(band), right_classes.par_chunks_mut(band)),
             (left_covered.par_chunks_mut(BAND_ROWS), right_covered.par_chunks_mut(BAND_ROWS)),
+            (left_seams.par_chunks_mut(edges), right_seams.par_chunks_mut(edges)),
         );
         let reach = &*reach;
-        let counts = bands
+        let counts = band_iter
             .into_par_iter()
             .enumerate()
-            .map(|(b, ((left_out, right_out), (left_classes, right_classes), (left_covered, right_covered)))| {
-                // A thread's own keys: no other thread locks them, and which keys a band
-                // gets changes nothing in it.
-                let mut keys = keys[rayon::current_thread_index().unwrap_or(0) % keys.len()]
-                    .lock()
-                    .unwrap_or_else(PoisonError::into_inner);
-                let [left, right] = &mut *keys;
+            .map(|(b, ((left_out, right_out), (left_classes, right_classes), (left_covered, right_covered), seams))| {
+                let mut scratch = lock();
+                let Scratch { keys: [left, right], row } = &mut *scratch;
                 left.reset(left_out.len());
                 right.reset(right_out.len());
                 let first = (b * BAND_ROWS) as u32;
@@ -271,18 +318,97 @@ impl Warp {
                     let keys = if s == 0 { [left, right] } else { [right, left] };
                     scatter(level, source, &mut Band { first, keys });
                 }
+                // The rows within reach of another band wait for the seams' pass.
+                let rows = left_covered.len();
+                let last = if b + 1 < bands { rows - REACH } else { rows };
+                let inner = if b > 0 { REACH.min(last) } else { 0 }..last;
+                let (left_seams, right_seams) = seams;
+                keep_edges(&left.depth, w, left_seams);
+                keep_edges(&right.depth, w, right_seams);
+                let left_window = &mut Window { keys: &left.depth, out: left_out, width: w };
+                let right_window = &mut Window { keys: &right.depth, out: right_out, width: w };
+                let (left_covered, right_covered) = (&mut left_covered[inner.clone()], &mut right_covered[inner.clone()]);
                 [
-                    resolve_band(level, left, w, left_out, left_classes, left_covered),
-                    resolve_band(level, right, w, right_out, right_classes, right_covered),
+                    resolve(level, left_window, inner.clone(), left_classes, left_covered, tolerance, row),
+                    resolve(level, right_window, inner, right_classes, right_covered, tolerance, row),
                 ]
             })
             .reduce(|| [WarpCounts::default(); 2], |a, b| [a[0] + b[0], a[1] + b[1]]);
+        // The rows at the seams, from the keys the bands kept: each seam's window is the last
+        // SEAM rows of the band above and the first SEAM rows of the band below.
+        let seam_counts = if bands > 1 {
+            let (from, covered_from) = ((BAND_ROWS - SEAM) * w, BAND_ROWS - REACH);
+            let seam_iter = (
+                (left_out[from..].par_chunks_mut(band), right_out[from..].par_chunks_mut(band)),
+                (left_classes[from..].par_chunks_mut(band), right_classes[from..].par_chunks_mut(band)),
+                (
+                    left_covered[covered_from..].par_chunks_mut(BAND_ROWS),
+                    right_covered[covered_from..].par_chunks_mut(BAND_ROWS),
+                ),
+                (left_seams[SEAM * w..].par_chunks(edges), right_seams[SEAM * w..].par_chunks(edges)),
+            );
+            seam_iter
+                .into_par_iter()
+                .take(bands - 1)
+                .map(|((left_out, right_out), (left_classes, right_classes), (left_covered, right_covered), seams)| {
+                    let mut scratch = lock();
+                    let (left_keys, right_keys) = seams;
+                    [
+                        resolve_seam(level, left_keys, left_out, left_classes, left_covered, tolerance, &mut scratch.row),
+                        resolve_seam(
+                            level,
+                            right_keys,
+                            right_out,
+                            right_classes,
+                            right_covered,
+                            tolerance,
+                            &mut scratch.row,
+                        ),
+                    ]
+                })
+                .reduce(|| [WarpCounts::default(); 2], |a, b| [a[0] + b[0], a[1] + b[1]])
+        } else {
+            [WarpCounts::default(); 2]
+        };
         rayon::join(
             || fill_uncovered_rows(left_out, w, left_covered),
             || fill_uncovered_rows(right_out, w, right_covered),
         );
-        counts
+        [counts[0] + seam_counts[0], counts[1] + seam_counts[1]]
     }
+}
+
+/// Keeps the first and the last [`SEAM`] rows of a band's `keys` (rows of `width`) in
+/// `edges`, [`EMPTY`] where the band has fewer rows (past the image's last row).
+fn keep_edges(keys: &[i32], width: usize, edges: &mut [i32]) {
+    let kept = SEAM.min(keys.len() / width) * width;
+    let (head, tail) = edges.split_at_mut(SEAM * width);
+    head[..kept].copy_from_slice(&keys[..kept]);
+    head[kept..].fill(EMPTY);
+    let pad = tail.len() - kept;
+    tail[..pad].fill(EMPTY);
+    tail[pad..].copy_from_slice(&keys[keys.len() - kept..]);
+}
+
+/// Resolves the rows about one seam between two bands: `keys` are the [`SEAM`] rows above
+/// it and the [`SEAM`] below ([`keep_edges`]), `out` and `classes` the image's rows from
+/// the first of them on (to the next seam or the image's end), `covered` its rows from the
+/// first resolved. The [`REACH`] rows on each side of the seam are resolved.
+fn resolve_seam(
+    level: Level,
+    keys: &[i32],
+    out: &mut [u32],
+    classes: &mut [WarpClass],
+    covered: &mut [bool],
+    tolerance: f32,
+    row: &mut Vec<i32>,
+) -> WarpCounts {
+    let width = keys.len() / (2 * SEAM);
+    let rows = (out.len() / width).min(2 * SEAM);
+    let out = &mut out[..rows * width];
+    let resolved = REACH..rows.min(SEAM + REACH);
+    let covered = &mut covered[..resolved.len()];
+    resolve(level, &mut Window { keys, out, width }, resolved, classes, covered, tolerance, row)
 }
 
 /// [`Warp::warp`]'s preconditions.

@@ -35,6 +35,7 @@ fn warp_at(level: Level, frames: &[Planes; 2], views: &[EyeView; 2], targets: &[
         let count = |c| classes[e].iter().filter(|&&k| k == c).count() as u64;
         let counted = WarpCounts {
             warped: count(WarpClass::Warped),
+            crack: count(WarpClass::Crack),
             other_eye: count(WarpClass::OtherEye),
             filled: count(WarpClass::Filled),
         };
@@ -261,8 +262,8 @@ fn a_disocclusion_of_known_width_is_filled_by_the_other_eye_then_by_the_rule() {
     let warped = warp(&frames, &views, &EYES.map(|eye| moved.view(eye, w, h)));
     let card_rows = 16;
     let expected = [
-        WarpCounts { warped: u64::from(w * h) - 7 * card_rows, other_eye: 5 * card_rows, filled: 2 * card_rows },
-        WarpCounts { warped: u64::from(w * h) - 7 * card_rows, other_eye: 0, filled: 7 * card_rows },
+        WarpCounts { warped: u64::from(w * h) - 7 * card_rows, crack: 0, other_eye: 5 * card_rows, filled: 2 * card_rows },
+        WarpCounts { warped: u64::from(w * h) - 7 * card_rows, crack: 0, other_eye: 0, filled: 7 * card_rows },
     ];
     assert_eq!(warped.counts, expected);
     for (e, first_other) in [(0, 33), (1, 38)] {
