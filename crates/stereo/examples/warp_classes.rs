@@ -38,9 +38,10 @@ fn write_ppm(path: &Path, pixels: impl Iterator<Item = u32>) -> std::io::Result<
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let mut args = std::env::args().skip(1);
-    let scene_path = args
-        .next()
-        .map_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/thousand.toml"), PathBuf::from);
+    let scene_path = args.next().map_or_else(
+        || PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes/thousand.toml"),
+        PathBuf::from,
+    );
     let out_dir = args.next().map(PathBuf::from);
     let scene = Scene::load(&scene_path)?;
     let tracer = Tracer::new(&scene, 0.0);
@@ -53,6 +54,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     });
     // (name, yaw in degrees, head step)
     let poses = [
+        ("traced", 0.0, Vec3::ZERO),
         ("yaw1", 1.0, Vec3::ZERO),
         ("step0.05", 0.0, Vec3::new(0.05, 0.0, 0.0)),
         ("yaw1-step0.05", 1.0, Vec3::new(0.05, 0.0, 0.0)),

@@ -197,3 +197,82 @@ impl Window<'_> {
         (from, cracks, over_other)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::resolve::resolve;
+    use super::super::{WarpClass, WarpCounts};
+    use super::{Window, EMPTY};
+
+    /// The own eye's key word of a pixel at depth `n`.
+    fn own(n: f32) -> i32 {
+        (n.to_bits() | 1 << 31) as i32
+    }
+
+    /// The other eye's.
+    fn other(n: f32) -> i32 {
+        n.to_bits() as i32
+    }
+
+    const TOLERANCE: f32 = 0.02;
+
+    /// Resolves a 5×5 window of the own eye's pixels at depth 10 (colour: its index), but
+    /// for the keys `changed` gives, and returns the centre pixel's class and colour.
+    fn centre(changed: &[(usize, i32)]) -> (WarpClass, u32, WarpCounts) {
+        let mut keys = [own(10.0); 25];
+        for &(k, key) in changed {
+            keys[k] = key;
+        }
+        let mut out: Vec<u32> = (0..25).collect();
+        // What lands there of the other eye has its colour.
+        out[12] = 0xff;
+        let (mut classes, mut covered, mut row) = (vec![WarpClass::Filled; 25], [false; 5], Vec::new());
+        let window = &mut Window { keys: &keys, out: &mut out, width: 5 };
+        let counts = resolve(tracer::simd_level(), window, 0..5, &mut classes, &mut covered, TOLERANCE, &mut row);
+        (classes[12], out[12], counts)
+    }
+
+    /// The centre pixel's class and colour.
+    fn pixel(changed: &[(usize, i32)]) -> (WarpClass, u32) {
+        let (class, colour, _) = centre(changed);
+        (class, colour)
+    }
+
+    #[test]
+    fn a_crack_takes_its_end_and_an_other_eye_landing_behind_both_ends_is_rejected() {
+        // Nothing landed: a crack, from the upper end (a tie).
+        assert_eq!(pixel(&[(12, EMPTY)]), (WarpClass::Crack, 7));
+        // The ends at 10 and 10.1 (within the tolerance): from the farther, below.
+        assert_eq!(pixel(&[(12, EMPTY), (17, own(10.1))]), (WarpClass::Crack, 17));
+        // The other eye's landing behind the ends (the background the other eye saw
+        // beside the surface), or within the tolerance of them: hidden by the surface.
+        for behind in [f32::INFINITY, 50.0, 10.1, 9.9] {
+            let (class, colour, counts) = centre(&[(12, other(behind))]);
+            assert_eq!((class, colour), (WarpClass::Crack, 7), "the other eye at {behind}");
+            assert_eq!((counts.crack, counts.other_eye), (1, 0), "the other eye at {behind}");
+        }
+        // In front of both by more than the tolerance: a surface the own eye did not see.
+        for before in [9.7, 5.0] {
+            let (class, colour, counts) = centre(&[(12, other(before))]);
+            assert_eq!((class, colour), (WarpClass::OtherEye, 0xff), "the other eye at {before}");
+            assert_eq!((counts.crack, counts.other_eye), (0, 1), "the other eye at {before}");
+        }
+    }
+
+    #[test]
+    fn an_edge_is_no_crack_and_a_run_of_two_is_one() {
+        // Above and left at 10, below and right at 20: an edge between two surfaces, left
+        // to the hole rule (the farther side).
+        let edge = [(12, EMPTY), (13, own(20.0)), (14, own(20.0)), (15, own(20.0)), (16, own(20.0)), (17, own(20.0))];
+        let (class, colour, _) = centre(&edge[..]);
+        assert_eq!((class, colour), (WarpClass::Filled, 13));
+        // A run of two along the column (rows 2 and 3), and along the row (columns 2 and
+        // 3, where a crack row crosses a crack column): cracks, from the upper (or left)
+        // end. A run of three along the column, with an edge along the row, is not.
+        assert_eq!(pixel(&[(12, EMPTY), (17, EMPTY)]), (WarpClass::Crack, 7));
+        assert_eq!(pixel(&[(12, EMPTY), (7, EMPTY)]), (WarpClass::Crack, 2));
+        assert_eq!(pixel(&[(12, EMPTY), (7, EMPTY), (17, EMPTY), (13, EMPTY)]), (WarpClass::Crack, 11));
+        let column = [(12, EMPTY), (7, EMPTY), (17, EMPTY), (11, own(30.0))];
+        assert_eq!(pixel(&column), (WarpClass::Filled, 11));
+    }
+}

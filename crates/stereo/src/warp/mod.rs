@@ -36,20 +36,46 @@
 //!    them, fill exactly the holes the own eye left (disocclusions, which the other eye saw
 //!    around; cracks where the image stretches; edges a turn exposes beyond the guard
 //!    band): [`WarpClass::OtherEye`].
-//! 3. **Resolve** (`resolve.rs`): the winners' colours, and the hole rule below for the
-//!    rest ([`WarpClass::Filled`]); its last step, rows nothing reached, runs once the
-//!    bands are done.
+//! 3. **Resolve** (`resolve.rs`): the winners' colours, the crack rule (`crack.rs`) and the
+//!    hole rule below for the rest; the rows within two rows of another band wait for the
+//!    seams' pass (below), and the hole rule's last step, rows nothing reached, runs once
+//!    every row is resolved.
 //!
-//! ## The hole rule
+//! ## Cracks, then holes
 //!
-//! A target pixel neither eye reached is filled along its row: each run of such pixels
-//! takes the colour of the farther (larger target depth, i.e. the background side) of the
-//! nearest covered pixels to its left and to its right, the left one on a tie, or of the
-//! one that exists when the run touches the row's end. A disocclusion is the background an
-//! occluder uncovered, so the farther side is the better guess, and it never smears a near
-//! edge over the background. A row with no covered pixel copies the nearest covered row
-//! above it, else the nearest below; a frame with none is black. Each eye's
-//! [`WarpCounts`] count its pixels of each class, which add up to its size.
+//! Where the new view magnifies a surface, a forward warp leaves target pixels no source
+//! pixel reached inside it: cracks, one or two pixels wide. Left to the other eye, a crack
+//! takes whatever of the other eye's lands there, often the background it saw beside the
+//! surface (speckles); left to the row rule, a crack row takes the background beside the
+//! surface (stripes). So first the **crack rule** (`crack.rs`): a run of one or two pixels
+//! the own eye did not reach, along a column (then along the row), whose two ends (the own
+//! eye's pixels just beyond it) are within a depth tolerance of each other (1.8 % at 800
+//! pixels across 45°) is a crack of their surface. It takes the colour of the farther end
+//! (the upper or left one on a tie) and is the own eye's: [`WarpClass::Crack`]. An other
+//! eye's landing there loses to it unless it is nearer than both ends by more than the
+//! tolerance (a surface in front that the own eye did not see). The rule fills only what
+//! the own eye did not reach: where a magnified surface advances over a farther one, a
+//! crack may hold a pixel of the own eye's farther surface, which stays (a few pixels at
+//! such an edge).
+//!
+//! The rest is the **hole rule**: a target pixel neither eye reached (and no crack) is
+//! filled along its row: each run of such pixels takes the colour of the farther (larger
+//! target depth, i.e. the background side) of the nearest covered pixels to its left and to
+//! its right, the left one on a tie, or of the one that exists when the run touches the
+//! row's end. A disocclusion is the background an occluder uncovered, so the farther side
+//! is the better guess, and it never smears a near edge over the background. A row with no
+//! covered pixel copies the nearest covered row above it, else the nearest below; a frame
+//! with none is black. Each eye's [`WarpCounts`] count its pixels of each class, which add
+//! up to its size; the cracks count as the own eye's pixels ([`WarpCounts::own`]), not as
+//! holes ([`WarpCounts::holes`]).
+//!
+//! ## Seams
+//!
+//! The crack rule reads two rows above and two below a row. A band keeps a copy of its
+//! first and last four rows of keys (its scratch keys go on to the thread's next band),
+//! and resolves its other rows; once every band is done, the two rows on each side of each
+//! seam are resolved from the copies of the two bands, in parallel over the seams. So a
+//! crack at a seam is filled exactly as one inside a band, whatever the threads.
 //!
 //! ## Guarantees
 //!
@@ -57,11 +83,13 @@
 //!   [`WarpClass::Warped`] (every pixel lands on its own centre, far from a pixel edge).
 //! - Both eyes go to one head pose, from one traced pair: the warp never mixes frames.
 //! - Same bytes for any thread count (each band is one sequential pass in a fixed order,
-//!   and bands do not share pixels) and any lane width (the lanes only decide where a
+//!   bands do not share pixels, and the rows at the seams are resolved from the bands' kept
+//!   keys alone) and any lane width (the lanes only decide where a
 //!   pixel lands, by its centre, and both widths run the same operations per lane, in the
 //!   same order).
-//! - A warm [`Warp`] allocates nothing: its keys (one band per thread) and bounds are kept,
-//!   and the images are resized in place.
+//! - A warm [`Warp`] allocates nothing: its keys and the crack rule's row (one of each per
+//!   thread), the bands' kept edges and bounds are kept, and the images are resized in
+//!   place.
 //!
 //! ## Cost
 //!
@@ -327,55 +355,70 @@ impl Warp {
                 keep_edges(&right.depth, w, right_seams);
                 let left_window = &mut Window { keys: &left.depth, out: left_out, width: w };
                 let right_window = &mut Window { keys: &right.depth, out: right_out, width: w };
-                let (left_covered, right_covered) = (&mut left_covered[inner.clone()], &mut right_covered[inner.clone()]);
+                let (left_covered, right_covered) =
+                    (&mut left_covered[inner.clone()], &mut right_covered[inner.clone()]);
                 [
                     resolve(level, left_window, inner.clone(), left_classes, left_covered, tolerance, row),
                     resolve(level, right_window, inner, right_classes, right_covered, tolerance, row),
                 ]
             })
             .reduce(|| [WarpCounts::default(); 2], |a, b| [a[0] + b[0], a[1] + b[1]]);
-        // The rows at the seams, from the keys the bands kept: each seam's window is the last
-        // SEAM rows of the band above and the first SEAM rows of the band below.
-        let seam_counts = if bands > 1 {
-            let (from, covered_from) = ((BAND_ROWS - SEAM) * w, BAND_ROWS - REACH);
-            let seam_iter = (
-                (left_out[from..].par_chunks_mut(band), right_out[from..].par_chunks_mut(band)),
-                (left_classes[from..].par_chunks_mut(band), right_classes[from..].par_chunks_mut(band)),
-                (
-                    left_covered[covered_from..].par_chunks_mut(BAND_ROWS),
-                    right_covered[covered_from..].par_chunks_mut(BAND_ROWS),
-                ),
-                (left_seams[SEAM * w..].par_chunks(edges), right_seams[SEAM * w..].par_chunks(edges)),
-            );
-            seam_iter
-                .into_par_iter()
-                .take(bands - 1)
-                .map(|((left_out, right_out), (left_classes, right_classes), (left_covered, right_covered), seams)| {
-                    let mut scratch = lock();
-                    let (left_keys, right_keys) = seams;
-                    [
-                        resolve_seam(level, left_keys, left_out, left_classes, left_covered, tolerance, &mut scratch.row),
-                        resolve_seam(
-                            level,
-                            right_keys,
-                            right_out,
-                            right_classes,
-                            right_covered,
-                            tolerance,
-                            &mut scratch.row,
-                        ),
-                    ]
-                })
-                .reduce(|| [WarpCounts::default(); 2], |a, b| [a[0] + b[0], a[1] + b[1]])
-        } else {
-            [WarpCounts::default(); 2]
+        // The rows at the seams, from the keys the bands kept, then the rows nothing
+        // reached, each eye on its own.
+        let finish = |out: &mut [u32], classes: &mut [WarpClass], covered: &mut [bool], seams: &[i32]| {
+            let counts = resolve_seams(level, SeamRows { out, classes, covered, seams, width: w }, tolerance, &lock);
+            fill_uncovered_rows(out, w, covered);
+            counts
         };
-        rayon::join(
-            || fill_uncovered_rows(left_out, w, left_covered),
-            || fill_uncovered_rows(right_out, w, right_covered),
+        let seam_counts = rayon::join(
+            || finish(left_out, left_classes, left_covered, left_seams),
+            || finish(right_out, right_classes, right_covered, right_seams),
         );
+        let seam_counts = [seam_counts.0, seam_counts.1];
         [counts[0] + seam_counts[0], counts[1] + seam_counts[1]]
     }
+}
+
+/// One target eye's image, classes, rows covered and its bands' kept edges
+/// ([`keep_edges`]).
+struct SeamRows<'a> {
+    out: &'a mut [u32],
+    classes: &'a mut [WarpClass],
+    covered: &'a mut [bool],
+    seams: &'a [i32],
+    width: usize,
+}
+
+/// Resolves the rows about every seam between two bands of one target eye, in parallel
+/// (the seams are [`SEAM`] rows apart or more, and each reads only the edges its bands
+/// kept), with the scratch of the thread's `lock`.
+fn resolve_seams<'s>(
+    level: Level,
+    rows: SeamRows<'_>,
+    tolerance: f32,
+    lock: &(impl Fn() -> std::sync::MutexGuard<'s, Scratch> + Sync),
+) -> WarpCounts {
+    let SeamRows { out, classes, covered, seams, width } = rows;
+    let bands = covered.len().div_ceil(BAND_ROWS);
+    if bands < 2 {
+        return WarpCounts::default();
+    }
+    // Each seam's rows from the first of the band above's last SEAM rows; its covered
+    // rows from the first resolved; its kept keys, the band above's last SEAM rows then
+    // the band below's first.
+    let (from, covered_from, band) = ((BAND_ROWS - SEAM) * width, BAND_ROWS - REACH, BAND_ROWS * width);
+    (
+        out[from..].par_chunks_mut(band),
+        classes[from..].par_chunks_mut(band),
+        covered[covered_from..].par_chunks_mut(BAND_ROWS),
+        seams[SEAM * width..].par_chunks(2 * SEAM * width),
+    )
+        .into_par_iter()
+        .take(bands - 1)
+        .map(|(out, classes, covered, keys)| {
+            resolve_seam(level, keys, out, classes, covered, tolerance, &mut lock().row)
+        })
+        .reduce(WarpCounts::default, |a, b| a + b)
 }
 
 /// Keeps the first and the last [`SEAM`] rows of a band's `keys` (rows of `width`) in
