@@ -101,6 +101,13 @@
 //! 2.5 ms against 7.9 ms. A source pixel costs one projection and two landings, about 2 ns
 //! on one core, a quarter of it waiting on memory; four vectors of a row are landed
 //! before any is kept, which gives the core more independent work between the branches.
+//!
+//! The crack rule and the seams' pass cost about a tenth more: on the same bench, side by
+//! side with the warp before them on a shared 2-core machine, a median 1.22 ms against
+//! 1.05 ms when it was quiet (+16 %), 2.59 ms against 2.38 ms under load (+9 %); 12 % more
+//! instructions (cachegrind, one thread). Each run of pixels the own eye did not reach is
+//! visited once (on that pose about 5 400 runs, 9 100 pixels, over both eyes), and each
+//! band copies its first and last four rows of keys.
 
 mod crack;
 mod map;
