@@ -1,69 +1,91 @@
-//! From a target's keys to its image: each pixel's winner, and the hole rule for the pixels
-//! neither eye reached.
+//! From a target's keys to its image: each pixel's winner, the crack rule, and the hole
+//! rule for the pixels left.
 //!
 //! A pixel's key (`scatter.rs`) left the winner's colour in the image and says whose it
-//! is: [`WarpClass::Warped`] or [`WarpClass::OtherEye`]. The rest are
-//! [`WarpClass::Filled`], by the rule of the module doc (`warp/mod.rs`): along the row, each
-//! run of holes takes the colour of the farther of the covered pixels on its left and on
-//! its right (the larger target depth: the background side of a disocclusion, which is what
-//! the occluder uncovered; the left one on a tie), or of the one that exists; a row without
-//! a covered pixel copies the nearest covered row above, else the nearest below; a frame
-//! with none is black. The rule reads only the target's keys and its own output, so it is
-//! as deterministic as they are. Bands of rows are resolved in parallel, each row on its
-//! own; the rows nothing reached are copied after, in one pass over the image.
+//! is: [`WarpClass::Warped`] or [`WarpClass::OtherEye`]. In a row with pixels of both kinds,
+//! the crack rule (`crack.rs`) makes [`WarpClass::Crack`]s of the own eye's surface. The rest
+//! are [`WarpClass::Filled`], by the rule of the module doc (`warp/mod.rs`): along the row,
+//! each run of holes takes the colour of the farther of the covered pixels on its left and
+//! on its right (the larger target depth: the background side of a disocclusion, which is
+//! what the occluder uncovered; the left one on a tie), or of the one that exists; a row
+//! without a covered pixel copies the nearest covered row above, else the nearest below; a
+//! frame with none is black. The rules read only the target's keys and its own output, so
+//! they are as deterministic as they are. Rows are resolved in windows of consecutive rows
+//! (a band, or the rows about a seam between two bands), each row on its own; the rows
+//! nothing reached are copied after, in one pass over the image.
+
+use std::ops::Range;
 
 use fearless_simd::{dispatch, Level, Simd};
 
-use super::scatter::{Keys, DEPTH, EMPTY};
+use super::crack::{next_hole, next_own, Window};
+use super::scatter::{DEPTH, EMPTY};
 use super::{WarpClass, WarpCounts};
 
-/// Resolves a band of target rows (`keys`, rows of `width` pixels) into its rows of `out`
-/// and `classes`, filling holes along rows with a covered pixel, and notes in `covered`
-/// which rows have one; [`fill_uncovered_rows`] does the rest once every band is resolved.
-pub(crate) fn resolve_band(
+/// Resolves the rows `rows` of `window` into the window's image and into `classes` (the
+/// window's classes), filling holes along rows with a covered pixel, and notes in `covered`
+/// (the resolved rows') which rows have one; [`fill_uncovered_rows`] does the rest once every
+/// row is resolved. `scratch` holds a row's keys as the hole rule sees them.
+pub(crate) fn resolve(
     level: Level,
-    keys: &Keys,
-    width: usize,
-    out: &mut [u32],
+    window: &mut Window<'_>,
+    rows: Range<usize>,
     classes: &mut [WarpClass],
     covered: &mut [bool],
+    tolerance: f32,
+    scratch: &mut Vec<i32>,
 ) -> WarpCounts {
     // Compiled for the SIMD level's instruction set, where the rows' loops run in its
     // vectors.
     dispatch!(level, simd => simd.vectorize(
         #[inline(always)]
-        || resolve_rows(keys, width, out, classes, covered),
+        || resolve_rows(window, rows, classes, covered, tolerance, scratch),
     ))
 }
 
-/// [`resolve_band`]'s work.
+/// [`resolve`]'s work.
 #[expect(clippy::inline_always, reason = "inlined into the dispatched function, whose target features it needs")]
 #[inline(always)]
 fn resolve_rows(
-    keys: &Keys,
-    width: usize,
-    out: &mut [u32],
+    window: &mut Window<'_>,
+    rows: Range<usize>,
     classes: &mut [WarpClass],
     covered: &mut [bool],
+    tolerance: f32,
+    scratch: &mut Vec<i32>,
 ) -> WarpCounts {
     let mut counts = WarpCounts::default();
+    let width = window.width;
     if width == 0 {
         return counts;
     }
-    let rows = keys.depth.chunks_exact(width).zip(out.chunks_exact_mut(width)).zip(classes.chunks_exact_mut(width));
-    for (((depth, out), classes), covered) in rows.zip(covered) {
-        let (warped, other) = resolve_row(depth, classes);
+    let n = (rows.len() * width) as u64;
+    let all_keys = window.keys;
+    for (r, covered) in rows.zip(covered) {
+        let at = r * width..(r + 1) * width;
+        let classes = &mut classes[at.clone()];
+        let keys = &all_keys[at.clone()];
+        let (warped, mut other) = resolve_row(keys, classes);
+        let mut cracks = 0;
+        // Each run of pixels the own eye did not reach: its cracks, then its holes.
+        let mut start = if warped < width as u64 { next_hole(keys, 0) } else { width };
+        while start < width {
+            let end = next_own(keys, start);
+            let (from, found, over_other) = window.cracks(r, start..end, tolerance, classes, scratch);
+            (cracks, other) = (cracks + found, other - over_other);
+            fill_run(scratch, &mut window.out[r * width + from..][..scratch.len()]);
+            start = next_hole(keys, end);
+        }
         counts.warped += warped;
         counts.other_eye += other;
-        *covered = warped + other > 0;
+        counts.crack += cracks;
+        *covered = warped + other + cracks > 0;
         if !*covered {
             // Black, until `fill_uncovered_rows`.
-            out.fill(0);
-        } else if warped + other < width as u64 {
-            fill_row(depth, out);
+            window.out[at].fill(0);
         }
     }
-    counts.filled = keys.depth.len() as u64 - counts.warped - counts.other_eye;
+    counts.filled = n - counts.warped - counts.other_eye - counts.crack;
     counts
 }
 
@@ -87,7 +109,7 @@ pub(crate) fn fill_uncovered_rows(out: &mut [u32], width: usize, covered: &[bool
 }
 
 /// Each pixel of a row its class, from its keys' first words `depth` (its colour is in
-/// place, or, for a hole, left for [`fill_row`]). Returns how many pixels came from the own
+/// place, or, for a hole, left for [`fill_run`]). Returns how many pixels came from the own
 /// eye and from the other. Branch-free, so that it runs in vectors.
 #[expect(clippy::inline_always, reason = "inlined into the dispatched function, whose target features it needs")]
 #[inline(always)]
@@ -107,19 +129,15 @@ fn resolve_row(depth: &[i32], classes: &mut [WarpClass]) -> (u64, u64) {
     (depth.len() as u64 - u64::from(flagged), u64::from(flagged - holes))
 }
 
-/// The hole rule along one row with at least one covered pixel: each run of holes takes the
-/// colour of the farther of its two covered neighbours (the left on a tie), or of the one
-/// it has.
-fn fill_row(keys: &[i32], out: &mut [u32]) {
+/// The hole rule along a stretch of a row (`keys` and `out`): a run of pixels the own eye
+/// did not reach, with the own eye's pixel on each side where the row has one. Each run of
+/// holes in it takes the colour of the farther of its two covered neighbours (the left on a
+/// tie), or of the one it has; a stretch with none (a row nothing reached) is left as it is.
+fn fill_run(keys: &[i32], out: &mut [u32]) {
     let depth = |k: usize| keys[k] & DEPTH;
     let w = keys.len();
     let mut k = 0;
     while k < w {
-        // Past covered pixels 16 at a time (a comparison without an early exit runs in
-        // vectors), then one at a time.
-        while k + 16 <= w && keys[k..k + 16].iter().fold(0, |holes, &key| holes | u8::from(key == EMPTY)) == 0 {
-            k += 16;
-        }
         if k == w || keys[k] != EMPTY {
             k += 1;
             continue;

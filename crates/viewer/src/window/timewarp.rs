@@ -59,7 +59,7 @@ impl Warped {
     #[must_use]
     pub fn hole_share(&self) -> f64 {
         let [l, r] = self.counts;
-        let holes = l.other_eye + l.filled + r.other_eye + r.filled;
+        let holes = l.holes() + r.holes();
         holes as f64 / (l.total() + r.total()).max(1) as f64
     }
 }
@@ -188,7 +188,7 @@ fn mask_colours(
     let own = if fresh { FRESH_COLOR } else { WARPED_COLOR };
     colours.clear();
     colours.extend(classes.iter().map(|c| match c {
-        WarpClass::Warped => own,
+        WarpClass::Warped | WarpClass::Crack => own,
         WarpClass::OtherEye => OTHER_EYE_COLOR,
         WarpClass::Filled => HOLE_COLOR,
     }));
