@@ -203,7 +203,8 @@ mod tests {
     use tracer::{Scene, Tracer};
 
     use super::*;
-    use crate::window::worker::{FrameInfo, Request, Traced};
+    use crate::window::worker::finished::Traced;
+    use crate::window::worker::{FrameInfo, Request};
 
     /// A traced frame of a sphere at `camera`, `size` with a guard band `guard`, as the
     /// worker hands it over for the timewarp.
