@@ -20,7 +20,7 @@ use crate::accel::Origin;
 use crate::camera::EyeView;
 use crate::color::pack_rgb;
 use crate::ray::{reflect, spawn_ray, Ray};
-use crate::reuse::{LevelRays, Marker, TreeMarks};
+use crate::reuse::{Marker, TreeMarks};
 use crate::scene::Light;
 use crate::simd::{F, U};
 use crate::stats::RayCounts;
@@ -28,144 +28,11 @@ use crate::surface::{Hit, Surface};
 use crate::tracer::Tracer;
 
 mod lanes;
+mod level;
+
+use level::{get3, set3, Level};
 
 pub(crate) use lanes::per_object;
-
-/// Structure-of-arrays columns of three.
-type Column3 = [Vec<f32>; 3];
-
-fn get3(c: &Column3, e: usize) -> Vec3 {
-    Vec3::new(c[0][e], c[1][e], c[2][e])
-}
-
-fn set3(c: &mut Column3, e: usize, v: Vec3) {
-    (c[0][e], c[1][e], c[2][e]) = (v.x, v.y, v.z);
-}
-
-/// The hits of one reflection depth, one entry per hit in each column.
-///
-/// Every column is as long as the level's capacity; the first [`Level::len`] entries are
-/// in use. Entries are written in place (no per-column push), and the columns only ever
-/// grow, so a warm level allocates nothing.
-#[derive(Clone, Debug, Default)]
-struct Level {
-    /// Entries in use.
-    used: usize,
-    /// The ray's direction (unit).
-    d: Column3,
-    /// The direction the hit is seen along (unit): the ray's, except for a sample that
-    /// re-shades for one view what another view's ray found.
-    v: Column3,
-    /// The ray's origin.
-    o: Column3,
-    /// The ray's hit parameter.
-    t: Vec<f32>,
-    /// The sphere hit.
-    object: Vec<u32>,
-    /// Level 0: the caller's tag of the sample; deeper: the entry of the level above whose
-    /// mirror ray this is.
-    parent: Vec<u32>,
-    /// Level 0: whether the entry's light bits are known (not traced).
-    known: Vec<bool>,
-    /// Hit point.
-    p: Column3,
-    /// Unit outward normal.
-    n: Column3,
-    /// Light bits: given (at level 0, for a pixel whose bits another view found) or found.
-    lights: Vec<u32>,
-    /// View-independent light D.
-    diffuse: Column3,
-    /// Highlights S.
-    spec: Column3,
-    /// Radiance of the mirror ray, once known (background until a hit is shaded).
-    mirror: Column3,
-    /// Whether the entry cast a mirror ray.
-    reflects: Vec<bool>,
-    /// The entry's radiance, once folded.
-    radiance: Column3,
-    /// Level 0 of a re-shaded batch, until aimed ([`Wavefront::aim_seen`]): the pixel of
-    /// the other view whose ray found the entry, as column and row.
-    source: [Vec<u32>; 2],
-}
-
-impl Level {
-    fn clear(&mut self) {
-        self.used = 0;
-    }
-
-    fn len(&self) -> usize {
-        self.used
-    }
-
-    /// The level's rays, as the reuse layer's marking reads them.
-    fn rays(&self) -> LevelRays<'_> {
-        LevelRays {
-            len: self.used,
-            capacity: self.t.len(),
-            o: &self.o,
-            d: &self.d,
-            t: &self.t,
-            v: &self.v,
-            p: &self.p,
-            n: &self.n,
-            parent: &self.parent,
-            known: &self.known,
-            reflects: &self.reflects,
-        }
-    }
-
-    /// Makes every column at least `n` entries long (doubling, so growth is rare).
-    fn reserve(&mut self, n: usize) {
-        if self.t.len() >= n {
-            return;
-        }
-        let n = n.max(2 * self.t.len()).max(64);
-        let columns = [
-            &mut self.d,
-            &mut self.v,
-            &mut self.o,
-            &mut self.p,
-            &mut self.n,
-            &mut self.diffuse,
-            &mut self.spec,
-            &mut self.mirror,
-            &mut self.radiance,
-        ];
-        for c in columns.into_iter().flatten() {
-            c.resize(n, 0.0);
-        }
-        self.t.resize(n, 0.0);
-        self.object.resize(n, 0);
-        self.parent.resize(n, 0);
-        self.lights.resize(n, 0);
-        self.known.resize(n, false);
-        self.reflects.resize(n, false);
-        for c in &mut self.source {
-            c.resize(n, 0);
-        }
-    }
-
-    /// Adds a hit: ray (`o`, `d`) meets `object` at `t`; `known` light bits, if any.
-    #[expect(
-        clippy::inline_always,
-        reason = "called per primary and mirror hit from the lane kernels; out of line, its arguments go through the stack and the loads that read them back stall (measured: 10 % of a frame)"
-    )]
-    #[inline(always)]
-    fn push(&mut self, o: Vec3, d: Vec3, t: f32, object: u32, parent: u32, known: Option<u32>) {
-        let e = self.used;
-        self.reserve(e + 1);
-        set3(&mut self.o, e, o);
-        set3(&mut self.d, e, d);
-        set3(&mut self.v, e, d);
-        self.t[e] = t;
-        self.object[e] = object;
-        self.parent[e] = parent;
-        self.lights[e] = known.unwrap_or(0);
-        self.known[e] = known.is_some();
-        self.reflects[e] = false;
-        self.used = e + 1;
-    }
-}
 
 /// The queues of one worker, reused from batch to batch.
 #[derive(Clone, Debug, Default)]

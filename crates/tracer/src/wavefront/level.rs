@@ -1,0 +1,141 @@
+//! One reflection depth of a [`super::Wavefront`]: its hits as columns.
+
+use glam::Vec3;
+
+use crate::reuse::LevelRays;
+
+/// Structure-of-arrays columns of three.
+pub(super) type Column3 = [Vec<f32>; 3];
+
+pub(super) fn get3(c: &Column3, e: usize) -> Vec3 {
+    Vec3::new(c[0][e], c[1][e], c[2][e])
+}
+
+pub(super) fn set3(c: &mut Column3, e: usize, v: Vec3) {
+    (c[0][e], c[1][e], c[2][e]) = (v.x, v.y, v.z);
+}
+
+/// The hits of one reflection depth, one entry per hit in each column.
+///
+/// Every column is as long as the level's capacity; the first [`Level::len`] entries are
+/// in use. Entries are written in place (no per-column push), and the columns only ever
+/// grow, so a warm level allocates nothing.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Level {
+    /// Entries in use.
+    pub(super) used: usize,
+    /// The ray's direction (unit).
+    pub(super) d: Column3,
+    /// The direction the hit is seen along (unit): the ray's, except for a sample that
+    /// re-shades for one view what another view's ray found.
+    pub(super) v: Column3,
+    /// The ray's origin.
+    pub(super) o: Column3,
+    /// The ray's hit parameter.
+    pub(super) t: Vec<f32>,
+    /// The sphere hit.
+    pub(super) object: Vec<u32>,
+    /// Level 0: the caller's tag of the sample; deeper: the entry of the level above whose
+    /// mirror ray this is.
+    pub(super) parent: Vec<u32>,
+    /// Level 0: whether the entry's light bits are known (not traced).
+    pub(super) known: Vec<bool>,
+    /// Hit point.
+    pub(super) p: Column3,
+    /// Unit outward normal.
+    pub(super) n: Column3,
+    /// Light bits: given (at level 0, for a pixel whose bits another view found) or found.
+    pub(super) lights: Vec<u32>,
+    /// View-independent light D.
+    pub(super) diffuse: Column3,
+    /// Highlights S.
+    pub(super) spec: Column3,
+    /// Radiance of the mirror ray, once known (background until a hit is shaded).
+    pub(super) mirror: Column3,
+    /// Whether the entry cast a mirror ray.
+    pub(super) reflects: Vec<bool>,
+    /// The entry's radiance, once folded.
+    pub(super) radiance: Column3,
+    /// Level 0 of a re-shaded batch, until aimed ([`Wavefront::aim_seen`]): the pixel of
+    /// the other view whose ray found the entry, as column and row.
+    pub(super) source: [Vec<u32>; 2],
+}
+
+impl Level {
+    pub(super) fn clear(&mut self) {
+        self.used = 0;
+    }
+
+    pub(super) fn len(&self) -> usize {
+        self.used
+    }
+
+    /// The level's rays, as the reuse layer's marking reads them.
+    pub(super) fn rays(&self) -> LevelRays<'_> {
+        LevelRays {
+            len: self.used,
+            capacity: self.t.len(),
+            o: &self.o,
+            d: &self.d,
+            t: &self.t,
+            v: &self.v,
+            p: &self.p,
+            n: &self.n,
+            parent: &self.parent,
+            known: &self.known,
+            reflects: &self.reflects,
+        }
+    }
+
+    /// Makes every column at least `n` entries long (doubling, so growth is rare).
+    pub(super) fn reserve(&mut self, n: usize) {
+        if self.t.len() >= n {
+            return;
+        }
+        let n = n.max(2 * self.t.len()).max(64);
+        let columns = [
+            &mut self.d,
+            &mut self.v,
+            &mut self.o,
+            &mut self.p,
+            &mut self.n,
+            &mut self.diffuse,
+            &mut self.spec,
+            &mut self.mirror,
+            &mut self.radiance,
+        ];
+        for c in columns.into_iter().flatten() {
+            c.resize(n, 0.0);
+        }
+        self.t.resize(n, 0.0);
+        self.object.resize(n, 0);
+        self.parent.resize(n, 0);
+        self.lights.resize(n, 0);
+        self.known.resize(n, false);
+        self.reflects.resize(n, false);
+        for c in &mut self.source {
+            c.resize(n, 0);
+        }
+    }
+
+    /// Adds a hit: ray (`o`, `d`) meets `object` at `t`; `known` light bits, if any.
+    #[expect(
+        clippy::inline_always,
+        reason = "called per primary and mirror hit from the lane kernels; out of line, its arguments go through the stack and the loads that read them back stall (measured: 10 % of a frame)"
+    )]
+    #[inline(always)]
+    pub(super) fn push(&mut self, o: Vec3, d: Vec3, t: f32, object: u32, parent: u32, known: Option<u32>) {
+        let e = self.used;
+        self.reserve(e + 1);
+        set3(&mut self.o, e, o);
+        set3(&mut self.d, e, d);
+        set3(&mut self.v, e, d);
+        self.t[e] = t;
+        self.object[e] = object;
+        self.parent[e] = parent;
+        self.lights[e] = known.unwrap_or(0);
+        self.known[e] = known.is_some();
+        self.reflects[e] = false;
+        self.used = e + 1;
+    }
+}
