@@ -169,7 +169,7 @@ fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
         }
         let h = source.map.row(j as u32);
         let h_row = [F::<S>::splat(simd, h[0]), F::<S>::splat(simd, h[1]), F::<S>::splat(simd, h[2])];
-        let at = RowMap { lanes: &lanes, h_row, first_row, shift, parallax, first_columns, sign, colour };
+        let at = RowMap { lanes: &lanes, h_row, first_row, shift, parallax, first_columns, colour };
         let lands = |k: usize, z: F<S>, rgb: U<S>| lands_vector(simd, &at, k, z, rgb);
         // Four vectors at a time, all landed before any is kept: more independent work
         // between the branches (12 % faster than one at a time; eight spill registers).
@@ -186,8 +186,8 @@ fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
                 lands(4 * k + 3, F::<S>::from_slice(simd, z3), U::<S>::from_slice(simd, c3)),
             ];
             for v in v {
-                emit(simd, own_keys, v.own, v.own_word, v.colour, n);
-                emit(simd, other_keys, v.there, v.other_word, v.colour, n);
+                emit(simd, own_keys, v.own, (v.depth ^ sign).bitcast(), v.colour, n);
+                emit(simd, other_keys, v.there, v.depth.bitcast(), v.colour, n);
             }
         }
         for (k, (z, rgb)) in z_row[done..].chunks(n).zip(rgb_row[done..].chunks(n)).enumerate() {
@@ -200,8 +200,8 @@ fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
                 (F::<S>::from_slice(simd, &z_tail[..n]), U::<S>::from_slice(simd, &rgb_tail[..n]))
             };
             let v = lands(done / n + k, z, rgb);
-            emit(simd, own_keys, v.own, v.own_word, v.colour, count);
-            emit(simd, other_keys, v.there, v.other_word, v.colour, count);
+            emit(simd, own_keys, v.own, (v.depth ^ sign).bitcast(), v.colour, count);
+            emit(simd, other_keys, v.there, v.depth.bitcast(), v.colour, count);
         }
     }
 }
@@ -214,17 +214,16 @@ struct RowMap<'a, S: Simd> {
     shift: F<S>,
     parallax: F<S>,
     first_columns: F<S>,
-    sign: U<S>,
     colour: U<S>,
 }
 
 /// Where a vector of pixels lands: its indices in the own eye's band and in the other's
-/// (past their end for none), its first word in each, and its colour.
+/// (past their end for none), the bits of its depth (the other eye's first word; the own
+/// eye's with the sign bit flipped), and its colour.
 struct Landed<S: Simd> {
     own: U<S>,
     there: U<S>,
-    own_word: I<S>,
-    other_word: I<S>,
+    depth: U<S>,
     colour: U<S>,
 }
 
@@ -244,13 +243,7 @@ fn lands_vector<S: Simd>(simd: S, at: &RowMap<'_, S>, k: usize, z: F<S>, rgb: U<
     // The other eye, at the disparity: px + E·(1 − d/n_z); px + E for the background,
     // whose 1/n_z is 2⁻¹⁰⁰ times its direction's, too small to move px.
     let there = land(simd, at.lanes, &row, p.px + at.shift + at.parallax * p.inv);
-    Landed {
-        own,
-        there,
-        own_word: (depth ^ at.sign).bitcast::<I<S>>(),
-        other_word: depth.bitcast::<I<S>>(),
-        colour: rgb & at.colour,
-    }
+    Landed { own, there, depth, colour: rgb & at.colour }
 }
 
 /// The w of a background pixel: 2¹⁰⁰, a power of two (so that w·h is exact) large enough
@@ -338,25 +331,54 @@ fn floor<S: Simd>(simd: S, x: F<S>) -> F<S> {
 #[inline(always)]
 fn emit<S: Simd>(simd: S, keys: &mut KeysMut<'_>, local: U<S>, word: I<S>, colour: U<S>, count: usize) {
     let n = U::<S>::LEN;
+    let len = keys.depth.len();
     let first = local.as_slice()[0] as usize;
-    if count == n
-        && first + n <= keys.depth.len()
-        && local.simd_eq(U::<S>::splat(simd, first as u32) + lane_index(simd)).all_true()
-    {
-        let (there, there_colour) = (&mut keys.depth[first..first + n], &mut keys.colour[first..first + n]);
-        let old = I::<S>::from_slice(simd, there);
-        let nearer = word.simd_lt(old);
-        // The other eye's pixels mostly land where the own eye's are already.
-        if nearer.any_true() {
-            nearer.select(word, old).store_slice(there);
-            nearer.select(colour, U::<S>::from_slice(simd, there_colour)).store_slice(there_colour);
+    if count == n && first + n <= len {
+        let at_first = local.simd_eq(U::<S>::splat(simd, first as u32) + lane_index(simd));
+        if at_first.all_true() {
+            emit_window(simd, keys, first, None, word, colour);
+            return;
         }
-        return;
+        // Where the image stretches or folds by a pixel: the first lanes side by side from
+        // the first lane's pixel, the others side by side up to the last lane's. Each part
+        // lands as a vector, the first part first, so that a pixel two lanes reach sees them
+        // in their order, as lane by lane.
+        let last = local.as_slice()[n - 1];
+        let base = last.wrapping_sub(n as u32 - 1) as usize;
+        if base + n <= len {
+            let at_base = local.simd_eq(U::<S>::splat(simd, base as u32) + lane_index(simd));
+            let (head, tail) = (at_first.to_bitmask(), at_base.to_bitmask());
+            if head & (head + 1) == 0 && head | tail == (1 << n) - 1 {
+                emit_window(simd, keys, first, Some(at_first), word, colour);
+                emit_window(simd, keys, base, Some(at_base), word, colour);
+                return;
+            }
+        }
     }
     // Lanes that land outside the band (in the guard band's margin, or in the rows of
     // another band) wrap past its end.
-    if local.simd_lt(U::<S>::splat(simd, keys.depth.len() as u32)).any_true() {
+    if local.simd_lt(U::<S>::splat(simd, len as u32)).any_true() {
         emit_lanes(keys, local.as_slice(), word.as_slice(), colour.as_slice(), count);
+    }
+}
+
+/// Lands the lanes `lanes` (all if `None`) of a vector of keys on the band's pixels from
+/// `first` on, lane l on pixel `first` + l, where their first words are smaller.
+#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
+#[inline(always)]
+fn emit_window<S: Simd>(simd: S, keys: &mut KeysMut<'_>, first: usize, lanes: Option<M<S>>, word: I<S>, colour: U<S>) {
+    let n = U::<S>::LEN;
+    let (there, there_colour) = (&mut keys.depth[first..first + n], &mut keys.colour[first..first + n]);
+    let old = I::<S>::from_slice(simd, there);
+    let nearer = word.simd_lt(old);
+    let nearer = match lanes {
+        Some(lanes) => nearer & lanes,
+        None => nearer,
+    };
+    // The other eye's pixels mostly land where the own eye's are already.
+    if nearer.any_true() {
+        nearer.select(word, old).store_slice(there);
+        nearer.select(colour, U::<S>::from_slice(simd, there_colour)).store_slice(there_colour);
     }
 }
 
@@ -365,11 +387,13 @@ fn emit<S: Simd>(simd: S, keys: &mut KeysMut<'_>, local: U<S>, word: I<S>, colou
 #[cold]
 #[inline(never)]
 fn emit_lanes(keys: &mut KeysMut<'_>, local: &[u32], word: &[i32], colour: &[u32], count: usize) {
-    for ((&t, &word), &colour) in local.iter().zip(word).zip(colour).take(count) {
-        if let (Some(old), Some(old_colour)) = (keys.depth.get_mut(t as usize), keys.colour.get_mut(t as usize)) {
-            if word < *old {
-                (*old, *old_colour) = (word, colour);
-            }
+    let (local, word, colour) = (&local[..count], &word[..count], &colour[..count]);
+    let depth = &mut *keys.depth;
+    let colours = &mut keys.colour[..depth.len()];
+    for l in 0..count {
+        let t = local[l] as usize;
+        if t < depth.len() && word[l] < depth[t] {
+            (depth[t], colours[t]) = (word[l], colour[l]);
         }
     }
 }
@@ -394,4 +418,84 @@ pub(crate) fn land_one(map: &WarpMap, i: u32, j: u32, z: f32) -> Option<(glam::V
     }
     let (px, py, nz) = dispatch!(tracer::simd_level(), simd => lane0(simd, map, i, j, z));
     (nz > 0.0).then(|| (glam::Vec2::new(px, py), nz))
+}
+
+#[cfg(test)]
+mod tests {
+    use fearless_simd::{dispatch, prelude::*, Level, Simd};
+
+    use super::{emit, emit_lanes, KeysMut, I, OUTSIDE, U};
+
+    /// The keys `emit` leaves for the lanes' pixels `local`, first words `word` and
+    /// colours `colour`, landed on `keys` (first words, colours).
+    fn emitted<S: Simd>(
+        simd: S,
+        keys: &(Vec<i32>, Vec<u32>),
+        local: &[u32],
+        word: &[i32],
+        colour: &[u32],
+    ) -> (Vec<i32>, Vec<u32>) {
+        let n = U::<S>::LEN;
+        let (mut depth, mut colours) = keys.clone();
+        let (local, word, colour) = (&local[..n], &word[..n], &colour[..n]);
+        emit(
+            simd,
+            &mut KeysMut { depth: &mut depth, colour: &mut colours },
+            U::<S>::from_slice(simd, local),
+            I::<S>::from_slice(simd, word),
+            U::<S>::from_slice(simd, colour),
+            n,
+        );
+        (depth, colours)
+    }
+
+    /// The lane count of `S`.
+    fn lanes<S: Simd>(_: S) -> usize {
+        U::<S>::LEN
+    }
+
+    #[test]
+    fn a_vector_lands_as_its_lanes_do_one_by_one() {
+        // Side by side, stretched by a pixel, folded onto one, scattered, partly outside
+        // the band, at its ends: the vector paths leave the keys lane by lane does, ties
+        // to the first lane.
+        let mut seed = 0x2545_f491_u32;
+        let mut next = move |m: u32| {
+            seed ^= seed << 13;
+            seed ^= seed >> 17;
+            seed ^= seed << 5;
+            seed % m
+        };
+        let len = 64_usize;
+        for level in [tracer::simd_level(), Level::baseline()] {
+            let n = dispatch!(level, simd => lanes(simd));
+            for trial in 0..20_000 {
+                let keys: (Vec<i32>, Vec<u32>) =
+                    ((0..len).map(|_| next(6) as i32 - 3).collect(), (0..len).map(|k| k as u32).collect());
+                let first = next(len as u32 + 4);
+                let cut = 1 + next(n as u32 - 1);
+                let local: Vec<u32> = (0..n as u32)
+                    .map(|l| match trial % 5 {
+                        0 => first + l,
+                        1 => first + l + u32::from(l >= cut),
+                        2 => (first + l).wrapping_sub(u32::from(l >= cut)),
+                        3 => next(len as u32 + 8),
+                        _ => {
+                            if l == cut {
+                                OUTSIDE
+                            } else {
+                                first + l
+                            }
+                        }
+                    })
+                    .collect();
+                let word: Vec<i32> = (0..n).map(|_| next(6) as i32 - 3).collect();
+                let colour: Vec<u32> = (0..n as u32).map(|l| 1000 + l).collect();
+                let vector = dispatch!(level, simd => emitted(simd, &keys, &local, &word, &colour));
+                let mut lanes = keys.clone();
+                emit_lanes(&mut KeysMut { depth: &mut lanes.0, colour: &mut lanes.1 }, &local, &word, &colour, n);
+                assert_eq!(vector, lanes, "{level:?}, trial {trial}: pixels {local:?}, words {word:?}");
+            }
+        }
+    }
 }
