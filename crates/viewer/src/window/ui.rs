@@ -30,7 +30,8 @@ pub const TAB_HINT: &str = "Tab hides the UI · ? lists the keys";
 /// The colour of error text (a scene that did not load).
 const ERROR_COLOR: Color32 = Color32::from_rgb(255, 120, 100);
 
-/// The line colour of each series of the frame-time plot, in [`SERIES_NAMES`] order.
+/// The line colour of each series of the frame-time plot, in the order of
+/// [`SERIES_NAMES`](crate::window::frame_times::SERIES_NAMES).
 pub const SERIES_COLORS: [Color32; SERIES_LEN] = [
     Color32::from_rgb(200, 200, 200),
     Color32::from_rgb(255, 110, 90),
