@@ -47,7 +47,8 @@ pub enum Command {
 #[derive(Debug, Args)]
 #[expect(clippy::struct_excessive_bools, reason = "independent command-line switches, as clap declares them")]
 pub struct WindowArgs {
-    /// Scene file: TOML, or a structure (.pdb, .ent, .cif, .mmcif, .gro, .xyz, optionally .gz) framed as a scene of its own [default: assets/scenes/seed.toml].
+    /// Scene file: TOML, or a structure (.pdb, .ent, .cif, .mmcif, .gro, .xyz, optionally
+    /// .gz) framed as a scene of its own [default: assets/scenes/seed.toml].
     #[arg(long, value_name = "PATH", global = false)]
     pub scene: Option<PathBuf>,
     /// Initial window width in logical pixels (both eyes together).

@@ -2,11 +2,12 @@
 //!
 //! Every shadow ray towards light k ends at the light, so seen from the light all shadow
 //! rays are rays *from* one point, like an eye's primary rays. Around each light we lay a
-//! cube map of 6 × 64 × 64 cells (finer for crowded scenes, within a memory budget) and list in each cell the spheres whose angular disc, seen
-//! from the light, covers it; a shadow ray from a surface point p then tests only the
-//! spheres of the cell in direction p − light (four at a time, in packets: `packet.rs`),
-//! instead of walking the BVH. This is the shadow-ray counterpart of the screen bins
-//! (`screen.rs`), close in spirit to Haines and Greenberg's light buffer (1986).
+//! cube map of 6 × 64 × 64 cells (finer for crowded scenes, within a memory budget) and
+//! list in each cell the spheres whose angular disc, seen from the light, covers it; a
+//! shadow ray from a surface point p then tests only the spheres of the cell in direction
+//! p − light (four at a time, in packets: `packet.rs`), instead of walking the BVH. This
+//! is the shadow-ray counterpart of the screen bins (`screen.rs`), close in spirit to
+//! Haines and Greenberg's light buffer (1986).
 //!
 //! **The bound.** A shadow ray leaves p + ε·n (see [`crate::spawn_ray`]; ε is at most the
 //! bound on spawn offsets the tracer hands to [`LightBins::build`]) along the exact
