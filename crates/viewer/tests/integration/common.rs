@@ -2,9 +2,9 @@
 //! directory per test process, and the PNGs the binary writes, decoded.
 
 use std::fs::File;
-use std::io::BufReader;
+use std::io::{BufRead, BufReader, Read};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::{Command, ExitStatus, Output, Stdio};
 
 /// The workspace root, where the binary runs (so `assets/…` paths resolve).
 pub fn root() -> PathBuf {
@@ -24,6 +24,31 @@ pub fn stereotrace_with(env: &[(&str, &str)], args: &[&str]) -> Output {
         .current_dir(root())
         .output()
         .unwrap_or_else(|e| panic!("cannot run stereotrace: {e}"))
+}
+
+/// Runs `stereotrace` from the workspace root, sends it Ctrl-C (SIGINT) once a line of its
+/// progress on stderr contains `marker`, and waits for it: its exit status and the rest of
+/// its stderr.
+pub fn interrupted(args: &[&str], marker: &str) -> (ExitStatus, String) {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_stereotrace"))
+        .args(args)
+        .current_dir(root())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap_or_else(|e| panic!("cannot run stereotrace: {e}"));
+    let Some(stderr) = child.stderr.take() else { panic!("stderr is piped") };
+    let mut stderr = BufReader::new(stderr);
+    let mut line = String::new();
+    while !line.contains(marker) {
+        line.clear();
+        let read = stderr.read_line(&mut line).unwrap_or_else(|e| panic!("reading stderr: {e}"));
+        assert!(read > 0, "stereotrace ended before printing {marker:?}");
+    }
+    let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status();
+    assert!(kill.is_ok_and(|s| s.success()), "kill -INT");
+    let mut rest = String::new();
+    stderr.read_to_string(&mut rest).unwrap_or_else(|e| panic!("reading stderr: {e}"));
+    (child.wait().unwrap_or_else(|e| panic!("waiting for stereotrace: {e}")), rest)
 }
 
 /// Runs `stereotrace` from the workspace root, and waits for it.

@@ -2,11 +2,8 @@
 //! IPD 0, the plot files, bad arguments, and Ctrl-C keeping the rows done.
 
 use std::collections::BTreeMap;
-use std::io::{BufRead, BufReader, Read};
 
-use std::process::{Command, Stdio};
-
-use crate::common::{read_rgb_png, root, stereotrace, tmp};
+use crate::common::{interrupted, read_rgb_png, stereotrace, tmp};
 
 const HEADER: &str =
     "mode,right_over_left_rays,right_ms,left_ms,stereo_over_mono,reprojected_pct,psnr_db,over_2_255_pct";
@@ -190,24 +187,9 @@ fn bad_sweep_arguments_exit_2_with_a_clear_message() {
 #[test]
 fn ctrl_c_keeps_the_rows_done() {
     let csv = tmp("interrupted.csv");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_stereotrace"))
-        .args(["sweep", "--param", "time", "--from", "0", "--to", "100", "--steps", "1000", "--frames", "1"])
-        .args(["--width", "96", "--height", "54", "--csv", csv.to_str().unwrap()])
-        .current_dir(root())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap_or_else(|e| panic!("cannot run stereotrace: {e}"));
-    let mut stderr = BufReader::new(child.stderr.take().unwrap());
-    let mut line = String::new();
-    while !line.contains("step 2/1000") {
-        line.clear();
-        assert!(stderr.read_line(&mut line).unwrap() > 0, "stereotrace ended before its second step");
-    }
-    let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
-    assert!(kill.success(), "kill -INT");
-    let mut rest = String::new();
-    stderr.read_to_string(&mut rest).unwrap();
-    let status = child.wait().unwrap();
+    let args = ["sweep", "--param", "time", "--from", "0", "--to", "100", "--steps", "1000", "--frames", "1"];
+    let size = ["--width", "96", "--height", "54", "--csv", csv.to_str().unwrap()];
+    let (status, rest) = interrupted(&[&args[..], &size[..]].concat(), "step 2/1000");
     assert_eq!(status.code(), Some(1), "an interrupted sweep did not finish: {rest}");
     assert!(rest.contains("(interrupted)") && rest.contains("interrupted after"), "{rest}");
     let rows = parse(&std::fs::read_to_string(&csv).unwrap(), "time");

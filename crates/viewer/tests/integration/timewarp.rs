@@ -2,12 +2,9 @@
 //! is that frame, a stale frame is not, the JSON's keys, the CSV's rows, the plot, bad
 //! arguments, and Ctrl-C keeping the rows done.
 
-use std::io::{BufRead, BufReader, Read};
-use std::process::{Command, Stdio};
-
 use serde_json::Value;
 
-use crate::common::{read_rgb_png, root, stereotrace, tmp};
+use crate::common::{interrupted, read_rgb_png, stereotrace, tmp};
 
 const HEADER: &str =
     "trace_every,frame,age_frames,age_ms,method,psnr_db,share_over_2_255,share_not_identical,hole_share,ms";
@@ -163,24 +160,9 @@ fn bad_timewarp_arguments_exit_2_with_a_clear_message() {
 #[test]
 fn ctrl_c_keeps_the_rows_done() {
     let csv = tmp("timewarp-interrupted.csv");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_stereotrace"))
-        .args(["timewarp", "--motion", "yaw=30", "--trace-every", "1..100", "--seconds", "60", "--display-hz", "10"])
-        .args(["--width", "64", "--height", "36", "--csv", csv.to_str().unwrap()])
-        .current_dir(root())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap_or_else(|e| panic!("cannot run stereotrace: {e}"));
-    let mut stderr = BufReader::new(child.stderr.take().unwrap());
-    let mut line = String::new();
-    while !line.contains("frame 20/600") {
-        line.clear();
-        assert!(stderr.read_line(&mut line).unwrap() > 0, "stereotrace ended before its 20th frame");
-    }
-    let kill = Command::new("kill").args(["-INT", &child.id().to_string()]).status().unwrap();
-    assert!(kill.success(), "kill -INT");
-    let mut rest = String::new();
-    stderr.read_to_string(&mut rest).unwrap();
-    let status = child.wait().unwrap();
+    let args = ["timewarp", "--motion", "yaw=30", "--trace-every", "1..100", "--seconds", "60", "--display-hz", "10"];
+    let size = ["--width", "64", "--height", "36", "--csv", csv.to_str().unwrap()];
+    let (status, rest) = interrupted(&[&args[..], &size[..]].concat(), "frame 20/600");
     assert_eq!(status.code(), Some(1), "an interrupted run did not finish: {rest}");
     assert!(rest.contains("(interrupted)") && rest.contains("interrupted after"), "{rest}");
     let text = std::fs::read_to_string(&csv).unwrap();
