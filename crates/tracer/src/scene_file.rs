@@ -166,6 +166,29 @@ impl Checker<'_> {
         }
         Ok(c)
     }
+
+    /// The shading terms of a sphere's or a structure's table (its keys named by `field`):
+    /// `diffuse`, `specular`, `shininess` and `reflectivity` as given, else `d`'s; the colour
+    /// is `d`'s.
+    fn shading(
+        &self,
+        at: usize,
+        field: impl Fn(&str) -> String,
+        [diffuse, specular, shininess, reflectivity]: [Option<f32>; 4],
+        d: Material,
+    ) -> Result<Material, SceneError> {
+        let unit = |name: &str, v: Option<f32>, dv: f32| {
+            self.range(at, &field(name), v.unwrap_or(dv), 0.0, 1.0, "must be 0 to 1")
+        };
+        let shininess = shininess.unwrap_or(d.shininess);
+        Ok(Material {
+            color: d.color,
+            diffuse: unit("diffuse", diffuse, d.diffuse)?,
+            specular: unit("specular", specular, d.specular)?,
+            shininess: self.range(at, &field("shininess"), shininess, 1.0, 10_000.0, "must be 1 to 10000")?,
+            reflectivity: unit("reflectivity", reflectivity, d.reflectivity)?,
+        })
+    }
 }
 
 fn format_vec(v: [f32; 3]) -> String {
@@ -354,25 +377,13 @@ fn sphere(ck: &Checker, k: usize, at: usize, s: &SphereDef) -> Result<SceneSpher
         }
         (None, None) => return Err(ck.invalid(at, &f("center"), "(missing)", "a sphere needs `center` or `orbit`")),
     };
-    let d = Material::default();
-    let unit =
-        |name: &str, v: Option<f32>, dv: f32| ck.range(at, &f(name), v.unwrap_or(dv), 0.0, 1.0, "must be 0 to 1");
+    let shading = ck.shading(at, f, [s.diffuse, s.specular, s.shininess, s.reflectivity], Material::default())?;
     let material = Material {
         color: match s.color {
             Some(c) => ck.color(at, &f("color"), c, 1.0)?,
-            None => d.color,
+            None => shading.color,
         },
-        diffuse: unit("diffuse", s.diffuse, d.diffuse)?,
-        specular: unit("specular", s.specular, d.specular)?,
-        shininess: ck.range(
-            at,
-            &f("shininess"),
-            s.shininess.unwrap_or(d.shininess),
-            1.0,
-            10_000.0,
-            "must be 1 to 10000",
-        )?,
-        reflectivity: unit("reflectivity", s.reflectivity, d.reflectivity)?,
+        ..shading
     };
     Ok(SceneSphere { radius, motion, material })
 }

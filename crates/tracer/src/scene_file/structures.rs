@@ -9,7 +9,6 @@ use toml::Spanned;
 
 use super::{Checker, MAX_SPHERES};
 use crate::error::SceneError;
-use crate::material::Material;
 use crate::scene::Structure;
 use crate::structure::{read_structure, StructureOptions};
 
@@ -53,8 +52,6 @@ pub(super) fn structures(
 fn structure(ck: &Checker, k: usize, at: usize, s: &StructureDef) -> Result<Structure, SceneError> {
     let f = |name: &str| format!("structures[{k}].{name}");
     let d = StructureOptions::default();
-    let unit =
-        |name: &str, v: Option<f32>, dv: f32| ck.range(at, &f(name), v.unwrap_or(dv), 0.0, 1.0, "must be 0 to 1");
     let radius_scale = ck.finite(at, &f("radius_scale"), s.radius_scale.unwrap_or(d.radius_scale))?;
     if radius_scale <= 0.0 {
         return Err(ck.invalid(
@@ -64,25 +61,11 @@ fn structure(ck: &Checker, k: usize, at: usize, s: &StructureDef) -> Result<Stru
             "must be > 0 (1 for van der Waals spheres, 0.25 for CPK balls)",
         ));
     }
-    let m = d.material;
     let options = StructureOptions {
         radius_scale,
         assembly: s.assembly,
         offset: s.offset.map(|o| ck.vec3(at, &f("offset"), o)).transpose()?.unwrap_or(Vec3::ZERO),
-        material: Material {
-            color: m.color,
-            diffuse: unit("diffuse", s.diffuse, m.diffuse)?,
-            specular: unit("specular", s.specular, m.specular)?,
-            shininess: ck.range(
-                at,
-                &f("shininess"),
-                s.shininess.unwrap_or(m.shininess),
-                1.0,
-                10_000.0,
-                "must be 1 to 10000",
-            )?,
-            reflectivity: unit("reflectivity", s.reflectivity, m.reflectivity)?,
-        },
+        material: ck.shading(at, f, [s.diffuse, s.specular, s.shininess, s.reflectivity], d.material)?,
         color: s.color.map(|c| ck.color(at, &f("color"), c, 1.0)).transpose()?,
     };
     let file = ck.path.parent().unwrap_or_else(|| Path::new("")).join(&s.path);
