@@ -255,6 +255,16 @@ fn meminfo_available() -> Option<u64> {
     Some(kib * 1024)
 }
 
+/// Fails before any work if an output's directory is missing.
+pub fn check_output_dir(path: &Path) -> Result<()> {
+    let dir = viewer::parent_dir(path);
+    if dir.is_dir() {
+        Ok(())
+    } else {
+        Err(BadInput(format!("{}: directory {} does not exist", path.display(), dir.display())).into())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -22,6 +22,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 use viewer::{write_bytes, write_png};
 
+use crate::setup::{check_output_dir, BadInput};
+
 /// The embedded font (a subset of DejaVu Sans 2.37; see `fonts/README.md`).
 static FONT: &[u8] = include_bytes!("../../fonts/DejaVuSans-subset.ttf");
 
@@ -315,6 +317,15 @@ fn draw_quality<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, fig: &Figure)
     entries.push(Entry { ring: true, ..Entry::line("∞: identical to full", BLACK.stroke_width(1)) });
     entries.push(Entry::line(format!("   (drawn at {ceiling:.0} dB)"), WHITE.stroke_width(1)));
     legend(&legend_area, &entries)
+}
+
+/// Fails before any work if a table command's `--plot` is neither a PNG nor an SVG, or
+/// the directory of `--csv` or `--plot` is missing.
+pub fn check_outputs(csv: Option<&Path>, plot: Option<&Path>) -> Result<()> {
+    if let Some(p) = plot.filter(|p| !is_svg(p) && !is_png(p)) {
+        return Err(BadInput(format!("--plot {}: the plot is a PNG (.png) or an SVG (.svg)", p.display())).into());
+    }
+    [csv, plot].into_iter().flatten().try_for_each(check_output_dir)
 }
 
 #[cfg(test)]

@@ -22,8 +22,8 @@ use tracer::{RayCounts, Tracer};
 use crate::args::RenderArgs;
 use crate::cli::report;
 use crate::reference::Reference;
-use crate::setup::{BadInput, FrameSetup};
-use viewer::{parent_dir, write_png};
+use crate::setup::{check_output_dir, BadInput, FrameSetup};
+use viewer::write_png;
 
 /// Runs the command.
 pub fn run(args: &RenderArgs) -> Result<()> {
@@ -264,14 +264,4 @@ fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
         anyhow::bail!("interrupted after {written} frames");
     }
     Ok(())
-}
-
-/// Fails before any work if an output's directory is missing.
-fn check_output_dir(path: &Path) -> Result<()> {
-    let dir = parent_dir(path);
-    if dir.is_dir() {
-        Ok(())
-    } else {
-        Err(BadInput(format!("{}: directory {} does not exist", path.display(), dir.display())).into())
-    }
 }

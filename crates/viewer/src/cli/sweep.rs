@@ -20,7 +20,7 @@ use crate::args::{FrameArgs, SweepArgs, SweepParam};
 use crate::cli::bench::{Bench, Summary, Variant, VARIANTS};
 use crate::cli::plot::{self, Figure, Line};
 use crate::setup::{BadInput, FrameSetup};
-use viewer::{parent_dir, write_bytes};
+use viewer::write_bytes;
 
 /// The modes a sweep runs unless `--modes` says otherwise.
 const DEFAULT_MODES: [&str; 4] = ["full", "copy", "reshade", "exact"];
@@ -40,15 +40,7 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     let values = steps(args.param, args.from, args.to, args.steps)?;
     let variants = variants(args.modes.as_deref())?;
     check_conflicts(args)?;
-    if let Some(p) = args.plot.as_ref().filter(|p| !plot::is_svg(p) && !plot::is_png(p)) {
-        return Err(BadInput(format!("--plot {}: the plot is a PNG (.png) or an SVG (.svg)", p.display())).into());
-    }
-    for path in [&args.csv, &args.plot].into_iter().flatten() {
-        let dir = parent_dir(path);
-        if !dir.is_dir() {
-            return Err(BadInput(format!("{}: directory {} does not exist", path.display(), dir.display())).into());
-        }
-    }
+    plot::check_outputs(args.csv.as_deref(), args.plot.as_deref())?;
     // Every step's scene and overrides are checked before any work.
     let setups = values.iter().map(|&v| FrameSetup::load(&step_args(args, v), 1)).collect::<Result<Vec<_>>>()?;
 

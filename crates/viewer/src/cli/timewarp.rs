@@ -35,7 +35,7 @@ use crate::cli::age_plot::AgeFigure;
 use crate::cli::plot;
 use crate::crop::Crop;
 use crate::setup::{self, BadInput, FrameSetup};
-use viewer::{parent_dir, write_bytes};
+use viewer::write_bytes;
 
 /// Longest `--seconds` accepted.
 pub const MAX_SECONDS: f64 = 60.0;
@@ -257,15 +257,7 @@ fn displayed_frames(seconds: f64, hz: u32) -> Result<u32, BadInput> {
 pub fn run(args: &TimewarpArgs) -> Result<()> {
     let hz = args.display_hz;
     let frames = displayed_frames(args.seconds, hz)?;
-    if let Some(p) = args.plot.as_ref().filter(|p| !plot::is_svg(p) && !plot::is_png(p)) {
-        return Err(BadInput(format!("--plot {}: the plot is a PNG (.png) or an SVG (.svg)", p.display())).into());
-    }
-    for path in [&args.csv, &args.plot].into_iter().flatten() {
-        let dir = parent_dir(path);
-        if !dir.is_dir() {
-            return Err(BadInput(format!("{}: directory {} does not exist", path.display(), dir.display())).into());
-        }
-    }
+    plot::check_outputs(args.csv.as_deref(), args.plot.as_deref())?;
     // The traced frame (banded, 1.2 frames), the reference and the warped eyes.
     let setup = FrameSetup::load(&args.frame, 4)?;
     let size = (args.frame.width, args.frame.height);
