@@ -1,7 +1,7 @@
 //! Which reprojected pixels are still sent to retrace: object edges and shadow boundaries.
 //!
-//! A reprojected pixel whose source object differs from a 4-neighbour's sits on a
-//! silhouette, where the right pixel-centre ray may see another object than the reprojected
+//! A reprojected pixel whose source object differs from a neighbour's (of its eight) sits
+//! on a silhouette, where the right pixel-centre ray may see another object than the reprojected
 //! sample ("drag" in the seed paper). One whose per-light visibility differs from a
 //! neighbour's sits on a shadow edge (or a terminator), where reusing visibility from the
 //! left hit may be wrong for the right pixel centre. A pixel next to a gap is an edge too:
@@ -55,8 +55,8 @@ pub(crate) struct KeyRows<'a> {
 }
 
 /// Classifies one right row into `out`: [`PixelClass::RetracedGap`] where it has no source;
-/// else [`PixelClass::RetracedEdge`] if `edges` and a 4-neighbour is a gap or has another
-/// object; else [`PixelClass::RetracedShadow`] if `shadows` and a 4-neighbour that is not a
+/// else [`PixelClass::RetracedEdge`] if `edges` and a neighbour (of eight) is a gap or has
+/// another object; else [`PixelClass::RetracedShadow`] if `shadows` and a neighbour that is not a
 /// gap has other light bits; else [`PixelClass::Reprojected`]. Neighbours above or below
 /// the image count as the pixel itself; those beyond the row's ends are `rows.beyond`.
 pub(crate) fn classify_row(rows: KeyRows<'_>, edges: bool, shadows: bool, out: &mut [PixelClass]) {
@@ -69,12 +69,12 @@ pub(crate) fn classify_row(rows: KeyRows<'_>, edges: bool, shadows: bool, out: &
     }
 }
 
-/// The class of a pixel with key (`object`, `lights`) and its four neighbours' keys.
+/// The class of a pixel with key (`object`, `lights`) and its eight neighbours' keys.
 #[inline]
 fn class_of<const EDGES: bool, const SHADOWS: bool>(
     object: u32,
     lights: u32,
-    neighbours: [(u32, u32); 4],
+    neighbours: [(u32, u32); 8],
 ) -> PixelClass {
     // No branches: the comparisons are side-effect free, so this compiles to lane-wise masks.
     let (mut same_object, mut same_lights) = (true, true);
@@ -104,8 +104,23 @@ fn classify<const EDGES: bool, const SHADOWS: bool>(rows: KeyRows<'_>, out: &mut
         "key rows differ in width from the row classified"
     );
     let key = |i: usize| (ro[i], rl[i]);
+    // An end pixel's diagonal neighbours beyond the row's end are the pixels above and
+    // below it: the row beyond has no neighbours of its own.
     let at = |i: usize, left: (u32, u32), right: (u32, u32)| {
-        class_of::<EDGES, SHADOWS>(ro[i], rl[i], [left, right, (ao[i], al[i]), (bo[i], bl[i])])
+        let (up, down) = ((ao[i], al[i]), (bo[i], bl[i]));
+        let diagonal = |o: &[u32], l: &[u32], c: Option<usize>, here: (u32, u32)| match c {
+            Some(c) if c < w => (o[c], l[c]),
+            _ => here,
+        };
+        let (before, after) = (i.checked_sub(1), Some(i + 1));
+        let diagonals = [
+            diagonal(ao, al, before, up),
+            diagonal(ao, al, after, up),
+            diagonal(bo, bl, before, down),
+            diagonal(bo, bl, after, down),
+        ];
+        let [a, b, c, d] = diagonals;
+        class_of::<EDGES, SHADOWS>(ro[i], rl[i], [left, right, up, down, a, b, c, d])
     };
     if w < 3 {
         for (i, class) in out.iter_mut().enumerate() {
@@ -118,12 +133,24 @@ fn classify<const EDGES: bool, const SHADOWS: bool>(rows: KeyRows<'_>, out: &mut
     out[0] = at(0, before, key(1));
     out[w - 1] = at(w - 1, key(w - 2), after);
     // The interior, over equal-length slices so that the loop has no bounds checks and
-    // vectorises: pixel k + 1 with its left neighbour at k and its right one at k + 2.
+    // vectorises: pixel k + 1 with its left neighbours (beside, above, below) at k and its
+    // right ones at k + 2.
     let n = w - 2;
     let (o_left, o_me, o_right, o_up, o_down) = (&ro[..n], &ro[1..=n], &ro[2..], &ao[1..=n], &bo[1..=n]);
     let (l_left, l_me, l_right, l_up, l_down) = (&rl[..n], &rl[1..=n], &rl[2..], &al[1..=n], &bl[1..=n]);
+    let (o_up_left, o_up_right, o_down_left, o_down_right) = (&ao[..n], &ao[2..], &bo[..n], &bo[2..]);
+    let (l_up_left, l_up_right, l_down_left, l_down_right) = (&al[..n], &al[2..], &bl[..n], &bl[2..]);
     for (k, class) in out[1..=n].iter_mut().enumerate() {
-        let neighbours = [(o_left[k], l_left[k]), (o_right[k], l_right[k]), (o_up[k], l_up[k]), (o_down[k], l_down[k])];
+        let neighbours = [
+            (o_left[k], l_left[k]),
+            (o_right[k], l_right[k]),
+            (o_up[k], l_up[k]),
+            (o_down[k], l_down[k]),
+            (o_up_left[k], l_up_left[k]),
+            (o_up_right[k], l_up_right[k]),
+            (o_down_left[k], l_down_left[k]),
+            (o_down_right[k], l_down_right[k]),
+        ];
         *class = class_of::<EDGES, SHADOWS>(o_me[k], l_me[k], neighbours);
     }
 }
@@ -169,8 +196,23 @@ mod tests {
         assert_eq!(classes(&keys, 9, false, true), vec![P, P, P, P, S, S, S, G, P]);
         assert_eq!(classes(&keys, 9, false, false), vec![P, P, P, P, P, P, P, G, P]);
         // Vertical neighbours count too.
-        let keys = [a, a, a, b];
-        assert_eq!(classes(&keys, 2, true, false), vec![P, E, E, E]);
+        let keys = [a, a, a, b, a, a];
+        assert_eq!(classes(&keys, 3, true, false), vec![E, E, P, E, E, P]);
+    }
+
+    #[test]
+    fn diagonal_neighbours_count_too() {
+        use PixelClass::{Reprojected as P, RetracedEdge as E, RetracedShadow as S};
+        // A shadow, then another object, touching the middle pixel only at a corner: found
+        // across the diagonal as across a side, in the interior and at a row's ends.
+        let (a, b, a_dark) = ((0, 1), (1, 1), (0, 0));
+        let corner = |key| [key, a, a, a, a, a, a, a, a];
+        assert_eq!(classes(&corner(a_dark), 3, true, true), vec![S, S, P, S, S, P, P, P, P]);
+        assert_eq!(classes(&corner(b), 3, true, true), vec![E, E, P, E, E, P, P, P, P]);
+        assert_eq!(classes(&corner(b), 3, false, true), vec![P; 9]);
+        // Two pixels wide: each end's diagonals beyond the row are the pixels above and
+        // below it, its other diagonal the pixel across.
+        assert_eq!(classes(&[a, a, a, a, a, a_dark], 2, false, true), vec![P, P, S, S, S, S]);
     }
 
     #[test]

@@ -88,11 +88,21 @@ mod reference {
                     mask.push(PixelClass::RetracedGap);
                     continue;
                 }
+                let (up, down) = (j.saturating_sub(1), (j + 1).min(h - 1));
+                // The diagonal neighbours; beyond a row's ends, the pixel above or below.
+                let diagonal = |row: usize, step: isize| match i.checked_add_signed(step) {
+                    Some(c) if c < w => key(c, row),
+                    _ => key(i, row),
+                };
                 let neighbours = [
                     if i == 0 { beyond(i, j, -1) } else { key(i - 1, j) },
                     if i + 1 == w { beyond(i, j, 1) } else { key(i + 1, j) },
-                    key(i, j.saturating_sub(1)),
-                    key(i, (j + 1).min(h - 1)),
+                    key(i, up),
+                    key(i, down),
+                    diagonal(up, -1),
+                    diagonal(up, 1),
+                    diagonal(down, -1),
+                    diagonal(down, 1),
                 ];
                 let (mut edge, mut shadow) = (false, false);
                 for n in neighbours {
