@@ -1,10 +1,18 @@
 //! Which reprojected pixels are still sent to retrace: object edges and shadow boundaries.
 //!
-//! A reprojected pixel whose source object differs from a neighbour's (of its eight) sits
-//! on a silhouette, where the right pixel-centre ray may see another object than the reprojected
+//! A reprojected pixel whose source object differs from a neighbour's sits on a
+//! silhouette, where the right pixel-centre ray may see another object than the reprojected
 //! sample ("drag" in the seed paper). One whose per-light visibility differs from a
 //! neighbour's sits on a shadow edge (or a terminator), where reusing visibility from the
-//! left hit may be wrong for the right pixel centre. A pixel next to a gap is an edge too:
+//! left hit may be wrong for the right pixel centre.
+//!
+//! Exact mode, which reads the light bits, reads all eight neighbours: the diagonal ones
+//! find the corner of a shadow, or a sliver of one or of an atom, that touches the pixel
+//! only across a diagonal. On the real molecule 1TII (`pymol-data`) at 1280×720, the two
+//! pixels exact mode made wrong with four neighbours were such slivers
+//! (design/reprojection.md, "What the argument does not cover"). `copy` and `reshade` with
+//! their edges retraced read the four beside, above and below, as the seed paper's
+//! Fig. 2 does: they remove drag and are not exact anyway. A pixel next to a gap is an edge too:
 //! a gap is a depth discontinuity (a disocclusion or a stretched surface), and the surface
 //! just past it may be seen by the right pixel-centre ray while its reprojected sample is
 //! the background or another object (a near sphere's silhouette moves by a different
@@ -37,8 +45,8 @@ use crate::stats::PixelClass;
 pub(crate) const GAP_OBJECT: u32 = tracer::NO_OBJECT - 1;
 
 /// Lights plane of a right pixel that no left pixel fills. Never decisive: a gap is itself
-/// classified by its object plane, and a gap neighbour is an edge (when edges are retraced)
-/// or is skipped by the shadow test.
+/// classified by its object plane, and a gap neighbour is skipped by the shadow test (it
+/// makes an edge when edges are retraced).
 pub(crate) const GAP_LIGHTS: u32 = 0;
 
 /// The key planes of three consecutive right rows: the row classified and its neighbours
@@ -55,9 +63,10 @@ pub(crate) struct KeyRows<'a> {
 }
 
 /// Classifies one right row into `out`: [`PixelClass::RetracedGap`] where it has no source;
-/// else [`PixelClass::RetracedEdge`] if `edges` and a neighbour (of eight) is a gap or has
-/// another object; else [`PixelClass::RetracedShadow`] if `shadows` and a neighbour that is not a
-/// gap has other light bits; else [`PixelClass::Reprojected`]. Neighbours above or below
+/// else [`PixelClass::RetracedEdge`] if `edges` and a neighbour is a gap or has another
+/// object (of its eight if `shadows`, else of its four beside, above and below); else
+/// [`PixelClass::RetracedShadow`] if `shadows` and a neighbour (of eight) that is not a gap
+/// has other light bits; else [`PixelClass::Reprojected`]. Neighbours above or below
 /// the image count as the pixel itself; those beyond the row's ends are `rows.beyond`.
 pub(crate) fn classify_row(rows: KeyRows<'_>, edges: bool, shadows: bool, out: &mut [PixelClass]) {
     // One monomorphised loop per option pair, so that each does only its own tests.
@@ -69,7 +78,12 @@ pub(crate) fn classify_row(rows: KeyRows<'_>, edges: bool, shadows: bool, out: &
     }
 }
 
-/// The class of a pixel with key (`object`, `lights`) and its eight neighbours' keys.
+/// The neighbours beside, above and below a pixel, which come first in [`class_of`]'s
+/// eight; the diagonal ones follow.
+const SIDES: usize = 4;
+
+/// The class of a pixel with key (`object`, `lights`) and its eight neighbours' keys: the
+/// [`SIDES`] first, then the diagonal ones.
 #[inline]
 fn class_of<const EDGES: bool, const SHADOWS: bool>(
     object: u32,
@@ -78,11 +92,13 @@ fn class_of<const EDGES: bool, const SHADOWS: bool>(
 ) -> PixelClass {
     // No branches: the comparisons are side-effect free, so this compiles to lane-wise masks.
     let (mut same_object, mut same_lights) = (true, true);
-    for (o, l) in neighbours {
-        same_object &= o == object;
-        // With edges retraced a gap neighbour makes this pixel an edge whatever the lights
-        // say; without, a gap neighbour must not count as a shadow boundary.
-        same_lights &= l == lights || (!EDGES && o == GAP_OBJECT);
+    for (k, (o, l)) in neighbours.into_iter().enumerate() {
+        // The diagonal neighbours count for the objects only where the light bits are read
+        // too: in exact mode (module doc).
+        same_object &= o == object || (!SHADOWS && k >= SIDES);
+        // A gap neighbour is no shadow boundary: with edges retraced it makes this pixel an
+        // edge (across a diagonal, in exact mode only).
+        same_lights &= l == lights || o == GAP_OBJECT;
     }
     if object == GAP_OBJECT {
         PixelClass::RetracedGap
@@ -197,18 +213,22 @@ mod tests {
         assert_eq!(classes(&keys, 9, false, false), vec![P, P, P, P, P, P, P, G, P]);
         // Vertical neighbours count too.
         let keys = [a, a, a, b, a, a];
-        assert_eq!(classes(&keys, 3, true, false), vec![E, E, P, E, E, P]);
+        assert_eq!(classes(&keys, 3, true, false), vec![E, P, P, E, E, P]);
     }
 
     #[test]
     fn diagonal_neighbours_count_too() {
         use PixelClass::{Reprojected as P, RetracedEdge as E, RetracedShadow as S};
-        // A shadow, then another object, touching the middle pixel only at a corner: found
-        // across the diagonal as across a side, in the interior and at a row's ends.
+        // A shadow, or another object, touching the middle pixel only at a corner is found
+        // across the diagonal as across a side where the light bits are read (exact mode);
+        // without them, another object there is an edge only beside, above or below.
         let (a, b, a_dark) = ((0, 1), (1, 1), (0, 0));
         let corner = |key| [key, a, a, a, a, a, a, a, a];
         assert_eq!(classes(&corner(a_dark), 3, true, true), vec![S, S, P, S, S, P, P, P, P]);
         assert_eq!(classes(&corner(b), 3, true, true), vec![E, E, P, E, E, P, P, P, P]);
+        assert_eq!(classes(&corner(b), 3, true, false), vec![E, E, P, E, P, P, P, P, P]);
+        assert_eq!(classes(&corner(GAP), 3, true, true)[4], E);
+        assert_eq!(classes(&corner(GAP), 3, false, true)[4], P);
         assert_eq!(classes(&corner(b), 3, false, true), vec![P; 9]);
         // Two pixels wide: each end's diagonals beyond the row are the pixels above and
         // below it, its other diagonal the pixel across.

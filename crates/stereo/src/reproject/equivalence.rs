@@ -105,11 +105,14 @@ mod reference {
                     diagonal(down, 1),
                 ];
                 let (mut edge, mut shadow) = (false, false);
-                for n in neighbours {
+                for (k, n) in neighbours.into_iter().enumerate() {
+                    // The diagonal neighbours count for the objects where the light bits
+                    // are read.
+                    let counts = k < 4 || p.shadows;
                     if n == GAP_KEY {
-                        edge |= p.edges;
+                        edge |= p.edges && counts;
                     } else {
-                        edge |= p.edges && (n >> 32) != (me >> 32);
+                        edge |= p.edges && counts && (n >> 32) != (me >> 32);
                         shadow |= p.shadows && (n as u32) != (me as u32);
                     }
                 }
