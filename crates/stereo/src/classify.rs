@@ -11,9 +11,10 @@
 //! only across a diagonal. On the real molecule 1TII (`pymol-data`) at 1280×720, the two
 //! pixels exact mode made wrong with four neighbours were such slivers
 //! (design/reprojection.md, "What the argument does not cover"). `copy` and `reshade` with
-//! their edges retraced read the four beside, above and below, as the seed paper's
-//! Fig. 2 does: they remove drag and are not exact anyway. A pixel next to a gap is an edge too:
-//! a gap is a depth discontinuity (a disocclusion or a stretched surface), and the surface
+//! their edges retraced read the four beside, above and below: they remove drag and are
+//! not exact anyway.
+//!
+//! A pixel next to a gap is an edge too: a gap is a depth discontinuity (a disocclusion or a stretched surface), and the surface
 //! just past it may be seen by the right pixel-centre ray while its reprojected sample is
 //! the background or another object (a near sphere's silhouette moves by a different
 //! amount than the background behind it).
