@@ -14,10 +14,10 @@
 //! their edges retraced read the four beside, above and below: they remove drag and are
 //! not exact anyway.
 //!
-//! A pixel next to a gap is an edge too: a gap is a depth discontinuity (a disocclusion or a stretched surface), and the surface
-//! just past it may be seen by the right pixel-centre ray while its reprojected sample is
-//! the background or another object (a near sphere's silhouette moves by a different
-//! amount than the background behind it).
+//! A pixel next to a gap is an edge too: a gap is a depth discontinuity (a disocclusion or
+//! a stretched surface), and the surface just past it may be seen by the right pixel-centre
+//! ray while its reprojected sample is the background or another object (a near sphere's
+//! silhouette moves by a different amount than the background behind it).
 //!
 //! At a row's ends the missing neighbour is the one the reprojection would give the pixel
 //! just beyond the image: the end pixel's source's own neighbour on that side in the left
