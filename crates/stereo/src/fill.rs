@@ -3,9 +3,10 @@
 //! - reshade: reuse the left hit and recompute only the view-dependent light (highlight
 //!   and reflection) for the right pixel-centre ray's direction;
 //! - exact: intersect the right pixel-centre ray with the one sphere the reprojection
-//!   names, and shade that hit with the left hit's light visibility. A ray that misses the
-//!   sphere is on a silhouette the edge test did not catch: the pixel is retraced and
-//!   marked an edge.
+//!   names, and shade that hit as a full trace does, with shadow rays of its own (the left
+//!   hit's light visibility is not reused: a shadow thinner than a pixel can fall between
+//!   the two hits). A ray that misses the sphere is on a silhouette the edge test did not
+//!   catch: the pixel is retraced and marked an edge.
 //!
 //! A reprojected miss keeps the left eye's background colour either way. Copy mode fills
 //! its reprojected pixels in stage 4's pass (`retrace.rs`), so it has no stage 5. Exact
@@ -35,7 +36,7 @@ use crate::stats::PixelClass;
 pub(crate) enum Fill {
     /// Reuse the left hit, re-shade its view-dependent light ([`Mode::Reshade`]).
     Reshade,
-    /// Intersect the named sphere, shade with the reused visibility ([`Mode::Exact`]).
+    /// Intersect the named sphere and shade it afresh ([`Mode::Exact`]).
     Exact,
 }
 
@@ -186,17 +187,17 @@ fn reshade_row(right: PixelBatch<'_>, (lv, left): (&EyeView, &Film), row: Row<'_
 }
 
 /// One row of [`Fill::Exact`], stages 4 and 5 in one batch: each reprojected pixel's own ray
-/// against the sphere its source saw (the silhouettes it misses are retraced and marked
-/// edges), every other pixel of the row traced afresh. A pixel whose source saw background
-/// takes its colour. `seen` holds, per column, the object and light bits of the pixel's
-/// source, where the caller has them at hand (`None`: they are read from the film here).
-fn exact_row(right: PixelBatch<'_>, left: &Film, row: Row<'_>, seen: Option<(&[u32], &[u32])>) -> Filled {
+/// against the sphere its source saw, shaded with shadow rays of its own (the silhouettes
+/// it misses are retraced and marked edges), every other pixel of the row traced afresh. A
+/// pixel whose source saw background takes its colour. `seen` holds, per column, the object
+/// of the pixel's source, where the caller has it at hand (`None`: read from the film here).
+fn exact_row(right: PixelBatch<'_>, left: &Film, row: Row<'_>, seen: Option<&[u32]>) -> Filled {
     let Row { j, rgb, mask, src, only, mut marks } = row;
     if let Some(marks) = marks.as_mut() {
         marks.clear_only(only);
     }
     let mut rays = RayCounts::default();
-    with_plan(|Plan { source, object, lights, missed }| {
+    with_plan(|Plan { source, object, missed }| {
         let entry =
             |(&class, &source): (&PixelClass, &u32)| if class == PixelClass::Reprojected { source } else { TRACE };
         match only {
@@ -210,16 +211,12 @@ fn exact_row(right: PixelBatch<'_>, left: &Film, row: Row<'_>, seen: Option<(&[u
             }
         }
         let plan = match seen {
-            Some((object, lights)) => RowPlan { source, object, lights },
-            None => RowPlan::read(left, source, (object, lights)),
+            Some(object) => RowPlan { source, object },
+            None => RowPlan::read(left, source, object),
         };
         debug_assert!(
-            plan.source
-                .iter()
-                .zip(plan.object)
-                .zip(plan.lights)
-                .all(|((&s, &o), &l)| { s >= KEEP || (left.object[s as usize], left.lights[s as usize]) == (o, l) }),
-            "row {j}: the plan's objects and light bits are its sources'"
+            plan.source.iter().zip(plan.object).all(|(&s, &o)| s >= KEEP || left.object[s as usize] == o),
+            "row {j}: the plan's objects are its sources'"
         );
         let sphere_tests = right.shade_row(j, plan, (rgb, marks.as_mut()), &mut rays, missed);
         for &i in missed.iter() {
@@ -257,8 +254,7 @@ impl Add for FusedExact {
 /// The result is [`reproject_and_classify`](crate::reproject::reproject_and_classify)
 /// followed by [`fill`], byte for byte: a band's rows depend only on the left film, and a
 /// row's fill only on its own row of the source map and classes. But the fill takes each
-/// source's object and light bits from the keys the band's classification has just
-/// gathered, and its rows of `src` and `mask` were just written: all still in the core's
+/// source's object from the keys the band's classification has just gathered, and its rows of `src` and `mask` were just written: all still in the core's
 /// cache, where two passes over the image read them back from memory.
 pub(crate) fn reproject_and_fill_exact(
     right: PixelBatch<'_>,
@@ -309,14 +305,13 @@ pub(crate) fn reproject_and_fill_exact(
 struct Plan {
     source: Vec<u32>,
     object: Vec<u32>,
-    lights: Vec<u32>,
     missed: Vec<u32>,
 }
 
 thread_local! {
     /// This thread's [`Plan`], reused from row to row.
     static PLAN: RefCell<Plan> = const {
-        RefCell::new(Plan { source: Vec::new(), object: Vec::new(), lights: Vec::new(), missed: Vec::new() })
+        RefCell::new(Plan { source: Vec::new(), object: Vec::new(), missed: Vec::new() })
     };
 }
 

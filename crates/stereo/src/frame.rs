@@ -287,22 +287,22 @@ fn retrace_and_fill(
 }
 
 /// How many of the pixels `made` names have each class in `mask` (by discriminant).
-fn made_classes(mask: &[PixelClass], made: &PixelBits) -> [u64; 5] {
+fn made_classes(mask: &[PixelClass], made: &PixelBits) -> [u64; PixelClass::COUNT] {
     use rayon::prelude::*;
     let w = made.width() as usize;
     if w == 0 {
-        return [0; 5];
+        return [0; PixelClass::COUNT];
     }
     mask.par_chunks(w)
         .enumerate()
         .map(|(j, row)| {
-            let mut n = [0u64; 5];
+            let mut n = [0u64; PixelClass::COUNT];
             for i in tracer::bits::ones(made.row(j as u32)) {
                 n[row[i as usize] as usize] += 1;
             }
             n
         })
-        .reduce(|| [0; 5], |a, b| std::array::from_fn(|c| a[c] + b[c]))
+        .reduce(|| [0; PixelClass::COUNT], |a, b| std::array::from_fn(|c| a[c] + b[c]))
 }
 
 impl StereoFrame {
@@ -336,7 +336,7 @@ impl StereoFrame {
     /// last frame's counts, less the last classes of the pixels it made again (`removed`,
     /// `None` in full mode, where every pixel is traced) plus their new ones: kept pixels
     /// keep their classes.
-    fn pixel_counts(&self, made: Made, removed: Option<[u64; 5]>) -> PixelCounts {
+    fn pixel_counts(&self, made: Made, removed: Option<[u64; PixelClass::COUNT]>) -> PixelCounts {
         match (made, removed) {
             (Made::Reused, Some(removed)) => {
                 let last = self.stats.pixels.to_array();

@@ -3,14 +3,13 @@
 use crate::stats::PixelClass;
 
 /// Mask colour of a class, `0x00RRGGBB`: reprojected green and retraced-for-gaps red as in
-/// the paper; edges yellow, shadow boundaries blue, full traces grey.
+/// the paper; edges yellow, full traces grey.
 #[must_use]
 pub fn mask_color(class: PixelClass) -> u32 {
     match class {
         PixelClass::Reprojected => 0x0030_C040,
         PixelClass::RetracedGap => 0x00E0_3030,
         PixelClass::RetracedEdge => 0x00F0_D020,
-        PixelClass::RetracedShadow => 0x0030_70F0,
         PixelClass::Traced => 0x0080_8080,
     }
 }
@@ -30,10 +29,9 @@ pub fn mask_image(mask: &[PixelClass], out: &mut Vec<u32>) {
 }
 
 /// The legend: each class with its colour and a short label.
-pub const MASK_LEGEND: [(PixelClass, &str); 5] = [
+pub const MASK_LEGEND: [(PixelClass, &str); PixelClass::COUNT] = [
     (PixelClass::Reprojected, "reprojected"),
     (PixelClass::RetracedGap, "retraced: gap / border"),
     (PixelClass::RetracedEdge, "retraced: object edge"),
-    (PixelClass::RetracedShadow, "retraced: shadow boundary"),
     (PixelClass::Traced, "traced (full mode)"),
 ];

@@ -3,6 +3,8 @@
 use std::fmt;
 use std::str::FromStr;
 
+use crate::classify::Edges;
+
 /// How the right eye's reprojected pixels get their colour. Every mode produces a complete
 /// right image; the retraced pixels are always traced exactly as [`Mode::Full`] would.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -15,8 +17,10 @@ pub enum Mode {
     /// visibility); recompute the highlight and reflection for the right eye.
     Reshade,
     /// Beyond the paper: intersect the right pixel-centre ray with the one sphere the
-    /// reprojection names, shade it with the reused visibility; retrace edges and shadow
-    /// boundaries. Matches `Full` at 8 bits on all but a handful of pixels.
+    /// reprojection names, and shade that point with shadow rays of its own; retrace edges
+    /// (eight neighbours). Matches `Full` bit for bit wherever the sphere named is the one
+    /// the pixel centre sees first, which the edges make all but certain: a sphere that
+    /// slips between all nine pixel centres of the left eye is missed.
     #[default]
     Exact,
 }
@@ -64,16 +68,13 @@ pub struct Options {
 }
 
 impl Options {
-    /// Whether object-edge pixels are retraced.
-    #[must_use]
-    pub fn edges(&self) -> bool {
-        self.mode == Mode::Exact || self.retrace_edges
-    }
-
-    /// Whether shadow-boundary pixels are retraced (exact mode only: the other modes reuse
-    /// shading that already includes the left eye's shadows).
-    #[must_use]
-    pub fn shadow_boundaries(&self) -> bool {
-        self.mode == Mode::Exact
+    /// Which neighbours make a pixel an edge: all eight in exact mode, the four beside,
+    /// above and below with `retrace_edges`, none otherwise.
+    pub(crate) fn edges(&self) -> Edges {
+        match (self.mode, self.retrace_edges) {
+            (Mode::Exact, _) => Edges::Around,
+            (_, true) => Edges::Sides,
+            _ => Edges::Off,
+        }
     }
 }

@@ -5,7 +5,7 @@
 //!
 //! [`Reprojection::new`] decides, from the scene, the camera and the mode, how the frame is
 //! reprojected: the eyes' disparity in pixels, the width of the right border strip that is
-//! retraced whatever lands there, and whether edges and shadow boundaries are retraced.
+//! retraced whatever lands there, and whether object edges are retraced.
 //! [`reproject_and_classify`] then makes the source map and the class of every right pixel
 //! in one pass over the left film's planes.
 
@@ -18,7 +18,7 @@ use fearless_simd::{dispatch, Simd};
 use rayon::prelude::*;
 use tracer::{Camera, Disparity, EyeView, Film, Tracer};
 
-use crate::classify::{classify_row, KeyRows, GAP_LIGHTS, GAP_OBJECT};
+use crate::classify::{classify_row, Edges, KeyRows, GAP_OBJECT};
 use crate::mode::Options;
 use crate::stats::PixelClass;
 pub use scanline::{reproject_row, NO_SOURCE};
@@ -31,10 +31,8 @@ pub(crate) struct Reprojection {
     pub disparity: Disparity,
     /// Width of the right border strip that is always retraced.
     pub strip: usize,
-    /// Whether object edges (and pixels next to gaps) are retraced.
-    pub edges: bool,
-    /// Whether shadow boundaries are retraced.
-    pub shadows: bool,
+    /// Which neighbours make a pixel an edge (a pixel next to a gap is one too), retraced.
+    pub edges: Edges,
 }
 
 impl Reprojection {
@@ -44,10 +42,9 @@ impl Reprojection {
         let disparity = Disparity::in_pixels(camera, rv);
         let strip = right_border_strip(tracer, camera, disparity, rv.width as usize);
         // With IPD 0 every left pixel lands exactly on its own centre: the reprojection is
-        // exact and no edge or shadow boundary needs a second look.
-        let exact_landing = disparity.scale == 0.0;
-        let (edges, shadows) = (opts.edges() && !exact_landing, opts.shadow_boundaries() && !exact_landing);
-        Self { disparity, strip, edges, shadows }
+        // exact and no edge needs a second look.
+        let edges = if disparity.scale == 0.0 { Edges::Off } else { opts.edges() };
+        Self { disparity, strip, edges }
     }
 }
 
@@ -88,8 +85,6 @@ struct BandScratch {
     targets: Vec<i32>,
     /// Object key plane of a band and its halo rows.
     object: Vec<u32>,
-    /// Lights key plane of a band and its halo rows.
-    lights: Vec<u32>,
     /// Source map of a halo row; a band's own rows are written straight into the output.
     halo_src: Vec<u32>,
 }
@@ -100,14 +95,13 @@ thread_local! {
         std::cell::RefCell::new(BandScratch {
             targets: Vec::new(),
             object: Vec::new(),
-            lights: Vec::new(),
             halo_src: Vec::new(),
         })
     };
 }
 
 /// Stages 2 and 3 over the whole image: the source map `src` and the class `mask` of every
-/// right pixel, from the left film's `z`, `object` and `lights` planes.
+/// right pixel, from the left film's `z` and `object` planes.
 ///
 /// The rows go in bands, each reprojected with one halo row above and below into per-thread
 /// scratch and classified at once while its keys are in cache: one pass over the left planes
@@ -177,29 +171,26 @@ fn band(left: &Film, p: Reprojection, (b, h): (usize, usize), src_band: &mut [u3
     band_then(left, p, (b, h), (src_band, mask_band), |_, _, _, _| {});
 }
 
-/// [`band`], then `row(r, sources, classes, (objects, light bits))` for each row r of the
-/// band in turn: its sources, its classes, and the object and light bits of the left pixel
-/// each source names (what the classification read; anything where there is no source),
-/// while they are in cache.
+/// [`band`], then `row(r, sources, classes, objects)` for each row r of the band in turn:
+/// its sources, its classes, and the object of the left pixel each source names (what the
+/// classification read; anything where there is no source), while they are in cache.
 pub(crate) fn band_then(
     left: &Film,
     p: Reprojection,
     (b, h): (usize, usize),
     (src_band, mask_band): (&mut [u32], &mut [PixelClass]),
-    mut row: impl FnMut(usize, &[u32], &[PixelClass], (&[u32], &[u32])),
+    mut row: impl FnMut(usize, &[u32], &[PixelClass], &[u32]),
 ) {
     let w = left.width() as usize;
     BAND_SCRATCH.with_borrow_mut(|scratch| {
-        let BandScratch { targets, object, lights, halo_src } = scratch;
+        let BandScratch { targets, object, halo_src } = scratch;
         let (j0, rows) = (b * BAND, src_band.len() / w);
         let (lo, hi) = (j0.saturating_sub(1), (j0 + rows + 1).min(h));
         object.resize((hi - lo) * w, GAP_OBJECT);
-        lights.resize((hi - lo) * w, GAP_LIGHTS);
         halo_src.resize(w, NO_SOURCE);
-        let key_rows = object.chunks_exact_mut(w).zip(lights.chunks_exact_mut(w));
         // One dispatch for the band's rows: the scanline kernels run inside it.
         dispatch!(tracer::simd_level(), simd => simd.vectorize(|| {
-            for (j, (object, lights)) in (lo..hi).zip(key_rows) {
+            for (j, object) in (lo..hi).zip(object.chunks_exact_mut(w)) {
                 let src = if (j0..j0 + rows).contains(&j) {
                     &mut src_band[(j - j0) * w..(j - j0 + 1) * w]
                 } else {
@@ -208,15 +199,12 @@ pub(crate) fn band_then(
                 let left_row = j * w..(j + 1) * w;
                 let row = KeyedRow {
                     left_object: &left.object[left_row.clone()],
-                    left_lights: &left.lights[left_row.clone()],
                     src: &mut *src,
                     object: &mut *object,
-                    lights: &mut *lights,
                 };
                 reproject_row_keyed(simd, &left.z[left_row], p.disparity, (j * w) as u32, row, targets);
                 src[w - p.strip..].fill(NO_SOURCE);
                 object[w - p.strip..].fill(GAP_OBJECT);
-                lights[w - p.strip..].fill(GAP_LIGHTS);
             }
         }));
         let last = hi - lo - 1;
@@ -226,28 +214,27 @@ pub(crate) fn band_then(
             let at = [k.saturating_sub(1), k, (k + 1).min(last)].map(|k| k * w..(k + 1) * w);
             let src = &src_band[r * w..(r + 1) * w];
             let beyond = [key_beyond(left, src[0], -1), key_beyond(left, src[w - 1], 1)];
-            let rows = KeyRows { object: at.clone().map(|r| &object[r]), lights: at.map(|r| &lights[r]), beyond };
-            classify_row(rows, p.edges, p.shadows, out);
+            let rows = KeyRows { object: at.map(|r| &object[r]), beyond };
+            classify_row(rows, p.edges, out);
         }
         for (r, (src, class)) in src_band.chunks(w).zip(mask_band.chunks(w)).enumerate() {
-            let keys = (j0 - lo + r) * w..(j0 - lo + r + 1) * w;
-            row(r, src, class, (&object[keys.clone()], &lights[keys]));
+            row(r, src, class, &object[(j0 - lo + r) * w..(j0 - lo + r + 1) * w]);
         }
     });
 }
 
-/// The key `(object, lights)` of the right pixel beyond a row's end next to an end pixel
+/// The key (object) of the right pixel beyond a row's end next to an end pixel
 /// whose source is `s`: that source's neighbour on the border's side in the left row
 /// (`step` −1 before the first pixel, +1 after the last), or a gap if it has none or there
 /// is no source (`classify.rs` has why).
-fn key_beyond(left: &Film, s: u32, step: isize) -> (u32, u32) {
+fn key_beyond(left: &Film, s: u32, step: isize) -> u32 {
     let w = left.width() as usize;
     if s == NO_SOURCE {
-        return (GAP_OBJECT, GAP_LIGHTS);
+        return GAP_OBJECT;
     }
     let (s, column) = (s as usize, s as usize % w);
     match column.checked_add_signed(step) {
-        Some(c) if c < w => (left.object[s - column + c], left.lights[s - column + c]),
-        _ => (GAP_OBJECT, GAP_LIGHTS),
+        Some(c) if c < w => left.object[s - column + c],
+        _ => GAP_OBJECT,
     }
 }

@@ -1,5 +1,5 @@
 //! Stage 4: full primary rays for the right pixels the reprojection does not fill (gaps,
-//! the border strip, and the edges and shadow boundaries the mode sends back), traced
+//! the border strip, and the edges the mode sends back), traced
 //! exactly as [`Mode::Full`](crate::Mode::Full) traces every pixel.
 //!
 //! In copy mode the same pass over the image also gives each reprojected pixel its source's
@@ -158,7 +158,7 @@ mod tests {
         assert_eq!(counts, full_counts);
 
         // A mix of classes, in runs and alone, with and without copying the sources.
-        let classes = [PixelClass::RetracedGap, PixelClass::RetracedEdge, PixelClass::RetracedShadow];
+        let classes = [PixelClass::RetracedGap, PixelClass::RetracedEdge, PixelClass::Traced];
         let mask: Vec<PixelClass> =
             (0..n).map(|k| if k % 11 < 5 || k % 7 == 0 { PixelClass::Reprojected } else { classes[k % 3] }).collect();
         let src: Vec<u32> = (0..n as u32).rev().collect();

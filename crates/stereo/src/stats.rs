@@ -14,10 +14,13 @@ pub enum PixelClass {
     RetracedGap = 1,
     /// Retraced: its reprojected object differs from a neighbour's (a silhouette).
     RetracedEdge = 2,
-    /// Retraced: its reused light visibility differs from a neighbour's (a shadow edge).
-    RetracedShadow = 3,
     /// Traced from scratch because the mode is `full`.
-    Traced = 4,
+    Traced = 3,
+}
+
+impl PixelClass {
+    /// How many classes there are: arrays of counts by class discriminant have this length.
+    pub const COUNT: usize = 4;
 }
 
 /// Pixel counts per class for the right eye.
@@ -29,8 +32,6 @@ pub struct PixelCounts {
     pub retraced_gap: u64,
     /// [`PixelClass::RetracedEdge`].
     pub retraced_edge: u64,
-    /// [`PixelClass::RetracedShadow`].
-    pub retraced_shadow: u64,
     /// [`PixelClass::Traced`] (full mode).
     pub traced: u64,
 }
@@ -45,14 +46,10 @@ impl PixelCounts {
             let one = |chunk: &[PixelClass]| chunk.iter().map(|&p| u32::from(p as u8 == class as u8)).sum::<u32>();
             mask.chunks(1 << 16).map(|chunk| u64::from(one(chunk))).sum::<u64>()
         };
-        let (reprojected, retraced_gap, retraced_edge, retraced_shadow) = (
-            count(PixelClass::Reprojected),
-            count(PixelClass::RetracedGap),
-            count(PixelClass::RetracedEdge),
-            count(PixelClass::RetracedShadow),
-        );
-        let traced = mask.len() as u64 - reprojected - retraced_gap - retraced_edge - retraced_shadow;
-        Self { reprojected, retraced_gap, retraced_edge, retraced_shadow, traced }
+        let (reprojected, retraced_gap, retraced_edge) =
+            (count(PixelClass::Reprojected), count(PixelClass::RetracedGap), count(PixelClass::RetracedEdge));
+        let traced = mask.len() as u64 - reprojected - retraced_gap - retraced_edge;
+        Self { reprojected, retraced_gap, retraced_edge, traced }
     }
 
     /// Counts the classes of a mask in parallel, in chunks: the same counts as
@@ -64,27 +61,26 @@ impl PixelCounts {
             reprojected: a.reprojected + b.reprojected,
             retraced_gap: a.retraced_gap + b.retraced_gap,
             retraced_edge: a.retraced_edge + b.retraced_edge,
-            retraced_shadow: a.retraced_shadow + b.retraced_shadow,
             traced: a.traced + b.traced,
         })
     }
 
     /// The counts as an array, by class discriminant.
     #[must_use]
-    pub(crate) fn to_array(self) -> [u64; 5] {
-        [self.reprojected, self.retraced_gap, self.retraced_edge, self.retraced_shadow, self.traced]
+    pub(crate) fn to_array(self) -> [u64; PixelClass::COUNT] {
+        [self.reprojected, self.retraced_gap, self.retraced_edge, self.traced]
     }
 
     /// The counts of an array, by class discriminant.
     #[must_use]
-    pub(crate) fn from_array(n: [u64; 5]) -> Self {
-        Self { reprojected: n[0], retraced_gap: n[1], retraced_edge: n[2], retraced_shadow: n[3], traced: n[4] }
+    pub(crate) fn from_array(n: [u64; PixelClass::COUNT]) -> Self {
+        Self { reprojected: n[0], retraced_gap: n[1], retraced_edge: n[2], traced: n[3] }
     }
 
     /// All pixels.
     #[must_use]
     pub fn total(&self) -> u64 {
-        self.reprojected + self.retraced_gap + self.retraced_edge + self.retraced_shadow + self.traced
+        self.reprojected + self.retraced_gap + self.retraced_edge + self.traced
     }
 
     /// Share of pixels reprojected, 0..1.

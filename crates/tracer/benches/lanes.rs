@@ -77,19 +77,15 @@ fn batches(c: &mut Criterion) {
             });
         });
         c.bench_function(&format!("lanes{lanes}_exact_rows_{W}x{H}_{name}"), |b| {
-            // Each pixel aimed at the sphere it sees, with its light bits: the plan is the
-            // film itself, in column order (as exact mode's reprojection hands it over).
+            // Each pixel aimed at the sphere it sees: the plan is the film itself, in column
+            // order (as exact mode's reprojection hands it over).
             let (mut rgb, mut missed) = (vec![0u32; W as usize], Vec::new());
             let source: Vec<u32> = (0..W * H).collect();
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
                 for j in 0..H {
                     let row = (j * W) as usize..((j + 1) * W) as usize;
-                    let plan = RowPlan {
-                        source: &source[row.clone()],
-                        object: &film.object[row.clone()],
-                        lights: &film.lights[row],
-                    };
+                    let plan = RowPlan { source: &source[row.clone()], object: &film.object[row] };
                     second.shade_row(j, plan, (&mut rgb, None), &mut counts, &mut missed);
                     sum = rgb.iter().fold(sum, |s, &c| s.wrapping_add(c));
                 }

@@ -62,18 +62,17 @@ impl Wavefront {
         self.levels.first().map_or(0, Level::len)
     }
 
-    /// Adds a sample whose primary ray `ray` first meets `hit`; `known` are its light bits
-    /// if they are known, and `tag` is the caller's (a pixel column, say).
+    /// Adds a sample whose primary ray `ray` first meets `hit`, its light bits to be found by
+    /// shadow rays; `tag` is the caller's (a pixel column, say).
     #[inline]
-    pub(crate) fn push_hit(&mut self, ray: &Ray, hit: Hit, known: Option<u32>, tag: u32) {
-        self.levels[0].push(ray.origin, ray.dir, hit.t, hit.object, tag, known);
+    pub(crate) fn push_hit(&mut self, ray: &Ray, hit: Hit, tag: u32) {
+        self.levels[0].push(ray.origin, ray.dir, hit.t, hit.object, tag);
     }
 
     /// Adds a whole vector of samples whose primary rays from `origin` along `d` all meet a
     /// sphere (at `t`, sphere `objects`): those of the pixels `column + l` of a row, lane by
-    /// lane, tagged with their columns, with light bits where `known` has them (`(bits,
-    /// lanes)`: lane l's bits, known where bit l of `lanes` is set); what
-    /// [`Wavefront::push_hit`] would add for each, in vector stores.
+    /// lane, tagged with their columns; what [`Wavefront::push_hit`] would add for each, in
+    /// vector stores.
     #[expect(
         clippy::inline_always,
         reason = "runs inside the dispatched primary-ray kernel; out of line it loses the kernel's target features"
@@ -85,7 +84,6 @@ impl Wavefront {
         origin: Vec3,
         (t, objects, d): (F<S>, U<S>, [F<S>; 3]),
         column: u32,
-        known: Option<(U<S>, u32)>,
     ) {
         let level = &mut self.levels[0];
         let (e, lanes) = (level.used, F::<S>::LEN);
@@ -97,15 +95,8 @@ impl Wavefront {
         t.store_slice(&mut level.t[entries.clone()]);
         objects.store_slice(&mut level.object[entries.clone()]);
         (U::<S>::splat(simd, column) + crate::simd::lane_index(simd)).store_slice(&mut level.parent[entries.clone()]);
-        if let Some((bits, which)) = known {
-            bits.store_slice(&mut level.lights[entries.clone()]);
-            for (l, known) in level.known[entries.clone()].iter_mut().enumerate() {
-                *known = which & (1 << l) != 0;
-            }
-        } else {
-            level.lights[entries.clone()].fill(0);
-            level.known[entries.clone()].fill(false);
-        }
+        level.lights[entries.clone()].fill(0);
+        level.known[entries.clone()].fill(false);
         level.reflects[entries].fill(false);
         level.used = e + lanes;
     }
@@ -332,7 +323,7 @@ fn mirrors(tracer: &Tracer, level: &mut Level, next: &mut Level, counts: &mut Ra
         // d and n are unit, so r is too, to rounding: no normalisation needed.
         let ray = spawn_ray(p, n, reflect(d, n));
         if let Some(hit) = tracer.accel.intersect(&ray, f32::INFINITY, Origin::Surface { sphere: object, normal: n }) {
-            next.push(ray.origin, ray.dir, hit.t, hit.object, e as u32, None);
+            next.push(ray.origin, ray.dir, hit.t, hit.object, e as u32);
         }
     }
 }

@@ -6,15 +6,16 @@
 use tracer::{Disparity, Eye, Film, Pixels, Record, Renderer, Scene, Target, Tracer, NO_OBJECT};
 
 use super::{reproject_and_classify, reproject_row, right_border_strip, Reprojection, NO_SOURCE};
+use crate::classify::Edges;
 use crate::mode::{Mode, Options};
 use crate::stats::PixelClass;
 
 /// The reprojection and classification one pixel at a time, as the per-pixel rules in
 /// `reproject/scanline.rs` and `classify.rs` state them and as they were first written: a scalar
-/// scan per row, then each right pixel's 64-bit key (object, lights) gathered by source
-/// index, then a branchy per-pixel classification over the whole image.
+/// scan per row, then each right pixel's 64-bit key (its source's object) gathered by
+/// source index, then a branchy per-pixel classification over the whole image.
 mod reference {
-    use super::{Disparity, Film, PixelClass, Reprojection, NO_SOURCE};
+    use super::{Disparity, Edges, Film, PixelClass, Reprojection, NO_SOURCE};
 
     /// Key of a pixel without a source.
     const GAP_KEY: u64 = u64::MAX;
@@ -64,7 +65,7 @@ mod reference {
             if s == NO_SOURCE {
                 GAP_KEY
             } else {
-                (u64::from(left.object[s as usize]) << 32) | u64::from(left.lights[s as usize])
+                u64::from(left.object[s as usize])
             }
         };
         let keys: Vec<u64> = src.iter().map(|&s| key_of(s)).collect();
@@ -104,25 +105,17 @@ mod reference {
                     diagonal(down, -1),
                     diagonal(down, 1),
                 ];
-                let (mut edge, mut shadow) = (false, false);
+                let mut edge = false;
                 for (k, n) in neighbours.into_iter().enumerate() {
-                    // The diagonal neighbours count for the objects where the light bits
-                    // are read.
-                    let counts = k < 4 || p.shadows;
-                    if n == GAP_KEY {
-                        edge |= p.edges && counts;
-                    } else {
-                        edge |= p.edges && counts && (n >> 32) != (me >> 32);
-                        shadow |= p.shadows && (n as u32) != (me as u32);
-                    }
+                    // The diagonal neighbours count in exact mode only.
+                    let counts = match p.edges {
+                        Edges::Off => false,
+                        Edges::Sides => k < 4,
+                        Edges::Around => true,
+                    };
+                    edge |= counts && n != me;
                 }
-                mask.push(if edge {
-                    PixelClass::RetracedEdge
-                } else if shadow {
-                    PixelClass::RetracedShadow
-                } else {
-                    PixelClass::Reprojected
-                });
+                mask.push(if edge { PixelClass::RetracedEdge } else { PixelClass::Reprojected });
             }
         }
         (src, mask)
@@ -151,17 +144,15 @@ impl Rng {
     }
 }
 
-/// A random left film that obeys the tracer's invariants (a miss is at +∞ with no object
-/// and no light; a hit names one of a few spheres): rows of segments that are misses, flat,
+/// A random left film that obeys the tracer's invariants (a miss is at +∞ with no object;
+/// a hit names one of a few spheres): rows of segments that are misses, flat,
 /// slanted, noisy, on the window or in front of it, each segment one sphere; half the rows
 /// repeat the row above, so that there are vertical runs of equal keys too.
 fn random_film(rng: &mut Rng, w: usize, h: usize, distance: f32) -> Film {
     let mut film = Film::new(w as u32, h as u32);
     for j in 0..h {
         if j > 0 && rng.below(2) == 0 {
-            for plane in [&mut film.object, &mut film.lights] {
-                plane.copy_within((j - 1) * w..j * w, j * w);
-            }
+            film.object.copy_within((j - 1) * w..j * w, j * w);
             film.z.copy_within((j - 1) * w..j * w, j * w);
             continue;
         }
@@ -169,11 +160,7 @@ fn random_film(rng: &mut Rng, w: usize, h: usize, distance: f32) -> Film {
         while i < w {
             let len = 1 + rng.below((w - i).min(48));
             let kind = rng.below(7);
-            let (object, lights) = match rng.below(8) {
-                0 => (rng.below(4) as u32, u32::MAX),
-                1 => (rng.below(4) as u32, rng.next() as u32),
-                _ => (rng.below(4) as u32, rng.below(3) as u32),
-            };
+            let object = rng.below(4) as u32;
             let (z0, z1) = (rng.range(-0.95 * distance, 6.0 * distance), rng.range(-0.5 * distance, 3.0 * distance));
             for k in 0..len {
                 let t = k as f32 / len as f32;
@@ -188,7 +175,7 @@ fn random_film(rng: &mut Rng, w: usize, h: usize, distance: f32) -> Film {
                 };
                 let at = j * w + i + k;
                 film.z[at] = z;
-                (film.object[at], film.lights[at]) = if z == f32::INFINITY { (NO_OBJECT, 0) } else { (object, lights) };
+                film.object[at] = if z == f32::INFINITY { NO_OBJECT } else { object };
             }
             i += len;
         }
@@ -217,8 +204,8 @@ fn the_fast_pass_equals_the_reference_on_random_films() {
         let disparity = Disparity { scale, distance };
         let strip = [0, 0, 1, rng.below(w + 1), w][rng.below(5)];
         let left = random_film(&mut rng, w, h, distance);
-        for (edges, shadows) in [(false, false), (true, false), (false, true), (true, true)] {
-            let p = Reprojection { disparity, strip, edges, shadows };
+        for edges in [Edges::Off, Edges::Sides, Edges::Around] {
+            let p = Reprojection { disparity, strip, edges };
             let expected = reference::reproject_and_classify(&left, p);
             let threads = 1 + case % 3;
             let (src, mask) = fast(&left, p, threads);
@@ -260,8 +247,8 @@ fn the_fast_pass_equals_the_reference_on_every_scene() {
                 let rv = camera.view(Eye::Right, w, h);
                 let disparity = Disparity::in_pixels(&camera, &rv);
                 let strip = right_border_strip(&tracer, &camera, disparity, w as usize);
-                let p = |edges, shadows| Reprojection { disparity, strip, edges, shadows };
-                // Through the stage as the frame calls it (edges and shadows off at IPD 0)…
+                let p = |edges| Reprojection { disparity, strip, edges };
+                // Through the stage as the frame calls it (edges off at IPD 0)…
                 for opts in [
                     Options { mode: Mode::Copy, retrace_edges: false },
                     Options { mode: Mode::Reshade, retrace_edges: true },
@@ -271,19 +258,17 @@ fn the_fast_pass_equals_the_reference_on_every_scene() {
                     let (mut src, mut mask) = (vec![0; n], vec![PixelClass::Traced; n]);
                     reproject_and_classify(&left, Reprojection::new(&tracer, &camera, &rv, opts), &mut src, &mut mask);
                     let moved = ipd != 0.0;
-                    let expected = reference::reproject_and_classify(
-                        &left,
-                        p(opts.edges() && moved, opts.shadow_boundaries() && moved),
-                    );
+                    let expected =
+                        reference::reproject_and_classify(&left, p(if moved { opts.edges() } else { Edges::Off }));
                     let at = format!("{name}, IPD {ipd}, t = {t}, {opts:?}");
                     assert!(src == expected.0, "{at}: source maps differ");
                     assert!(mask == expected.1, "{at}: classes differ");
                 }
-                // …and every option pair directly.
-                for (edges, shadows) in [(false, false), (true, false), (false, true), (true, true)] {
-                    let expected = reference::reproject_and_classify(&left, p(edges, shadows));
-                    let got = fast(&left, p(edges, shadows), 2);
-                    assert!(got == expected, "{name}, IPD {ipd}, t = {t}, edges {edges}, shadows {shadows}: differ");
+                // …and every choice of edges directly.
+                for edges in [Edges::Off, Edges::Sides, Edges::Around] {
+                    let expected = reference::reproject_and_classify(&left, p(edges));
+                    let got = fast(&left, p(edges), 2);
+                    assert!(got == expected, "{name}, IPD {ipd}, t = {t}, edges {edges:?}: differ");
                 }
             }
         }

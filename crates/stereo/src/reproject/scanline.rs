@@ -57,7 +57,7 @@ use std::ops::{Add, Div, Range, Sub};
 use fearless_simd::{dispatch, i32x4, prelude::*, u32x4, Simd, SimdCvtTruncate};
 use tracer::Disparity;
 
-use crate::classify::{GAP_LIGHTS, GAP_OBJECT};
+use crate::classify::GAP_OBJECT;
 
 /// "No left pixel fills this right pixel": it must be retraced.
 pub const NO_SOURCE: u32 = u32::MAX;
@@ -84,20 +84,16 @@ pub fn reproject_row(z: &[f32], disparity: Disparity, row_base: u32, src: &mut [
 pub(super) struct KeyedRow<'a> {
     /// The left row's object ids.
     pub left_object: &'a [u32],
-    /// The left row's light bits.
-    pub left_lights: &'a [u32],
     /// Source map of the right row, as [`reproject_row`] writes it.
     pub src: &'a mut [u32],
     /// Object id of each right pixel's source, or [`GAP_OBJECT`].
     pub object: &'a mut [u32],
-    /// Light bits of each right pixel's source, or [`GAP_LIGHTS`].
-    pub lights: &'a mut [u32],
 }
 
 /// [`reproject_row`] that also carries each source's classification key, read in scanline
 /// order along with its target rather than gathered afterwards by source index: on return
-/// `row.object[j]` and `row.lights[j]` are the left pixel's that `row.src[j]` names, or
-/// ([`GAP_OBJECT`], [`GAP_LIGHTS`]) where it is [`NO_SOURCE`]. Its caller dispatches, once
+/// `row.object[j]` is the left pixel's that `row.src[j]` names, or [`GAP_OBJECT`] where it
+/// is [`NO_SOURCE`]. Its caller dispatches, once
 /// for a band of rows, and runs it inside `simd.vectorize`.
 #[inline(always)]
 pub(super) fn reproject_row_keyed<S: Simd>(
@@ -110,9 +106,7 @@ pub(super) fn reproject_row_keyed<S: Simd>(
 ) {
     let w = z.len();
     debug_assert!(
-        [row.left_object.len(), row.left_lights.len(), row.src.len(), row.object.len(), row.lights.len()]
-            .iter()
-            .all(|&n| n == w),
+        [row.left_object.len(), row.src.len(), row.object.len()].iter().all(|&n| n == w),
         "a keyed row's planes differ in length from its depth row"
     );
     row_targets(simd, z, disparity, targets);
@@ -351,7 +345,6 @@ impl<S: Simd> RowSink for Keyed<'_, S> {
         let r = &mut self.row;
         r.src[j] = self.row_base + i as u32;
         r.object[j] = r.left_object[i];
-        r.lights[j] = r.left_lights[i];
     }
 
     /// [`Sources`]' loop with the keys copied in the same blocks. Kept fused on purpose: a
@@ -365,12 +358,11 @@ impl<S: Simd> RowSink for Keyed<'_, S> {
         let blocks = targets[i..i + len]
             .chunks_exact(BLOCK)
             .zip(r.src[j..j + len].chunks_exact_mut(BLOCK))
-            .zip(r.object[j..j + len].chunks_exact_mut(BLOCK).zip(r.lights[j..j + len].chunks_exact_mut(BLOCK)))
-            .zip(r.left_object[i..i + len].chunks_exact(BLOCK).zip(r.left_lights[i..i + len].chunks_exact(BLOCK)));
-        for (((t, src), (object, lights)), (left_object, left_lights)) in blocks {
+            .zip(r.object[j..j + len].chunks_exact_mut(BLOCK))
+            .zip(r.left_object[i..i + len].chunks_exact(BLOCK));
+        for (((t, src), object), left_object) in blocks {
             src.copy_from_slice(source.as_slice());
             object.copy_from_slice(left_object);
-            lights.copy_from_slice(left_lights);
             let k = continuing(self.simd, t, expected);
             run += k;
             if k < BLOCK {
@@ -386,8 +378,7 @@ impl<S: Simd> RowSink for Keyed<'_, S> {
     fn gap(&mut self, range: Range<usize>) {
         let r = &mut self.row;
         r.src[range.clone()].fill(NO_SOURCE);
-        r.object[range.clone()].fill(GAP_OBJECT);
-        r.lights[range].fill(GAP_LIGHTS);
+        r.object[range].fill(GAP_OBJECT);
     }
 
     #[inline(always)]
@@ -395,7 +386,6 @@ impl<S: Simd> RowSink for Keyed<'_, S> {
         let r = &mut self.row;
         r.src[j..j + BLOCK].copy_from_slice(&[NO_SOURCE; BLOCK]);
         r.object[j..j + BLOCK].copy_from_slice(&[GAP_OBJECT; BLOCK]);
-        r.lights[j..j + BLOCK].copy_from_slice(&[GAP_LIGHTS; BLOCK]);
     }
 }
 

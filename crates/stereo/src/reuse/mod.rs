@@ -216,7 +216,7 @@ impl Temporal {
         left: &Film,
         plan: Reprojection,
         (src, class, mask): (&mut [u32], &mut [PixelClass], &mut [PixelClass]),
-    ) -> (u64, [u64; 5]) {
+    ) -> (u64, [u64; PixelClass::COUNT]) {
         let n = src.len();
         let (src_was, class_was) = &mut self.was;
         let (left_rows, right_rows) = &mut self.rows;

@@ -35,13 +35,17 @@ pub(crate) struct Changes<'a> {
 /// of them its stage-3 class in `mask`; the other pixels of `mask` keep their final class
 /// from the last frame. Returns how many are made again, and how many of each class (by
 /// discriminant) they had in the last frame.
-pub(crate) fn plan_right(changes: Changes<'_>, mask: &mut [PixelClass], redo: &mut PixelBits) -> (u64, [u64; 5]) {
+pub(crate) fn plan_right(
+    changes: Changes<'_>,
+    mask: &mut [PixelClass],
+    redo: &mut PixelBits,
+) -> (u64, [u64; PixelClass::COUNT]) {
     let Changes { now: (class, src), before: (class_was, src_was), left_retraced, right_marks, wedges, rows } = changes;
     let w = right_marks.width() as usize;
     // Rule 3 first: the right pixels whose own rays may meet a sphere at either instant.
     right_marks.select(wedges, redo);
     if w == 0 {
-        return (0, [0; 5]);
+        return (0, [0; PixelClass::COUNT]);
     }
     let stride = redo.stride();
     redo.words_mut()
@@ -66,7 +70,7 @@ pub(crate) fn plan_right(changes: Changes<'_>, mask: &mut [PixelClass], redo: &m
                         &src_was[row_range],
                     ))
             {
-                let (mut made, mut was) = (0, [0u64; 5]);
+                let (mut made, mut was) = (0, [0u64; PixelClass::COUNT]);
                 for i in bits::ones(row) {
                     was[mask[i as usize] as usize] += 1;
                     mask[i as usize] = class[base + i as usize];
@@ -77,7 +81,7 @@ pub(crate) fn plan_right(changes: Changes<'_>, mask: &mut [PixelClass], redo: &m
             // 64 pixels at a time: rules 1 and 2 as a word of bits (rule 3's are set
             // already), then the pixels it names.
             let sources = SourcesRetraced::of(left_row, (base, w));
-            let (mut made, mut was) = (0, [0u64; 5]);
+            let (mut made, mut was) = (0, [0u64; PixelClass::COUNT]);
             for (k, word) in row.iter_mut().enumerate() {
                 let r = base + 64 * k..(base + 64 * k + 64).min(base + w);
                 let again = *word
@@ -93,7 +97,7 @@ pub(crate) fn plan_right(changes: Changes<'_>, mask: &mut [PixelClass], redo: &m
             }
             (made, was)
         })
-        .reduce(|| (0, [0; 5]), |(m, a), (n, b)| (m + n, std::array::from_fn(|c| a[c] + b[c])))
+        .reduce(|| (0, [0; PixelClass::COUNT]), |(m, a), (n, b)| (m + n, std::array::from_fn(|c| a[c] + b[c])))
 }
 
 /// Packs 64 flags (0 or 1) into a word, flag b as bit b.

@@ -181,7 +181,7 @@ impl<'a> PixelBatch<'a> {
             return;
         }
         let hits = self.eye.hits_lanes(simd, base, j);
-        self.push_found_in(simd, wavefront, (base, j, mask), hits, None, out);
+        self.push_found_in(simd, wavefront, (base, j, mask), hits, out);
     }
 
     /// A pixel (i, j) whose primary ray sees only background: its colour to `out`, and its
@@ -196,8 +196,7 @@ impl<'a> PixelBatch<'a> {
 
     /// Pushes the pixels `mask` names of the group of lanes from `base` on row `j`, whose
     /// first hits are `hits` (the bins' search: `t`, +∞ for none, sphere and ray direction
-    /// per lane), with light bits where `known` has them (as [`Wavefront::push_lanes`]
-    /// takes them); the ones that see only background go to `out`.
+    /// per lane); the ones that see only background go to `out`.
     #[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
     #[inline(always)]
     fn push_found_in<S: Simd>(
@@ -206,24 +205,21 @@ impl<'a> PixelBatch<'a> {
         wavefront: &mut Wavefront,
         (base, j, mask): (u32, u32, u32),
         hits: (F<S>, U<S>, [F<S>; 3]),
-        known: Option<(U<S>, u32)>,
         out: &mut impl FnMut(u32, u32, Touch),
     ) {
         let view = self.eye.view;
         let hit = hits.0.abs().simd_lt(F::<S>::splat(simd, f32::INFINITY)).to_bitmask() as u32;
         if mask == hit && u64::from(mask) == (1 << F::<S>::LEN) - 1 {
             // Every ray of the group hits: into the batch whole.
-            wavefront.push_lanes(simd, view.origin, hits, base, known);
+            wavefront.push_lanes(simd, view.origin, hits, base);
             return;
         }
         let (t, ids, d) = (hits.0.as_slice(), hits.1.as_slice(), crate::simd::each3(|a| hits.2[a].as_slice()));
-        let bits = known.as_ref().map(|(bits, which)| (bits.as_slice(), *which));
         for l in crate::bits::ones(&[u64::from(mask)]) {
             let (i, k) = (base + l, l as usize);
             if hit & (1 << l) != 0 {
                 let ray = Ray::new(view.origin, Vec3::new(d[0][k], d[1][k], d[2][k]));
-                let lights = bits.and_then(|(bits, which)| (which & (1 << l) != 0).then(|| bits[k]));
-                wavefront.push_hit(&ray, Hit { t: t[k], object: ids[k] }, lights, i);
+                wavefront.push_hit(&ray, Hit { t: t[k], object: ids[k] }, i);
             } else {
                 self.background(wavefront, (i, j), out);
             }

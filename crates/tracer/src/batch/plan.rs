@@ -17,34 +17,27 @@ pub const TRACE: u32 = u32::MAX;
 /// A [`PixelBatch::shade_row`] plan entry: leave the pixel as it is.
 pub const KEEP: u32 = u32::MAX - 1;
 
-/// A row's plan for [`PixelBatch::shade_row`]: three slices with an entry per column.
+/// A row's plan for [`PixelBatch::shade_row`]: two slices with an entry per column.
 ///
-/// Where `source` names a pixel of the other view's film, `object` and `lights` hold that
-/// pixel's object and light bits, read from the film in column order: a group of lanes then
-/// reads them in one load each, instead of a load per lane at scattered sources and a
-/// vector rebuilt from scalar stores. Elsewhere they may hold anything.
+/// Where `source` names a pixel of the other view's film, `object` holds that pixel's
+/// object, read from the film in column order: a group of lanes then reads them in one
+/// load, instead of a load per lane at scattered sources and a vector rebuilt from scalar
+/// stores. Elsewhere it may hold anything.
 #[derive(Clone, Copy, Debug)]
 pub struct RowPlan<'a> {
     /// A pixel of the other view's film (a row-major index), [`TRACE`] or [`KEEP`].
     pub source: &'a [u32],
     /// The object of the pixel `source` names.
     pub object: &'a [u32],
-    /// The light bits of the pixel `source` names.
-    pub lights: &'a [u32],
 }
 
 impl<'a> RowPlan<'a> {
-    /// The plan `source` (entries as [`RowPlan::source`]), its objects and light bits read
-    /// from `film` into `object` and `lights` (cleared first).
-    pub fn read(film: &Film, source: &'a [u32], (object, lights): (&'a mut Vec<u32>, &'a mut Vec<u32>)) -> Self {
+    /// The plan `source` (entries as [`RowPlan::source`]), its objects read from `film` into
+    /// `object` (cleared first).
+    pub fn read(film: &Film, source: &'a [u32], object: &'a mut Vec<u32>) -> Self {
         object.clear();
-        lights.clear();
-        for &s in source {
-            let (o, l) = if s < KEEP { (film.object[s as usize], film.lights[s as usize]) } else { (NO_OBJECT, 0) };
-            object.push(o);
-            lights.push(l);
-        }
-        Self { source, object, lights }
+        object.extend(source.iter().map(|&s| if s < KEEP { film.object[s as usize] } else { NO_OBJECT }));
+        Self { source, object }
     }
 
     /// Columns in the row.
@@ -64,8 +57,7 @@ impl PixelBatch<'_> {
     /// Makes the pixels of row `j` as `plan` says, in one batch. Its source per column is:
     /// - the index (row-major) of a pixel of the other view's film: this pixel's own primary
     ///   ray is tested against the one sphere that pixel saw (the plan's object), and where
-    ///   it hits, shaded with that pixel's light bits (the plan's); where it misses (a
-    ///   silhouette) the pixel is traced afresh and its column pushed to `missed`; where
+    ///   it hits, shaded there with shadow rays of its own; where it misses (a silhouette) the pixel is traced afresh and its column pushed to `missed`; where
     ///   that pixel saw only background ([`NO_OBJECT`]), this one is background too, and
     ///   takes the scene's background colour;
     /// - [`TRACE`]: traced afresh, with a full primary ray;
@@ -76,9 +68,10 @@ impl PixelBatch<'_> {
     /// unmarked). Returns the pixels tested against the sphere their plan names, alone or
     /// in their tile's search (not scene rays, so not counted in `counts`).
     ///
-    /// With the sphere the pixel really sees and its true light bits, a pixel is bit-for-bit
-    /// the full trace's: the ray, its `t` and the shading are the same operations on the same
-    /// values.
+    /// With the sphere the pixel really sees, a pixel is bit-for-bit the full trace's: the
+    /// ray, its `t`, its shadow rays and the shading are the same operations on the same
+    /// values. (Light bits reused from the other view's point would not be: a shadow thinner
+    /// than a pixel can fall between that point and this one, as it did on a molecule.)
     pub fn shade_row(
         &self,
         j: u32,
@@ -88,7 +81,7 @@ impl PixelBatch<'_> {
         missed: &mut Vec<u32>,
     ) -> u64 {
         debug_assert!(
-            plan.source.len() == rgb.len() && plan.object.len() == rgb.len() && plan.lights.len() == rgb.len(),
+            plan.source.len() == rgb.len() && plan.object.len() == rgb.len(),
             "a plan entry per pixel of the row"
         );
         missed.clear();
@@ -137,20 +130,20 @@ impl PixelBatch<'_> {
         let inf = F::<S>::splat(simd, f32::INFINITY);
         let origin = crate::simd::splat3(simd, view.origin);
         let splat = |x: u32| U::<S>::splat(simd, x);
-        let (mut objects, mut short) = ([0u32; 16], [[KEEP; 16]; 3]);
+        let (mut objects, mut short) = ([0u32; 16], [[KEEP; 16]; 2]);
         let mut tests = 0;
         for base in (0..plan.len()).step_by(lanes) {
             let end = (base + lanes).min(plan.len());
-            let [source, object, lights] = if end - base == lanes {
-                [&plan.source[base..end], &plan.object[base..end], &plan.lights[base..end]]
+            let [source, object] = if end - base == lanes {
+                [&plan.source[base..end], &plan.object[base..end]]
             } else {
                 // The row's last, short group, its missing lanes kept.
-                for (pad, part) in short.iter_mut().zip([plan.source, plan.object, plan.lights]) {
+                for (pad, part) in short.iter_mut().zip([plan.source, plan.object]) {
                     pad[..end - base].copy_from_slice(&part[base..end]);
                     pad[end - base..].fill(KEEP);
                 }
-                let [a, b, c] = &short;
-                [&a[..lanes], &b[..lanes], &c[..lanes]]
+                let [a, b] = &short;
+                [&a[..lanes], &b[..lanes]]
             };
             // The group's lanes by what the plan says, each set a vector compare.
             let entries = U::<S>::from_slice(simd, source);
@@ -167,7 +160,7 @@ impl PixelBatch<'_> {
             tests += u64::from(named.count_ones());
             // A group of traced and named lanes searches its tile's spheres once for all of
             // them (its traced lanes need that anyway): a named lane whose nearest sphere is
-            // its own takes that hit, bit for bit its lone test's, with its light bits. The
+            // its own takes that hit, bit for bit its lone test's. The
             // other named lanes are tested alone, as a group of named lanes only is.
             let (mut found, mut alone) = (None, named);
             if named != 0 && traced != 0 && !self.eye.bins.is_empty_at(base as u32, j) {
@@ -190,15 +183,14 @@ impl PixelBatch<'_> {
                 let t = crate::simd::spheres_t(simd, origin, d, (c, r), inf);
                 let hit = t.simd_lt(inf).to_bitmask() as u32 & alone;
                 if hit == all {
-                    let known = U::<S>::from_slice(simd, lights);
-                    wavefront.push_lanes(simd, view.origin, (t, ids, d), base as u32, Some((known, all)));
+                    wavefront.push_lanes(simd, view.origin, (t, ids, d), base as u32);
                 } else {
                     let (ts, dirs) = (t.as_slice(), crate::simd::each3(|a| d[a].as_slice()));
                     for l in crate::bits::ones(&[u64::from(hit)]) {
                         let l = l as usize;
                         let ray = Ray::new(view.origin, Vec3::new(dirs[0][l], dirs[1][l], dirs[2][l]));
                         let hit = Hit { t: ts[l], object: objects[l] };
-                        wavefront.push_hit(&ray, hit, Some(lights[l]), (base + l) as u32);
+                        wavefront.push_hit(&ray, hit, (base + l) as u32);
                     }
                 }
                 // The silhouettes the named spheres missed are traced afresh.
@@ -214,8 +206,7 @@ impl PixelBatch<'_> {
             };
             counts.primary += u64::from(traced.count_ones());
             if let Some((hits, own)) = found {
-                let known = (U::<S>::from_slice(simd, lights), own);
-                self.push_found_in(simd, wavefront, (base as u32, j, traced | own), hits, Some(known), &mut out);
+                self.push_found_in(simd, wavefront, (base as u32, j, traced | own), hits, &mut out);
             } else if traced != 0 {
                 self.push_traced_in(simd, wavefront, (base as u32, j, traced), &mut out);
             }
@@ -246,8 +237,8 @@ mod tests {
         rgb: &mut [u32],
         missed: &mut Vec<u32>,
     ) -> u64 {
-        let (mut object, mut lights) = (Vec::new(), Vec::new());
-        let plan = RowPlan::read(film, plan, (&mut object, &mut lights));
+        let mut object = Vec::new();
+        let plan = RowPlan::read(film, plan, &mut object);
         batch.shade_row(j, plan, (rgb, None), &mut RayCounts::default(), missed)
     }
 
@@ -322,7 +313,7 @@ mod tests {
                         retraced += 1;
                         full
                     }
-                    // Shaded with made-up bits: only made.
+                    // Shaded on a sphere it may not see first: only made.
                     _ => got & 0x00FF_FFFF,
                 };
                 assert_eq!(got, want, "({i}, {j}), plan {source}");
@@ -342,10 +333,11 @@ mod tests {
                 }
             }
         }
-        // Aimed at what each pixel sees, with its true light bits: the full trace.
+        // Aimed at what each pixel sees: the full trace, whatever light bits the film holds
+        // (here every bit wrong), since a planned pixel casts shadow rays of its own.
         let film = film_of(&|i, j| {
             let s = truth[(j * w + i) as usize].surface;
-            s.is_hit().then_some((s.object, s.lights))
+            s.is_hit().then_some((s.object, !s.lights))
         });
         for j in 0..h {
             let plan: Vec<u32> = (0..w).map(|i| j * w + i).collect();
@@ -370,8 +362,8 @@ mod tests {
     #[test]
     fn a_group_of_planned_and_traced_lanes_is_the_full_trace() {
         // Big spheres, so that many groups of lanes hit in every lane: traced lanes among
-        // planned ones (true spheres and light bits) enter the batch whole, each lane with
-        // its own light bits or none.
+        // planned ones (true spheres, the film's light bits all wrong) enter the batch whole,
+        // each lane casting its own shadow rays.
         let scene = scene("seed.toml");
         let tracer = Tracer::new(&scene, 0.4);
         let (w, h) = (160, 90);
@@ -385,7 +377,7 @@ mod tests {
             .collect();
         let mut film = Film::new(w, h);
         for (k, shaded) in truth.iter().enumerate() {
-            (film.object[k], film.lights[k], film.rgb[k]) = (shaded.surface.object, shaded.surface.lights, shaded.rgb);
+            (film.object[k], film.lights[k], film.rgb[k]) = (shaded.surface.object, !shaded.surface.lights, shaded.rgb);
         }
         let (lanes, mut whole) = (PixelBatch::lanes(), 0);
         let mut missed = Vec::new();

@@ -171,7 +171,7 @@ pub(super) fn trace_row_in<S: Simd>(
                 || {
                     let hits = eye.hits_lanes(simd, i0 as u32, j);
                     if whole && hits.0.abs().simd_lt(F::<S>::splat(simd, f32::INFINITY)).all_true() {
-                        wavefront.push_lanes(simd, view.origin, hits, i0 as u32, None);
+                        wavefront.push_lanes(simd, view.origin, hits, i0 as u32);
                         return None;
                     }
                     Some(hits)
@@ -187,12 +187,7 @@ pub(super) fn trace_row_in<S: Simd>(
             for l in 0..(span.end - i0).min(lanes) {
                 let dir = Vec3::new(d[0][l], d[1][l], d[2][l]);
                 if t[l].is_finite() {
-                    wavefront.push_hit(
-                        &Ray::new(view.origin, dir),
-                        Hit { t: t[l], object: ids[l] },
-                        None,
-                        (i0 + l) as u32,
-                    );
+                    wavefront.push_hit(&Ray::new(view.origin, dir), Hit { t: t[l], object: ids[l] }, (i0 + l) as u32);
                 } else {
                     sink.background(i0 + l..i0 + l + 1, tracer.scene.background_rgb);
                     background(wavefront, i0 + l);

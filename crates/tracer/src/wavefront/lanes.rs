@@ -284,7 +284,7 @@ pub(super) fn mirrors<S: Simd>(
             level.reflects[e] = true;
             super::set3(&mut level.mirror, e, background);
             if let Some(hit) = hit {
-                next.push(lane3::<S>(&origin, lane), lane3::<S>(&r, lane), hit.t, hit.object, e as u32, None);
+                next.push(lane3::<S>(&origin, lane), lane3::<S>(&r, lane), hit.t, hit.object, e as u32);
             }
         });
     }

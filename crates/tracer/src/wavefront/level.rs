@@ -118,13 +118,14 @@ impl Level {
         }
     }
 
-    /// Adds a hit: ray (`o`, `d`) meets `object` at `t`; `known` light bits, if any.
+    /// Adds a hit: ray (`o`, `d`) meets `object` at `t`, its light bits to be found by shadow
+    /// rays.
     #[expect(
         clippy::inline_always,
         reason = "called per primary and mirror hit from the lane kernels; out of line, its arguments go through the stack and the loads that read them back stall (measured: 10 % of a frame)"
     )]
     #[inline(always)]
-    pub(super) fn push(&mut self, o: Vec3, d: Vec3, t: f32, object: u32, parent: u32, known: Option<u32>) {
+    pub(super) fn push(&mut self, o: Vec3, d: Vec3, t: f32, object: u32, parent: u32) {
         let e = self.used;
         self.reserve(e + 1);
         set3(&mut self.o, e, o);
@@ -133,8 +134,8 @@ impl Level {
         self.t[e] = t;
         self.object[e] = object;
         self.parent[e] = parent;
-        self.lights[e] = known.unwrap_or(0);
-        self.known[e] = known.is_some();
+        self.lights[e] = 0;
+        self.known[e] = false;
         self.reflects[e] = false;
         self.used = e + 1;
     }

@@ -279,7 +279,6 @@ fn median_stats(frames: &[FrameStats]) -> FrameStats {
     s.pixels.reprojected = median_u64(frames, |s| s.pixels.reprojected);
     s.pixels.retraced_gap = median_u64(frames, |s| s.pixels.retraced_gap);
     s.pixels.retraced_edge = median_u64(frames, |s| s.pixels.retraced_edge);
-    s.pixels.retraced_shadow = median_u64(frames, |s| s.pixels.retraced_shadow);
     s.pixels.traced = median_u64(frames, |s| s.pixels.traced);
     s.stages.trace_left = median_f64(frames, |s| s.stages.trace_left);
     s.stages.reproject = median_f64(frames, |s| s.stages.reproject);

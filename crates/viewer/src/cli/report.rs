@@ -35,7 +35,10 @@ pub fn frame(s: &FrameStats) -> Value {
                 "reprojected": s.pixels.reprojected,
                 "retraced_gap": s.pixels.retraced_gap,
                 "retraced_edge": s.pixels.retraced_edge,
-                "retraced_shadow": s.pixels.retraced_shadow,
+                // No mode retraces shadow boundaries any more (exact mode casts each
+                // pixel's own shadow rays); the key stays, always 0, so that the report's
+                // keys are as DESIGN.md lists them.
+                "retraced_shadow": 0,
                 "traced": s.pixels.traced,
             },
             "reprojected_share": s.pixels.reprojected_share(),
