@@ -70,7 +70,7 @@ pub struct Options {
 impl Options {
     /// Which neighbours make a pixel an edge: all eight in exact mode, the four beside,
     /// above and below with `retrace_edges`, none otherwise.
-    pub(crate) fn edges(&self) -> Edges {
+    pub(crate) fn edges(self) -> Edges {
         match (self.mode, self.retrace_edges) {
             (Mode::Exact, _) => Edges::Around,
             (_, true) => Edges::Sides,
