@@ -11,7 +11,7 @@
 //! casts its own shadow rays (`fill.rs`). Reused light bits were wrong where a shadow
 //! thinner than a pixel fell between the left hit and the right one, which no neighbour's
 //! bits can show: on the real molecule 1TII (`pymol-data`) at 800×600, one pixel
-//! (design/reprojection.md, "What the argument does not cover").
+//! (design/reprojection.md, "Shadows: exact mode casts its own").
 //!
 //! A pixel next to a gap is an edge too: a gap is a depth discontinuity (a disocclusion or
 //! a stretched surface), and the surface just past it may be seen by the right pixel-centre

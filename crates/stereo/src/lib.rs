@@ -17,8 +17,8 @@
 //!    pixel i lands at right pixel ⌊i + ½ + e·z/(d+z) · W/window⌋ ([`tracer::Disparity`]),
 //!    later writes win, stretched spans are gaps;
 //! 3. classify (`classify.rs`, in the same banded pass as stage 2): reprojected pixels on
-//!    object edges or shadow boundaries are sent to retrace, as the mode asks;
-//! 4. retrace (`retrace.rs`) the gaps, border, edges and shadow boundaries with full
+//!    object edges are sent to retrace, as the mode asks;
+//! 4. retrace (`retrace.rs`) the gaps, border and edges with full
 //!    primary rays, through the tracer's [`PixelBatch`](tracer::PixelBatch);
 //! 5. fill (`fill.rs`) the reprojected pixels, through the same view: reshade, or shade
 //!    exactly. Copy mode copies the left colour in stage 4's pass over the image instead,

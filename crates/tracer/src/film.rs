@@ -8,8 +8,8 @@ use crate::surface::{Shading, Surface, NO_OBJECT};
 pub enum Record {
     /// Colour only: a mono image, or an eye nothing is reprojected from.
     Colour,
-    /// Colour, depth, hit parameter, object and light bits: what reprojection, edge and
-    /// shadow-boundary classification, `exact` and `reshade` modes read.
+    /// Colour, depth, hit parameter, object and light bits: what reprojection, edge
+    /// classification, `exact` and `reshade` modes read (the light bits, `reshade` alone).
     Keys,
     /// Everything, the shading entries (point, normal, view-independent light) too.
     #[default]
@@ -20,8 +20,8 @@ pub enum Record {
 /// at the top.
 ///
 /// The record is split into planes (structure of arrays) so that each pass touches only
-/// what it needs: reprojection reads `z`, edge and shadow-boundary tests read `object` and
-/// `lights`, and only re-shading reads the 36-byte `shading` entries.
+/// what it needs: reprojection reads `z`, edge tests read `object`, reshade reads `lights`,
+/// and only re-shading reads the 36-byte `shading` entries.
 #[derive(Clone, Debug, Default)]
 pub struct Film {
     width: u32,

@@ -4,15 +4,15 @@
 //! A [`PixelBatch`] is one eye's view with its screen bins built, made by
 //! [`crate::Renderer::batch`]. For a row's chosen pixels it makes, each job in a file:
 //! - `trace.rs`, [`PixelBatch::trace_pixels`]: full primary rays (the retrace of gaps,
-//!   borders, object edges and shadow boundaries, and of what changed since the last
+//!   borders and object edges, and of what changed since the last
 //!   frame), bit-for-bit the pixels [`crate::Renderer::render`] would make;
 //! - `reshade.rs`, [`PixelBatch::reshade`]: surfaces another view saw, re-lit for these
 //!   pixels' rays: their view-independent light and light visibility kept, highlights and
 //!   mirror rays recomputed (`reshade` mode);
 //! - `plan.rs`, [`PixelBatch::shade_row`]: a whole row by a plan, a pixel of the other view
 //!   per column (or none: trace afresh, or keep): each pixel's own ray against the one
-//!   sphere the other view saw there, shaded with that view's light visibility, and fully
-//!   traced where it misses that sphere or the plan says so (`exact` mode).
+//!   sphere the other view saw there, shaded as a full trace shades it (its own shadow rays),
+//!   and fully traced where it misses that sphere or the plan says so (`exact` mode).
 //!
 //! Every row's pixels are shaded as one batch of the thread's wavefront (`wavefront.rs`), so
 //! they go through the very kernels a whole eye's do. Each job can also mark its pixels for
@@ -20,8 +20,10 @@
 //!
 //! **Light bits.** Visibility travels as bits: bit k of [`crate::Surface::lights`] (and of
 //! the film's `lights` plane) is set when light k reaches the point. A point of a surface is
-//! the same point from either eye, so its bits hold for the second view as for the first;
-//! only what depends on the direction of view is recomputed.
+//! the same point from either eye, so reshade's bits hold for the second view as for the
+//! first; only what depends on the direction of view is recomputed. Exact mode does not
+//! reuse them: its pixel's own hit point is not its source's, and a shadow thinner than a
+//! pixel can fall between the two.
 
 mod plan;
 mod reshade;

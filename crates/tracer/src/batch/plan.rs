@@ -246,7 +246,7 @@ mod tests {
     const UNTOUCHED: u32 = 0xFF00_FF00;
 
     #[test]
-    fn a_planned_row_is_the_full_trace_wherever_its_sphere_and_bits_are_true() {
+    fn a_planned_row_is_the_full_trace_wherever_its_sphere_is_true() {
         let scene = scene("many.toml");
         let tracer = Tracer::new(&scene, 0.0);
         let (w, h) = (94, 54); // a short last group of lanes
