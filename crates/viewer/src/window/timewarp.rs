@@ -12,10 +12,12 @@
 //! queueing behind the tracer's jobs in the global pool.
 //!
 //! Both eyes go to one pose, from one traced pair. A supersampled pair is warped at its
-//! samples and filtered down to the eye size, as the worker filters a traced one. The debug
-//! mask colours each pixel by where it came from: traced at this very pose (fresh), warped
-//! from its own eye, a hole filled from the other eye, or a hole filled by the warp's row
-//! rule ([`TIMEWARP_LEGEND`]); it is blended over both eyes.
+//! samples and filtered down to the eye size, as the worker filters a traced one. A frame at
+//! the very pose it was traced for (fresh) is not warped: it is shown as traced, with the
+//! stereo pair's debug mask (the seed paper's Fig. 2). A warped frame's debug mask colours
+//! each pixel by where it came from: warped from its own eye, a hole filled from the other
+//! eye, or a hole filled by the warp's row rule ([`TIMEWARP_LEGEND`]); it is blended over
+//! both eyes.
 
 use std::time::Instant;
 
@@ -25,8 +27,6 @@ use tracer::{Camera, Eye};
 use crate::window::present::Look;
 use crate::window::worker::Finished;
 
-/// Mask colour of a pixel shown at the pose it was traced for.
-pub const FRESH_COLOR: u32 = 0x0040_D040;
 /// Mask colour of a pixel warped from its own eye's traced frame.
 pub const WARPED_COLOR: u32 = 0x0040_80FF;
 /// Mask colour of a hole filled by the other eye's warped pixel.
@@ -35,8 +35,7 @@ pub const OTHER_EYE_COLOR: u32 = 0x00FF_A020;
 pub const HOLE_COLOR: u32 = 0x00FF_30FF;
 
 /// The timewarp mask's colours and names, for the panel's legend.
-pub const TIMEWARP_LEGEND: [(u32, &str); 4] = [
-    (FRESH_COLOR, "fresh: traced at this pose"),
+pub const TIMEWARP_LEGEND: [(u32, &str); 3] = [
     (WARPED_COLOR, "warped from its own eye"),
     (OTHER_EYE_COLOR, "hole, filled from the other eye"),
     (HOLE_COLOR, "hole, filled along its row"),
@@ -47,7 +46,7 @@ pub const TIMEWARP_LEGEND: [(u32, &str); 4] = [
 pub struct Warped {
     /// Each eye's pixels by where they came from (at the sampled size).
     pub counts: [WarpCounts; 2],
-    /// The pose is the traced one: the frame is shown as traced.
+    /// The pose is the traced one: the frame was shown as traced, not warped.
     pub fresh: bool,
     /// Wall time of the warp and its filtering, milliseconds.
     pub ms: f64,
@@ -112,9 +111,15 @@ impl Timewarp {
 
     /// The frame to present for `traced` at the head pose `pose` (its scene's camera with
     /// the settings' head, IPD and distance), shown as `look` asks: `traced` warped to
-    /// `pose`, or `None` when it was traced without what the warp needs.
+    /// `pose`; or `None`, to show `traced` as it is, when it was traced without what the warp
+    /// needs or at `pose` itself (fresh: the warp would give it back bit for bit, and shown
+    /// as traced, its debug mask is the stereo pair's, the seed paper's Fig. 2).
     pub fn show(&mut self, traced: &Finished, pose: &Camera, look: Look) -> Option<&Finished> {
         let info = traced.info?;
+        if *pose == info.request.camera {
+            self.last = Warped { fresh: true, ..Warped::default() };
+            return None;
+        }
         let planes = &traced.traced;
         let samples = info.samples;
         let eye = (info.request.width, info.request.height);
@@ -131,7 +136,6 @@ impl Timewarp {
             WarpSource { view: view(&traced_at, Eye::Right, planes.guard), rgb: &planes.right, z: &planes.right_z },
         ];
         let targets = [view(pose, Eye::Left, (0, 0)), view(pose, Eye::Right, (0, 0))];
-        let fresh = *pose == traced_at;
         let Self { pool, warp, out, sampled, classes, colours, .. } = self;
         let counts = pool.install(|| {
             let Finished { left, right, mask_overlay, left_overlay, anaglyph, .. } = out;
@@ -148,13 +152,13 @@ impl Timewarp {
                     if !same {
                         stereo::downsample(&sampled[0], samples, left, eye);
                     }
-                    mask_colours(look.show_mask, fresh, &classes[0], left_colours, samples, left_overlay, eye);
+                    mask_colours(look.show_mask, &classes[0], left_colours, samples, left_overlay, eye);
                 },
                 || {
                     if !same {
                         stereo::downsample(&sampled[1], samples, right, eye);
                     }
-                    mask_colours(look.show_mask, fresh, &classes[1], right_colours, samples, mask_overlay, eye);
+                    mask_colours(look.show_mask, &classes[1], right_colours, samples, mask_overlay, eye);
                 },
             );
             if look.layout == Layout::Anaglyph {
@@ -165,16 +169,15 @@ impl Timewarp {
             counts
         });
         out.info = Some(info);
-        self.last = Warped { counts, fresh, ms: started.elapsed().as_secs_f64() * 1e3 };
+        self.last = Warped { counts, fresh: false, ms: started.elapsed().as_secs_f64() * 1e3 };
         Some(&self.out)
     }
 }
 
 /// The mask's colours of an eye's `classes` (at `samples`), filtered down to `eye` into
-/// `out` when `shown`, else `out` emptied; `fresh`: the frame is at its traced pose.
+/// `out` when `shown`, else `out` emptied.
 fn mask_colours(
     shown: bool,
-    fresh: bool,
     classes: &[WarpClass],
     colours: &mut Vec<u32>,
     samples: (u32, u32),
@@ -185,10 +188,9 @@ fn mask_colours(
         out.clear();
         return;
     }
-    let own = if fresh { FRESH_COLOR } else { WARPED_COLOR };
     colours.clear();
     colours.extend(classes.iter().map(|c| match c {
-        WarpClass::Warped | WarpClass::Crack => own,
+        WarpClass::Warped | WarpClass::Crack => WARPED_COLOR,
         WarpClass::OtherEye => OTHER_EYE_COLOR,
         WarpClass::Filled => HOLE_COLOR,
     }));
@@ -270,23 +272,27 @@ mod tests {
 
     const MASK: Look = Look { layout: Layout::SideBySide, swap: false, show_mask: true };
 
-    /// At the pose it was traced for, the frame is shown as traced, bit for bit, and its
-    /// mask says fresh; a turned head gets warped pixels and, at the edge the turn exposes
-    /// beyond the band, holes.
+    /// At the pose it was traced for, the frame is shown as traced (not warped, so with the
+    /// stereo pair's own mask), and the warp there would give it back bit for bit; a turned
+    /// head gets warped pixels and, at the edge the turn exposes beyond the band, holes.
     #[test]
     fn the_traced_pose_shows_the_frame_as_traced_and_a_turn_warps_it() {
         let camera = Camera { ipd: 1.0, ..Camera::default() };
         let frame = traced(camera, (48, 32), (2, 2));
         let mut timewarp = Timewarp::new().unwrap();
-        let shown = timewarp.show(&frame, &camera, MASK).unwrap();
-        assert_eq!((&shown.left, &shown.right), (&frame.left, &frame.right), "the traced pose: as traced");
-        assert!(shown.left_overlay.iter().chain(&shown.mask_overlay).all(|&c| c == FRESH_COLOR), "all fresh");
+        assert!(timewarp.show(&frame, &camera, MASK).is_none(), "the traced pose: shown as traced");
         assert!(timewarp.last().fresh && timewarp.last().hole_share() == 0.0);
+        // The warp to that pose would change nothing: what showing it as traced relies on.
+        let nudged = Camera { yaw_deg: 1e-30, ..camera };
+        assert_ne!(nudged, camera, "a pose the timewarp warps to");
+        let shown = timewarp.show(&frame, &nudged, MASK).unwrap();
+        assert_eq!((&shown.left, &shown.right), (&frame.left, &frame.right), "warped to the traced pose: as traced");
+        assert!(!timewarp.last().fresh && timewarp.last().hole_share() == 0.0);
         let turned = Camera { yaw_deg: 8.0, ..camera };
         let shown = timewarp.show(&frame, &turned, MASK).unwrap();
         assert_ne!(shown.left, frame.left, "a turn moves the picture");
         let colours = |c: u32| shown.left_overlay.iter().filter(|&&p| p == c).count();
-        assert!(colours(WARPED_COLOR) > 0 && colours(FRESH_COLOR) == 0, "warped, none fresh");
+        assert!(colours(WARPED_COLOR) > 0, "warped");
         assert!(colours(OTHER_EYE_COLOR) + colours(HOLE_COLOR) > 0, "8° is beyond a 2-pixel band: an exposed edge");
         let last = timewarp.last();
         assert!(!last.fresh && last.hole_share() > 0.0, "{last:?}");

@@ -148,7 +148,9 @@ pub fn panel(ctx: &egui::Context, settings: &mut Settings, readout: &Readout<'_>
                 statistics(ui, settings, readout);
                 if settings.show_mask {
                     ui.separator();
-                    if settings.timewarp {
+                    // The warp's mask while the shown frame is warped; the stereo pair's
+                    // (the seed paper's Fig. 2) while it is shown as traced.
+                    if settings.timewarp && !readout.motion.warp.is_some_and(|w| w.fresh) {
                         timewarp_legend(ui);
                     } else {
                         legend(ui);

@@ -515,6 +515,16 @@ mod tests {
         assert_eq!((&t.left, &t.left_z), (&direct.left().rgb, &direct.left().z), "the left eye as traced");
         assert_eq!((&t.right, &t.right_z[..]), (&direct.right().rgb, direct.right_depth()), "the right eye as traced");
         assert!(t.left_z.iter().any(|z| z.is_finite()), "the sphere is in view");
+        // The mask asked for: the colours of the shown part's classes, which the frame
+        // shows when the head is still (the frame shown as traced).
+        assert!(f.mask_overlay.is_empty(), "no colours unless asked for");
+        worker.post(Request { timewarp: true, guard: (3, 2), overlay: true, ..plain });
+        let f = wait_for(&mut worker, 3);
+        let mut overlay = Vec::new();
+        stereo::downsample_mask(&f.mask, (32, 24), &mut overlay, (32, 24));
+        assert_eq!(f.mask.len(), 32 * 24, "the shown part's classes");
+        assert_eq!(f.mask_overlay, overlay, "their colours");
+        assert!(f.mask.iter().any(|&c| c != stereo::PixelClass::Reprojected), "some pixels retraced");
     }
 
     #[test]

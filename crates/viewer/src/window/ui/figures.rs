@@ -20,8 +20,12 @@ pub(super) fn statistics(ui: &mut egui::Ui, s: &Settings, r: &Readout<'_>) {
         let m = &r.motion;
         row("new poses", format!("{:.1} /s · latency {}", m.pose_fps, ms(m.medians.latency_ms)));
         if let Some(w) = m.warp.filter(|_| s.timewarp) {
-            let state = if w.fresh { "fresh" } else { "warped" };
-            row("timewarp", format!("{state} · {:.1} ms · holes {:.2} %", w.ms, 100.0 * w.hole_share()));
+            let state = if w.fresh {
+                "fresh: shown as traced".to_owned()
+            } else {
+                format!("warped · {:.1} ms · holes {:.2} %", w.ms, 100.0 * w.hole_share())
+            };
+            row("timewarp", state);
         }
         row("frame age", ms(m.medians.age_ms));
         let Some(f) = r.frame else {

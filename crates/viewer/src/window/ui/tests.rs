@@ -41,6 +41,8 @@ struct State {
     settings: Settings,
     folder: String,
     actions: Actions,
+    /// When set, the readout's last warp from then on.
+    warp: Option<Warped>,
 }
 
 /// The panel for `scene` in a kittest harness, the way the app runs it.
@@ -50,11 +52,19 @@ fn harness<'a>(scene: &Scene, readout: Readout<'a>) -> Harness<'a, State> {
 
 /// [`harness`] in a window of `size` points.
 fn harness_sized<'a>(scene: &Scene, readout: Readout<'a>, size: egui::Vec2) -> Harness<'a, State> {
-    let state =
-        State { settings: Settings::from_scene(scene), folder: "./screenshots".into(), actions: Actions::default() };
+    let state = State {
+        settings: Settings::from_scene(scene),
+        folder: "./screenshots".into(),
+        actions: Actions::default(),
+        warp: None,
+    };
+    let mut readout = readout;
     let mut harness = Harness::builder().with_size(size).build_ui_state(
         move |ui, st: &mut State| {
             setup_style(ui.ctx());
+            if st.warp.is_some() {
+                readout.motion.warp = st.warp;
+            }
             let actions = panel(ui.ctx(), &mut st.settings, &readout, &mut st.folder);
             st.actions.reset |= actions.reset;
             st.actions.save |= actions.save;
@@ -213,9 +223,18 @@ fn the_panel_fits_the_default_window_with_everything_open() {
     assert!(window.max.y <= 592.1, "the panel ends above the window's bottom margin: {window:?}");
     assert!(window.height() > 500.0, "and uses the height it has: {window:?}");
     assert!(window.width() < 330.0, "the long error wraps: {window:?}");
-    // The title is on screen and the legend can be scrolled to: the timewarp's while it is
-    // on, the stereo mask's without it.
+    // The title is on screen and the legend can be scrolled to: the timewarp's while it
+    // shows a warped frame, the stereo mask's while the frame is shown as traced or the
+    // timewarp is off.
     assert!(harness.get_by_label("stereotrace").rect().min.y >= 8.0, "the title is visible");
+    let _ = harness.get_by_label("timewarp mask, blended 50 % over both eyes");
+    let warped = |fresh| Some(Warped { fresh, ..Warped::default() });
+    harness.state_mut().warp = warped(true);
+    harness.run();
+    let _ = harness.get_by_label("mask, blended 50 % over the right eye");
+    let _ = harness.get_by_label("fresh: shown as traced");
+    harness.state_mut().warp = warped(false);
+    harness.run();
     let _ = harness.get_by_label("timewarp mask, blended 50 % over both eyes");
     harness.state_mut().settings.timewarp = false;
     harness.run();

@@ -110,13 +110,17 @@ impl Finished {
                     cut_band(frame.mask(), samples, guard, shown_mask);
                     mask.extend_from_slice(shown_mask);
                 }
-                // The timewarp shows its own mask; without it, the right pixels a reused
-                // frame kept show in the mask's "kept" colour.
-                if request.overlay && !request.timewarp {
+                // Without a guard band, the right pixels a reused frame kept show in the
+                // mask's "kept" colour. With one (the timewarp's), the shown part's classes:
+                // the frame is shown as traced while the head is still (a warped frame shows
+                // the warp's mask instead).
+                if !request.overlay {
+                    overlay.clear();
+                } else if guard == (0, 0) {
                     let made = frame.made().map(|(_, right)| right);
                     stereo::downsample_mask_kept(frame.mask(), made, samples, overlay, eye);
                 } else {
-                    overlay.clear();
+                    stereo::downsample_mask(mask, samples, overlay, eye);
                 }
                 traced.clear();
                 if request.timewarp {
