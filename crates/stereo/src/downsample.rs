@@ -69,14 +69,38 @@ pub fn downsample_mask_kept(
     dst: &mut Vec<u32>,
     dst_size: (u32, u32),
 ) {
-    check_sizes(mask.len(), src_size, dst_size);
-    let colour = |i: usize| match made {
-        Some(made) if !made.get_index(i) => KEPT_COLOR,
-        _ => mask_color(mask[i]),
+    downsample_mask_kept_banded(mask, made, (src_size, (0, 0)), dst, dst_size);
+}
+
+/// [`downsample_mask_kept`] of the shown part of a frame traced with a guard band: `mask`
+/// and `made` cover `src_size` plus `guard` samples beyond each side, and only the
+/// `src_size` samples inside the band are filtered.
+///
+/// # Panics
+///
+/// As [`downsample`], with the band's size for the mask's.
+pub fn downsample_mask_kept_banded(
+    mask: &[PixelClass],
+    made: Option<&PixelBits>,
+    ((sw, sh), (gx, gy)): ((u32, u32), (u32, u32)),
+    dst: &mut Vec<u32>,
+    dst_size: (u32, u32),
+) {
+    let (stride, rows) = (sw as usize + 2 * gx as usize, sh as usize + 2 * gy as usize);
+    assert_eq!(mask.len(), stride * rows, "the mask holds {} samples, not {stride}×{rows}", mask.len());
+    check_sizes(sw as usize * sh as usize, (sw, sh), dst_size);
+    let (sw, gx, gy) = (sw as usize, gx as usize, gy as usize);
+    let colour = |i: usize| {
+        let k = (i / sw + gy) * stride + i % sw + gx;
+        match made {
+            Some(made) if !made.get_index(k) => KEPT_COLOR,
+            _ => mask_color(mask[k]),
+        }
     };
+    let src_size = (sw as u32, sh);
     if src_size == dst_size {
         dst.clear();
-        dst.extend((0..mask.len()).map(colour));
+        dst.extend((0..sw * sh as usize).map(colour));
     } else {
         filter(colour, src_size, dst, dst_size);
     }
@@ -219,6 +243,46 @@ mod tests {
         downsample(&mask.map(mask_color), (2, 1), &mut mixed, (1, 1));
         downsample_mask(&mask, (2, 1), &mut out, (1, 1));
         assert_eq!(out, mixed, "two classes: their colours, filtered as an image");
+    }
+
+    #[test]
+    fn a_banded_mask_shows_its_shown_part_only() {
+        // 4 × 2 shown samples inside a band of 1 and 2: the band's samples are edges, the
+        // shown ones alternate reprojected and gaps, and one of them was kept.
+        let (shown, guard) = ((4u32, 2u32), (1u32, 2u32));
+        let (stride, rows) = (6u32, 6u32);
+        let inside = |i: u32, j: u32| (1..5).contains(&i) && (2..4).contains(&j);
+        let mut mask = Vec::new();
+        let mut made = tracer::PixelBits::new(stride, rows);
+        let mut cut = Vec::new();
+        let mut cut_made = tracer::PixelBits::new(shown.0, shown.1);
+        for j in 0..rows {
+            for i in 0..stride {
+                let class = if !inside(i, j) {
+                    PixelClass::RetracedEdge
+                } else if (i + j) % 2 == 0 {
+                    PixelClass::Reprojected
+                } else {
+                    PixelClass::RetracedGap
+                };
+                let kept = (i, j) == (2, 3);
+                mask.push(class);
+                made.set(i, j, !kept);
+                if inside(i, j) {
+                    cut.push(class);
+                    cut_made.set(i - guard.0, j - guard.1, !kept);
+                }
+            }
+        }
+        for dst in [(4, 2), (2, 1), (3, 2)] {
+            let (mut banded, mut plain) = (Vec::new(), Vec::new());
+            downsample_mask_kept_banded(&mask, Some(&made), (shown, guard), &mut banded, dst);
+            downsample_mask_kept(&cut, Some(&cut_made), shown, &mut plain, dst);
+            assert_eq!(banded, plain, "to {dst:?}");
+        }
+        let mut out = Vec::new();
+        downsample_mask_kept_banded(&mask, Some(&made), (shown, guard), &mut out, shown);
+        assert!(out.contains(&KEPT_COLOR) && !out.contains(&mask_color(PixelClass::RetracedEdge)), "{out:x?}");
     }
 
     #[test]

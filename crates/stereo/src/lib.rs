@@ -86,7 +86,7 @@ mod reuse;
 mod stats;
 mod warp;
 
-pub use downsample::{downsample, downsample_mask, downsample_mask_kept};
+pub use downsample::{downsample, downsample_mask, downsample_mask_kept, downsample_mask_kept_banded};
 pub use frame::StereoFrame;
 pub use image::Image;
 pub use layout::{anaglyph_pixel, compose, Layout};

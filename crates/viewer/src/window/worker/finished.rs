@@ -110,17 +110,14 @@ impl Finished {
                     cut_band(frame.mask(), samples, guard, shown_mask);
                     mask.extend_from_slice(shown_mask);
                 }
-                // Without a guard band, the right pixels a reused frame kept show in the
-                // mask's "kept" colour. With one (the timewarp's), the shown part's classes:
-                // the frame is shown as traced while the head is still (a warped frame shows
-                // the warp's mask instead).
-                if !request.overlay {
-                    overlay.clear();
-                } else if guard == (0, 0) {
+                // The shown part's classes, and the right pixels a reused frame kept in the
+                // mask's "kept" colour. (With the timewarp, the frame is shown as traced, with
+                // these colours, while the head is still; a warped frame shows the warp's.)
+                if request.overlay {
                     let made = frame.made().map(|(_, right)| right);
-                    stereo::downsample_mask_kept(frame.mask(), made, samples, overlay, eye);
+                    stereo::downsample_mask_kept_banded(frame.mask(), made, (samples, guard), overlay, eye);
                 } else {
-                    stereo::downsample_mask(mask, samples, overlay, eye);
+                    overlay.clear();
                 }
                 traced.clear();
                 if request.timewarp {
