@@ -99,7 +99,7 @@ pub use render::{Pixels, Renderer, Target};
 pub use scene::{Light, Motion, RenderSettings, Scene, SceneSphere, Structure, MAX_DEPTH_LIMIT, MAX_LIGHTS};
 pub use scene_file::{is_scene_file_name, MAX_SPHERES, MAX_TOML_BYTES};
 pub use shade::Shaded;
-pub use simd::{lane_width, level as simd_level, LANES_VAR};
+pub use simd::{lane_width, level as simd_level, widest_level as widest_simd_level, LANES_VAR};
 pub use snapshot::Snapshot;
 pub use sphere::{intersect_sphere, Sphere};
 pub use stats::RayCounts;

@@ -48,6 +48,17 @@ pub fn level() -> Level {
     chosen().0
 }
 
+/// The widest instruction set of this CPU (AVX-512's 16 lanes where it has them, else as
+/// [`level`]), or the 4-lane baseline when `STEREOTRACE_LANES=4`. Only for a kernel whose
+/// results are shown not to depend on the lane width, and that gains from the width: the
+/// timewarp's warp (`stereo`'s `warp/`), whose tests compare its bytes at every width. The
+/// shading kernels stay at [`level`]: one lane width for every image.
+#[must_use]
+pub fn widest_level() -> Level {
+    static WIDEST: OnceLock<Level> = OnceLock::new();
+    *WIDEST.get_or_init(|| if lane_width() == 4 { level() } else { Level::new() })
+}
+
 /// How many lanes the shading kernels run with in this process: 8 (AVX2 + FMA) or 4.
 #[must_use]
 pub fn lane_width() -> usize {

@@ -46,8 +46,9 @@ fn warp_at(level: Level, frames: &[Planes; 2], views: &[EyeView; 2], targets: &[
     Warped { out, classes, counts }
 }
 
+/// [`warp_at`] the level `Warp::warp` runs at.
 fn warp(frames: &[Planes; 2], views: &[EyeView; 2], targets: &[EyeView; 2]) -> Warped {
-    warp_at(tracer::simd_level(), frames, views, targets)
+    warp_at(tracer::widest_simd_level(), frames, views, targets)
 }
 
 /// Both eyes of the seed scene traced through `camera`, `w` × `h` with a guard band.
@@ -341,7 +342,16 @@ fn the_same_bytes_for_any_thread_count_and_lane_width() {
         "every class occurs: {:?}",
         one.counts
     );
-    for (threads, level) in [(2, tracer::simd_level()), (1, Level::baseline()), (2, Level::baseline())] {
+    // The widest level is what `Warp::warp` runs at (AVX-512's 16 lanes on a CPU that has
+    // them, else the same as `simd_level`).
+    let levels = [
+        (2, tracer::simd_level()),
+        (1, Level::baseline()),
+        (2, Level::baseline()),
+        (1, tracer::widest_simd_level()),
+        (2, tracer::widest_simd_level()),
+    ];
+    for (threads, level) in levels {
         let other = run(threads, level);
         assert_eq!(other.counts, one.counts, "{threads} threads, {level:?}");
         assert!(other.out == one.out && other.classes == one.classes, "{threads} threads, {level:?}: other bytes");
