@@ -24,18 +24,18 @@
 //!    reads only the source rows that can land in it.
 //! 2. **Land** (`scatter.rs`): every pixel of both traced views, guard band included, in
 //!    SIMD lanes (`fearless_simd`, dispatched at [`tracer::widest_simd_level`]: 16 lanes
-//!    with AVX-512, else 8 or 4, the same kernel). A pixel at z = +∞ (background) is a direction: it turns with the head
-//!    and does not translate. It lands in its own eye's target and, by the disparity, in the
-//!    other eye's, on the pixel containing its projected centre (the floor of its
-//!    continuous coordinates), as a key: its eye, its target depth, its colour. Each target
-//!    pixel keeps the smallest: any pixel of its own eye before any of the other eye, then
-//!    the nearer surface (the background loses to every surface), and on a tie the one
-//!    that landed first in the band's fixed order (source rows from the top, the left eye
-//!    before the right, pixels from the left), whatever the threads or the lanes. So the
-//!    own eye's pixels are [`WarpClass::Warped`], and the other eye's, the nearest among
-//!    them, fill exactly the holes the own eye left (disocclusions, which the other eye saw
-//!    around; cracks where the image stretches; edges a turn exposes beyond the guard
-//!    band): [`WarpClass::OtherEye`].
+//!    with AVX-512, else 8 or 4, the same kernel). A pixel at z = +∞ (background) is a
+//!    direction: it turns with the head and does not translate. It lands in its own eye's
+//!    target and, by the disparity, in the other eye's, on the pixel containing its
+//!    projected centre (the floor of its continuous coordinates), as a key: its eye, its
+//!    target depth, its colour. Each target pixel keeps the smallest: any pixel of its own
+//!    eye before any of the other eye, then the nearer surface (the background loses to
+//!    every surface), and on a tie the one that landed first in the band's fixed order
+//!    (source rows from the top, the left eye before the right, pixels from the left),
+//!    whatever the threads or the lanes. So the own eye's pixels are [`WarpClass::Warped`],
+//!    and the other eye's, the nearest among them, fill exactly the holes the own eye left
+//!    (disocclusions, which the other eye saw around; cracks where the image stretches;
+//!    edges a turn exposes beyond the guard band): [`WarpClass::OtherEye`].
 //! 3. **Resolve** (`resolve.rs`): the winners' colours, the crack rule (`crack.rs`) and the
 //!    hole rule below for the rest; the rows within two rows of another band wait for the
 //!    seams' pass (below), and the hole rule's last step, rows nothing reached, runs once
@@ -101,8 +101,8 @@
 //! 2.5 ms against 7.9 ms. The warp alone runs at the CPU's widest lanes, since its bytes do
 //! not depend on them (the shading kernels stay at 8): on a 2-core AMD EPYC with AVX-512
 //! (2026-12-04), 16 lanes took 0.71–0.94 of the time of 8 in four alternating runs of the
-//! bench (median about 0.83). A source pixel costs one projection and two landings, about 2 ns
-//! on one core, a quarter of it waiting on memory; four vectors of a row are landed
+//! bench (median about 0.83). A source pixel costs one projection and two landings, about
+//! 2 ns on one core, a quarter of it waiting on memory; four vectors of a row are landed
 //! before any is kept, which gives the core more independent work between the branches.
 //!
 //! About one vector in eight (per eye) does not land side by side: a gap where the image
