@@ -110,7 +110,7 @@ pub struct StageTimes {
     pub trace_left: f64,
     /// Reprojection and classification of the right eye.
     pub reproject: f64,
-    /// Retracing the right eye's gap, edge and shadow-boundary pixels (all pixels in full
+    /// Retracing the right eye's gap and edge pixels (all pixels in full
     /// mode); in copy mode this pass also copies the reprojected pixels' colours.
     pub retrace: f64,
     /// Filling the reprojected pixels by reshade or exact shading (0 in copy mode, whose

@@ -33,8 +33,8 @@
 //! the arithmetic); then the scan, which writes runs of targets that go up one by
 //! one a block of four pixels at a time and takes the rules above pixel by pixel only where
 //! a run breaks (see `scan` for why that changes nothing). For the frame's pass the scan
-//! also carries each source's object id and light bits, read in scanline order alongside
-//! its target, into the right row's key planes for the classification (`classify.rs`), so
+//! also carries each source's object id, read in scanline order alongside its target, into
+//! the right row's key plane for the classification (`classify.rs`), so
 //! no second pass gathers them by source index.
 //!
 //! SIMD: `fearless_simd`, dispatched at run time on the tracer's level
