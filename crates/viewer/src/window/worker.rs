@@ -582,24 +582,31 @@ mod tests {
     }
 
     /// The tracer's threads run in the idle scheduling class on Linux, which the kernel
-    /// reports as field 41 of the thread's stat line (`SCHED_IDLE`, 5).
+    /// reports as field 41 of the thread's stat line (`SCHED_IDLE`, 5), or, where a sandbox
+    /// refuses that, at a niceness of 10 (field 19).
     #[cfg(target_os = "linux")]
     #[test]
     fn the_tracers_threads_run_at_a_lower_priority() {
-        let policy = || {
+        // (policy, niceness) of the calling thread.
+        let scheduling = || {
             let stat = std::fs::read_to_string("/proc/thread-self/stat").unwrap();
-            // After the command's closing parenthesis: state is field 3, policy field 41.
+            // After the command's closing parenthesis: state is field 3.
             let fields: Vec<&str> = stat[stat.rfind(')').unwrap() + 2..].split(' ').collect();
-            fields[38].parse::<i32>().unwrap()
+            (fields[38].parse::<i32>().unwrap(), fields[16].parse::<i32>().unwrap())
         };
         let (before, after) = std::thread::spawn(move || {
-            let before = policy();
+            let before = scheduling();
             lower_this_thread();
-            (before, policy())
+            (before, scheduling())
         })
         .join()
         .unwrap();
-        assert_eq!((before, after), (libc_sched::OTHER, libc_sched::IDLE), "a new thread normal, lowered to idle");
+        assert_eq!(before, (libc_sched::OTHER, 0), "a new thread runs normally");
+        let idle = after.0 == libc_sched::IDLE;
+        if !idle {
+            eprintln!("SCHED_IDLE was refused here: the niceness fallback is checked instead");
+        }
+        assert!(idle || after == (libc_sched::OTHER, 10), "lowered to the idle class, or else to niceness 10: {after:?}");
     }
 
     /// Linux's scheduling policies, as `sched.h` numbers them.
