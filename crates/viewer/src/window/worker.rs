@@ -606,7 +606,10 @@ mod tests {
         if !idle {
             eprintln!("SCHED_IDLE was refused here: the niceness fallback is checked instead");
         }
-        assert!(idle || after == (libc_sched::OTHER, 10), "lowered to the idle class, or else to niceness 10: {after:?}");
+        assert!(
+            idle || after == (libc_sched::OTHER, 10),
+            "lowered to the idle class, or else to niceness 10: {after:?}"
+        );
     }
 
     /// Linux's scheduling policies, as `sched.h` numbers them.
