@@ -89,20 +89,23 @@ pub fn downsample_mask_kept_banded(
     let (stride, rows) = (sw as usize + 2 * gx as usize, sh as usize + 2 * gy as usize);
     assert_eq!(mask.len(), stride * rows, "the mask holds {} samples, not {stride}×{rows}", mask.len());
     check_sizes(sw as usize * sh as usize, (sw, sh), dst_size);
-    let (sw, gx, gy) = (sw as usize, gx as usize, gy as usize);
-    let colour = |i: usize| {
-        let k = (i / sw + gy) * stride + i % sw + gx;
-        match made {
-            Some(made) if !made.get_index(k) => KEPT_COLOR,
-            _ => mask_color(mask[k]),
-        }
+    let (src_size, (sw, gx, gy)) = ((sw, sh), (sw as usize, gx as usize, gy as usize));
+    // The colour of the sample at `k` in the band.
+    let colour = |k: usize| match made {
+        Some(made) if !made.get_index(k) => KEPT_COLOR,
+        _ => mask_color(mask[k]),
     };
-    let src_size = (sw as u32, sh);
     if src_size == dst_size {
+        // Row by row: no division per sample.
         dst.clear();
-        dst.extend((0..sw * sh as usize).map(colour));
-    } else {
+        for row in gy..gy + sh as usize {
+            let first = row * stride + gx;
+            dst.extend((first..first + sw).map(colour));
+        }
+    } else if (gx, gy) == (0, 0) {
         filter(colour, src_size, dst, dst_size);
+    } else {
+        filter(|i| colour((i / sw + gy) * stride + i % sw + gx), src_size, dst, dst_size);
     }
 }
 
