@@ -176,12 +176,7 @@ fn reshade_row(right: PixelBatch<'_>, (lv, left): (&EyeView, &Film), row: Row<'_
     let mut rays = RayCounts::default();
     with_list(|list| {
         list_row(left, (mask, src), rgb, only, list);
-        right.reshade(j, (lv, left), list.iter().copied(), &mut rays, |i, c, touch| {
-            rgb[i as usize] = c;
-            if let Some(marks) = marks.as_mut() {
-                marks.set(i, touch);
-            }
-        });
+        right.reshade(j, (lv, left), list.iter().copied(), &mut rays, (rgb, marks.as_mut()));
     });
     Filled { rays, sphere_tests: 0 }
 }

@@ -116,12 +116,7 @@ pub(crate) fn retrace(
                 }
             }
             let traced = chosen(only, w).filter(|&i| mask[i as usize] != PixelClass::Reprojected);
-            right.trace_pixels(j as u32, traced, &mut counts, |i, c, touch| {
-                rgb[i as usize] = c;
-                if mark {
-                    marks.set(i, touch);
-                }
-            });
+            right.trace_pixels(j as u32, traced, &mut counts, (rgb, mark.then_some(&mut marks)));
             counts
         })
         .sum()

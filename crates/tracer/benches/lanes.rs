@@ -45,11 +45,14 @@ fn batches(c: &mut Criterion) {
         let film = &film;
         let mut renderer = Renderer::new();
         let second = renderer.batch(&tracer, &view);
+        let mut rgb = vec![0u32; W as usize];
+        let row_sum = |rgb: &[u32], sum: u32| rgb.iter().fold(sum, |s, &c| s.wrapping_add(c));
         c.bench_function(&format!("lanes{lanes}_trace_rows_{W}x{H}_{name}"), |b| {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
                 for j in 0..H {
-                    second.trace_pixels(j, 0..W, &mut counts, |_, c, _| sum = sum.wrapping_add(c));
+                    second.trace_pixels(j, 0..W, &mut counts, (&mut rgb, None));
+                    sum = row_sum(&rgb, sum);
                 }
                 black_box((sum, counts))
             });
@@ -58,20 +61,25 @@ fn batches(c: &mut Criterion) {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
                 for j in 0..H {
-                    second.reshade(j, (&view, film), hit(j).map(|i| (i, j * W + i)), &mut counts, |_, c, _| {
-                        sum = sum.wrapping_add(c);
-                    });
+                    second.reshade(j, (&view, film), hit(j).map(|i| (i, j * W + i)), &mut counts, (&mut rgb, None));
+                    sum = row_sum(&rgb, sum);
                 }
                 black_box((sum, counts))
             });
         });
         let swept = tracer::reuse::Swept::of(&s);
         let marking = second.marking(Some(&swept));
+        let mut marks = tracer::reuse::Marks::new(W, 1);
+        let mut marks_rows: Vec<_> =
+            rayon::iter::ParallelIterator::collect(marks.rows_mut(tracer::reuse::Rewrite::All));
         c.bench_function(&format!("lanes{lanes}_trace_rows_marking_{W}x{H}_{name}"), |b| {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
                 for j in 0..H {
-                    marking.trace_pixels(j, 0..W, &mut counts, |_, c, t| sum = sum.wrapping_add(c ^ t.ring));
+                    let row = &mut marks_rows[0];
+                    row.clear();
+                    marking.trace_pixels(j, 0..W, &mut counts, (&mut rgb, Some(row)));
+                    sum = row_sum(&rgb, sum);
                 }
                 black_box((sum, counts))
             });
@@ -79,7 +87,7 @@ fn batches(c: &mut Criterion) {
         c.bench_function(&format!("lanes{lanes}_exact_rows_{W}x{H}_{name}"), |b| {
             // Each pixel aimed at the sphere it sees: the plan is the film itself, in column
             // order (as exact mode's reprojection hands it over).
-            let (mut rgb, mut missed) = (vec![0u32; W as usize], Vec::new());
+            let mut missed = Vec::new();
             let source: Vec<u32> = (0..W * H).collect();
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
@@ -101,7 +109,8 @@ fn batches(c: &mut Criterion) {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
                 for j in 0..H {
-                    flat_view.trace_pixels(j, 0..W, &mut counts, |_, c, _| sum = sum.wrapping_add(c));
+                    flat_view.trace_pixels(j, 0..W, &mut counts, (&mut rgb, None));
+                    sum = row_sum(&rgb, sum);
                 }
                 black_box((sum, counts))
             });
@@ -115,9 +124,8 @@ fn batches(c: &mut Criterion) {
             b.iter(|| {
                 let (mut counts, mut sum) = (RayCounts::default(), 0u32);
                 for j in 0..H {
-                    one_view.reshade(j, (&view, film), hit(j).map(|i| (i, j * W + i)), &mut counts, |_, c, _| {
-                        sum = sum.wrapping_add(c);
-                    });
+                    one_view.reshade(j, (&view, film), hit(j).map(|i| (i, j * W + i)), &mut counts, (&mut rgb, None));
+                    sum = row_sum(&rgb, sum);
                 }
                 black_box((sum, counts))
             });

@@ -70,9 +70,10 @@ fn traversal_and_shading(c: &mut Criterion) {
         let binned = renderer.batch(&tracer, &view);
         c.bench_function(&format!("shade_binned_160x90_{name}"), |b| {
             b.iter(|| {
-                let (mut counts, mut sum) = (RayCounts::default(), 0u32);
+                let (mut counts, mut sum, mut rgb) = (RayCounts::default(), 0u32, [0u32; 160]);
                 for j in 0..90 {
-                    binned.trace_pixels(j, 0..160, &mut counts, |_, c, _| sum = sum.wrapping_add(c));
+                    binned.trace_pixels(j, 0..160, &mut counts, (&mut rgb, None));
+                    sum = rgb.iter().fold(sum, |s, &c| s.wrapping_add(c));
                 }
                 (sum, counts)
             });

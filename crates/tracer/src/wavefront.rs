@@ -20,8 +20,6 @@ use crate::accel::Origin;
 use crate::camera::EyeView;
 use crate::color::pack_rgb;
 use crate::ray::{reflect, spawn_ray, Ray};
-use crate::reuse::{Marker, TreeMarks};
-use crate::scene::Light;
 use crate::simd::{F, U};
 use crate::stats::RayCounts;
 use crate::surface::{Hit, Surface};
@@ -30,7 +28,9 @@ use crate::tracer::Tracer;
 mod lanes;
 mod level;
 
-use level::{get3, set3, Level};
+use level::{get3, set3};
+
+pub(crate) use level::Level;
 
 pub(crate) use lanes::per_object;
 
@@ -41,15 +41,40 @@ pub(crate) struct Wavefront {
     levels: Vec<Level>,
     /// Levels in use.
     depth: usize,
-    /// The reuse layer's marks of the batch (`reuse/tree.rs`): written only when a caller
-    /// marks ([`Wavefront::mark`]).
-    pub(crate) marks: TreeMarks,
+}
+
+/// A shaded batch as an observer reads it (`sink.rs`): its levels, read-only, each padded
+/// to whole vectors of lanes (the entries past a level's end hold anything).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Levels<'a> {
+    levels: &'a [Level],
+}
+
+impl<'a> Levels<'a> {
+    /// Reflection depths shaded.
+    pub(crate) fn depth(&self) -> usize {
+        self.levels.len()
+    }
+
+    /// The hits at reflection depth `k`: level 0 holds the samples, in batch order.
+    pub(crate) fn level(&self, k: usize) -> &'a Level {
+        &self.levels[k]
+    }
+
+    /// Samples in the batch.
+    pub(crate) fn len(&self) -> usize {
+        self.levels.first().map_or(0, Level::len)
+    }
+
+    /// Sample `e`'s tag.
+    pub(crate) fn tag(&self, e: usize) -> u32 {
+        self.levels[0].parent[e]
+    }
 }
 
 impl Wavefront {
     /// Empties the batch.
     pub(crate) fn clear(&mut self) {
-        self.marks.clear();
         if self.levels.is_empty() {
             self.levels.push(Level::default());
         }
@@ -208,17 +233,9 @@ impl Wavefront {
         }
     }
 
-    /// The reuse layer's hook: marks, after [`Wavefront::shade`], where each sample's ray
-    /// tree meets `marker`'s swept volumes (`reuse/tree.rs`; `incoming` as there). Read the
-    /// marks with `self.marks.touch(e)`.
-    pub(crate) fn mark(&mut self, marker: &Marker<'_>, lights: &[Light], incoming: impl Fn(u32) -> bool) {
-        // The marking reads whole vectors of lanes.
-        let lanes = crate::simd::lane_width();
-        for level in &mut self.levels[..self.depth] {
-            level.reserve(level.len().div_ceil(lanes) * lanes);
-        }
-        let levels = &self.levels;
-        self.marks.mark((marker, lights), (self.depth, |k| levels[k].rays()), incoming);
+    /// The batch as shaded, for observers to read ([`Levels`]).
+    pub(crate) fn levels(&self) -> Levels<'_> {
+        Levels { levels: &self.levels[..self.depth] }
     }
 
     /// Sample `e`'s tag.

@@ -35,8 +35,8 @@ use glam::Vec3;
 use crate::accel::screen::ScreenBins;
 use crate::camera::EyeView;
 use crate::ray::Ray;
-use crate::reuse::{Marker, Swept, Touch};
 use crate::simd::{F, U};
+use crate::sink::{Columns, Observe, RowSink};
 use crate::surface::Hit;
 use crate::tracer::Tracer;
 use crate::wavefront::Wavefront;
@@ -44,7 +44,7 @@ use crate::wavefront::Wavefront;
 pub use plan::{RowPlan, KEEP, TRACE};
 
 /// One eye's view with its screen bins built: traces that view's primary rays, and shades
-/// what they hit in the scene.
+/// what they hit in the scene, into a row's sink (see the module doc).
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct BinnedView<'a> {
     /// The scene.
@@ -53,28 +53,6 @@ pub(crate) struct BinnedView<'a> {
     pub(crate) view: &'a EyeView,
     /// `view`'s bins, built by [`ScreenBins::build`] for `tracer` and `view`.
     pub(crate) bins: &'a ScreenBins,
-}
-
-impl BinnedView<'_> {
-    /// The first hits of the primary rays of pixels (i + l, j), l = 0..LEN
-    /// ([`ScreenBins::hits_lanes`]).
-    #[expect(
-        clippy::inline_always,
-        reason = "inlined into the dispatched lane kernels, whose target features it needs"
-    )]
-    #[inline(always)]
-    pub(crate) fn hits_lanes<S: Simd>(&self, simd: S, i: u32, j: u32) -> (F<S>, U<S>, [F<S>; 3]) {
-        let scene = &self.tracer.scene;
-        self.bins.hits_lanes(simd, (self.view, &scene.centers, &scene.radii), i, j)
-    }
-}
-
-/// One eye's view, ready to make batches of its chosen pixels (see the module doc).
-#[derive(Clone, Copy, Debug)]
-pub struct PixelBatch<'a> {
-    eye: BinnedView<'a>,
-    /// The hook that marks the pixels made, when marking.
-    marker: Option<Marker<'a>>,
 }
 
 /// Groups ascending pixel columns by the aligned group of `lanes` (a power of two, at most
@@ -99,117 +77,74 @@ pub(crate) fn by_lanes(cols: impl IntoIterator<Item = u32>, lanes: u32, mut grou
     }
 }
 
-impl<'a> PixelBatch<'a> {
-    /// The batches of `eye`, whose bins are built, marked through `marker` if given.
-    pub(crate) fn new(eye: BinnedView<'a>, marker: Option<Marker<'a>>) -> Self {
-        Self { eye, marker }
+/// How many columns a group of lanes holds ([`BinnedView::push_traced`]): the lane width.
+pub(crate) fn lanes() -> u32 {
+    crate::simd::lane_width() as u32
+}
+
+impl BinnedView<'_> {
+    /// The first hits of the primary rays of pixels (i + l, j), l = 0..LEN
+    /// ([`ScreenBins::hits_lanes`]).
+    #[inline(always)]
+    pub(crate) fn hits_lanes<S: Simd>(&self, simd: S, i: u32, j: u32) -> (F<S>, U<S>, [F<S>; 3]) {
+        let scene = &self.tracer.scene;
+        self.bins.hits_lanes(simd, (self.view, &scene.centers, &scene.radii), i, j)
     }
 
-    /// These batches, telling with each pixel they hand out where that pixel's ray tree
-    /// meets `swept`'s volumes (the `touch` argument of the `out` callbacks); without
-    /// `swept`, or when marking, always [`Touch::NONE`].
-    #[must_use]
-    pub fn marking(self, swept: Option<&'a Swept>) -> Self {
-        Self { marker: swept.map(|swept| Marker::new(swept, self.eye.view)), ..self }
-    }
-
-    /// Hands `out(tag, background colour, touch)` again for each pixel of row `j` that
-    /// [`PixelBatch::push_traced`] found seeing only background and whose primary ray meets
-    /// a swept volume (when marking): the pixels' marks, found in lanes.
-    fn mark_background(&self, wavefront: &mut Wavefront, j: u32, out: &mut impl FnMut(u32, u32, Touch)) {
-        if let Some(marker) = &self.marker {
-            let rgb = self.eye.tracer.scene.background_rgb;
-            wavefront.marks.mark_background(marker, self.eye.view, j, &mut |tag, touch| out(tag, rgb, touch));
-        }
-    }
-
-    /// Marks the batch's samples of row `j`, when marking; `own` says whether their rays
-    /// are this view's (not another view's, whose pixels carry those rays' marks).
-    fn mark_batch(&self, wavefront: &mut Wavefront, j: u32, own: bool) {
-        if let Some(marker) = &self.marker {
-            wavefront.mark(marker, &self.eye.tracer.scene.lights, |tag| own && marker.may_meet(tag, j));
-        }
-    }
-
-    /// Sample `e`'s mark ([`Touch::NONE`] when not marking).
-    fn touch(&self, wavefront: &Wavefront, e: usize) -> Touch {
-        if self.marker.is_some() {
-            wavefront.marks.touch(e)
-        } else {
-            Touch::NONE
-        }
-    }
-
-    /// How many columns [`PixelBatch::push_traced`] takes at once: the lane width.
-    pub(crate) fn lanes() -> u32 {
-        crate::simd::lane_width() as u32
-    }
-
-    /// Pushes the pixels `mask` names of the group of [`PixelBatch::lanes`] columns from
-    /// `base` (a multiple of it) with full primary rays, in lanes; the ones that see only
-    /// background go straight to `out(column, colour, touch)`. Tags are columns.
+    /// Pushes the pixels `mask` names of the group of [`lanes`] columns from `base` (a
+    /// multiple of it) on row `j` with full primary rays, in lanes; the ones that see only
+    /// background go straight to `sink`. Tags are columns.
     pub(crate) fn push_traced(
         &self,
         wavefront: &mut Wavefront,
-        base: u32,
-        j: u32,
-        mask: u32,
-        out: &mut impl FnMut(u32, u32, Touch),
+        (base, j, mask): (u32, u32, u32),
+        sink: &mut RowSink<impl Columns, impl Observe>,
     ) {
         dispatch!(crate::simd::level(), simd => simd.vectorize(
             #[inline(always)]
-            || self.push_traced_in(simd, wavefront, (base, j, mask), out),
+            || self.push_traced_in(simd, wavefront, (base, j, mask), sink),
         ));
     }
 
-    #[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
+    /// [`BinnedView::push_traced`] with the lanes of `simd`.
     #[inline(always)]
-    fn push_traced_in<S: Simd>(
+    pub(crate) fn push_traced_in<S: Simd>(
         &self,
         simd: S,
         wavefront: &mut Wavefront,
         (base, j, mask): (u32, u32, u32),
-        out: &mut impl FnMut(u32, u32, Touch),
+        sink: &mut RowSink<impl Columns, impl Observe>,
     ) {
         let lanes = F::<S>::LEN;
         debug_assert!(
             (base as usize).is_multiple_of(lanes) && u64::from(mask) < 1 << lanes,
             "group {base}, mask {mask:b}"
         );
-        if self.eye.bins.is_empty_at(base, j) {
+        if self.bins.is_empty_at(base, j) {
+            let rgb = self.tracer.scene.background_rgb;
             for i in crate::bits::ones(&[u64::from(mask)]) {
-                self.background(wavefront, (base + i, j), out);
+                let i = (base + i) as usize;
+                sink.background(i..i + 1, rgb);
             }
             return;
         }
-        let hits = self.eye.hits_lanes(simd, base, j);
-        self.push_found_in(simd, wavefront, (base, j, mask), hits, out);
+        let hits = self.hits_lanes(simd, base, j);
+        self.push_found_in(simd, wavefront, (base, mask), hits, sink);
     }
 
-    /// A pixel (i, j) whose primary ray sees only background: its colour to `out`, and its
-    /// column noted for [`PixelBatch::mark_background`] when marking and it may be marked.
-    fn background(&self, wavefront: &mut Wavefront, (i, j): (u32, u32), out: &mut impl FnMut(u32, u32, Touch)) {
-        // Marked later, together (`mark_background`).
-        out(i, self.eye.tracer.scene.background_rgb, Touch::NONE);
-        if self.marker.is_some_and(|marker| marker.may_meet(i, j)) {
-            wavefront.marks.push_background(i);
-        }
-    }
-
-    /// Pushes the pixels `mask` names of the group of lanes from `base` on row `j`, whose
+    /// Pushes the pixels `mask` names of the group of lanes from `base` of a row, whose
     /// first hits are `hits` (the bins' search: `t`, +∞ for none, sphere and ray direction
-    /// per lane); the ones that see only background go to `out`.
-    #[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
+    /// per lane); the ones that see only background go to `sink`.
     #[inline(always)]
-    fn push_found_in<S: Simd>(
+    pub(crate) fn push_found_in<S: Simd>(
         &self,
         simd: S,
         wavefront: &mut Wavefront,
-        (base, j, mask): (u32, u32, u32),
+        (base, mask): (u32, u32),
         hits: (F<S>, U<S>, [F<S>; 3]),
-        out: &mut impl FnMut(u32, u32, Touch),
+        sink: &mut RowSink<impl Columns, impl Observe>,
     ) {
-        let view = self.eye.view;
+        let view = self.view;
         let hit = hits.0.abs().simd_lt(F::<S>::splat(simd, f32::INFINITY)).to_bitmask() as u32;
         if mask == hit && u64::from(mask) == (1 << F::<S>::LEN) - 1 {
             // Every ray of the group hits: into the batch whole.
@@ -223,7 +158,7 @@ impl<'a> PixelBatch<'a> {
                 let ray = Ray::new(view.origin, Vec3::new(d[0][k], d[1][k], d[2][k]));
                 wavefront.push_hit(&ray, Hit { t: t[k], object: ids[k] }, i);
             } else {
-                self.background(wavefront, (i, j), out);
+                sink.background(i as usize..i as usize + 1, self.tracer.scene.background_rgb);
             }
         }
     }

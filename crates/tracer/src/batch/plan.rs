@@ -1,13 +1,13 @@
-//! [`PixelBatch::shade_row`]: a row made by a plan, exact mode's one pass.
+//! [`BinnedView::shade_row`]: a row made by a plan, exact mode's one pass.
 
 use fearless_simd::{dispatch, prelude::*, Simd};
 use glam::Vec3;
 
-use super::PixelBatch;
+use super::BinnedView;
 use crate::film::Film;
 use crate::ray::Ray;
-use crate::reuse::{MarksRow, Touch};
 use crate::simd::{F, U};
+use crate::sink::{Columns, Observe, RowSink};
 use crate::stats::RayCounts;
 use crate::surface::{Hit, NO_OBJECT};
 use crate::wavefront::{per_object, with_wavefront, Wavefront};
@@ -53,78 +53,45 @@ impl<'a> RowPlan<'a> {
     }
 }
 
-impl PixelBatch<'_> {
-    /// Makes the pixels of row `j` as `plan` says, in one batch. Its source per column is:
-    /// - the index (row-major) of a pixel of the other view's film: this pixel's own primary
-    ///   ray is tested against the one sphere that pixel saw (the plan's object), and where
-    ///   it hits, shaded there with shadow rays of its own; where it misses (a silhouette) the pixel is traced afresh and its column pushed to `missed`; where
-    ///   that pixel saw only background ([`NO_OBJECT`]), this one is background too, and
-    ///   takes the scene's background colour;
-    /// - [`TRACE`]: traced afresh, with a full primary ray;
-    /// - [`KEEP`]: left as it is.
-    ///
-    /// Colours go to `rgb` (the row), and when marking, each pixel made is marked in `marks`
-    /// (a pixel that takes a background colour carries no ray of its own and is left
-    /// unmarked). Returns the pixels tested against the sphere their plan names, alone or
-    /// in their tile's search (not scene rays, so not counted in `counts`).
-    ///
-    /// With the sphere the pixel really sees, a pixel is bit-for-bit the full trace's: the
-    /// ray, its `t`, its shadow rays and the shading are the same operations on the same
-    /// values. (Light bits reused from the other view's point would not be: a shadow thinner
-    /// than a pixel can fall between that point and this one, as it did on a molecule.)
-    pub fn shade_row(
+impl BinnedView<'_> {
+    /// Makes the pixels of row `j` as `plan` says, in one batch, into `sink`, pushing to
+    /// `missed` the columns whose named sphere the pixel's ray misses; returns the pixels
+    /// tested against the sphere their plan names (see [`crate::PixelBatch::shade_row`]).
+    pub(crate) fn shade_row(
         &self,
         j: u32,
         plan: RowPlan<'_>,
-        (rgb, marks): (&mut [u32], Option<&mut MarksRow<'_>>),
+        sink: &mut RowSink<impl Columns, impl Observe>,
         counts: &mut RayCounts,
         missed: &mut Vec<u32>,
     ) -> u64 {
-        debug_assert!(
-            plan.source.len() == rgb.len() && plan.object.len() == rgb.len(),
-            "a plan entry per pixel of the row"
-        );
         missed.clear();
-        // Marks only when this view marks and the caller keeps them.
-        let mut marks = marks.filter(|_| self.marker.is_some());
         with_wavefront(|wavefront| {
             let tests = dispatch!(crate::simd::level(), simd => simd.vectorize(
                 #[inline(always)]
-                || self.push_row_in(simd, wavefront, j, plan, counts, (missed, rgb, &mut marks)),
+                || self.push_row_in(simd, wavefront, (j, plan), counts, (missed, sink)),
             ));
-            wavefront.shade(self.eye.tracer, counts);
-            // Colours in a plain loop; marks, when kept, in one of their own.
-            for e in 0..wavefront.len() {
-                rgb[wavefront.tag(e) as usize] = wavefront.rgb(e);
-            }
-            if let Some(marks) = marks {
-                self.mark_batch(wavefront, j, true);
-                for e in 0..wavefront.len() {
-                    marks.set(wavefront.tag(e), self.touch(wavefront, e));
-                }
-                self.mark_background(wavefront, j, &mut |i, _, touch| marks.set(i, touch));
-            }
+            wavefront.shade(self.tracer, counts);
+            sink.emit(wavefront, self.view, true);
             tests
         })
     }
 
-    /// The first half of [`PixelBatch::shade_row`] with the lanes of `simd`: each group of
+    /// The first half of [`BinnedView::shade_row`] with the lanes of `simd`: each group of
     /// lanes of the row read from the plan, aimed and pushed into the batch (a group that
-    /// hits its spheres in every lane in vector stores). The colours made without shading
-    /// go straight to `rgb`, and the marks of traced pixels that see background to `marks`.
-    /// Returns the pixels tested against their planned spheres.
-    #[expect(clippy::inline_always, reason = "inlined into the dispatched closure, whose target features it needs")]
+    /// hits its spheres in every lane in vector stores). The colours made without shading,
+    /// and the traced pixels that see background, go straight to `sink`. Returns the pixels
+    /// tested against their planned spheres.
     #[inline(always)]
     fn push_row_in<S: Simd>(
         &self,
         simd: S,
         wavefront: &mut Wavefront,
-        j: u32,
-        plan: RowPlan<'_>,
+        (j, plan): (u32, RowPlan<'_>),
         counts: &mut RayCounts,
-        (missed, rgb, marks): (&mut Vec<u32>, &mut [u32], &mut Option<&mut MarksRow<'_>>),
+        (missed, sink): (&mut Vec<u32>, &mut RowSink<impl Columns, impl Observe>),
     ) -> u64 {
-        let (tracer, view) = (self.eye.tracer, self.eye.view);
+        let (tracer, view) = (self.tracer, self.view);
         let lanes = F::<S>::LEN;
         let all = (1u32 << lanes) - 1;
         let inf = F::<S>::splat(simd, f32::INFINITY);
@@ -155,7 +122,7 @@ impl PixelBatch<'_> {
             for l in crate::bits::ones(&[u64::from(background)]) {
                 // The other view's pixel is the background colour (not read from its film,
                 // where it has long left the cache). Marked nowhere: its ray is that view's.
-                rgb[base + l as usize] = tracer.scene.background_rgb;
+                sink.take(base + l as usize, tracer.scene.background_rgb);
             }
             tests += u64::from(named.count_ones());
             // A group of traced and named lanes searches its tile's spheres once for all of
@@ -163,8 +130,8 @@ impl PixelBatch<'_> {
             // its own takes that hit, bit for bit its lone test's. The
             // other named lanes are tested alone, as a group of named lanes only is.
             let (mut found, mut alone) = (None, named);
-            if named != 0 && traced != 0 && !self.eye.bins.is_empty_at(base as u32, j) {
-                let hits = self.eye.hits_lanes(simd, base as u32, j);
+            if named != 0 && traced != 0 && !self.bins.is_empty_at(base as u32, j) {
+                let hits = self.hits_lanes(simd, base as u32, j);
                 let own = (hits.0.simd_lt(inf) & hits.1.simd_eq(ids)).to_bitmask() as u32 & named;
                 (found, alone) = (Some((hits, own)), named & !own);
             }
@@ -198,17 +165,11 @@ impl PixelBatch<'_> {
                 missed.extend(crate::bits::ones(&[u64::from(miss)]).map(|l| base as u32 + l));
                 traced |= miss;
             }
-            let mut out = |i: u32, colour: u32, touch: Touch| {
-                rgb[i as usize] = colour;
-                if let Some(marks) = marks.as_deref_mut() {
-                    marks.set(i, touch);
-                }
-            };
             counts.primary += u64::from(traced.count_ones());
             if let Some((hits, own)) = found {
-                self.push_found_in(simd, wavefront, (base as u32, j, traced | own), hits, &mut out);
+                self.push_found_in(simd, wavefront, (base as u32, traced | own), hits, sink);
             } else if traced != 0 {
-                self.push_traced_in(simd, wavefront, (base as u32, j, traced), &mut out);
+                self.push_traced_in(simd, wavefront, (base as u32, j, traced), sink);
             }
         }
         tests
@@ -219,8 +180,9 @@ impl PixelBatch<'_> {
 mod tests {
     use super::*;
     use crate::camera::Eye;
-    use crate::render::Renderer;
+    use crate::render::{PixelBatch, Renderer};
     use crate::scene::Scene;
+    use crate::stats::RayCounts;
     use crate::surface::NO_OBJECT;
     use crate::tracer::Tracer;
 
@@ -351,9 +313,11 @@ mod tests {
                 hits += usize::from(truth[k].surface.is_hit());
             }
             // And every pixel traced afresh.
-            batch.trace_pixels(j, 0..w, &mut counts, |i, rgb, _| {
-                assert_eq!(rgb, truth[(j * w + i) as usize].rgb, "({i}, {j}) traced");
-            });
+            let mut rgb = vec![UNTOUCHED; w as usize];
+            batch.trace_pixels(j, 0..w, &mut counts, (&mut rgb, None));
+            for i in 0..w {
+                assert_eq!(rgb[i as usize], truth[(j * w + i) as usize].rgb, "({i}, {j}) traced");
+            }
         }
         assert!(hits > 500 && retraced > 500, "the view sees spheres: {hits} hits, {retraced} retraced");
         assert!(kept > 500 && copied > 500, "{kept} kept, {copied} copied");
@@ -379,7 +343,7 @@ mod tests {
         for (k, shaded) in truth.iter().enumerate() {
             (film.object[k], film.lights[k], film.rgb[k]) = (shaded.surface.object, !shaded.surface.lights, shaded.rgb);
         }
-        let (lanes, mut whole) = (PixelBatch::lanes(), 0);
+        let (lanes, mut whole) = (crate::batch::lanes(), 0);
         let mut missed = Vec::new();
         for j in 0..h {
             let plan: Vec<u32> = (0..w).map(|i| if (i + j) % 5 == 1 { TRACE } else { j * w + i }).collect();

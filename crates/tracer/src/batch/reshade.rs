@@ -1,33 +1,28 @@
-//! [`PixelBatch::reshade`]: surfaces another view saw, re-lit for this view's pixels.
+//! [`BinnedView::reshade`]: surfaces another view saw, re-lit for this view's pixels.
 
-use super::PixelBatch;
+use super::BinnedView;
 use crate::camera::EyeView;
 use crate::film::Film;
-use crate::reuse::Touch;
+use crate::sink::{Columns, Observe, RowSink};
 use crate::stats::RayCounts;
 use crate::surface::Hit;
 use crate::wavefront::with_wavefront;
 
-impl PixelBatch<'_> {
+impl BinnedView<'_> {
     /// Re-shades, for each `(column, source)` of row `j` (ascending columns), the surface
     /// that pixel `source` (a row-major index) of the other eye's `film`, rendered for
-    /// `other`, saw, for the ray of this pixel: the other eye's hit point, normal,
-    /// view-independent light and light bits (the point and normal remade from its ray and
-    /// `t`, the light from its bits: bit-for-bit what it shaded), with highlights and
-    /// reflection recomputed for this ray. Casts no shadow ray for the surface itself, and
-    /// hands each colour to `out(column, colour, touch)`. Seen along the ray that found it, a
-    /// surface re-shades to bit-for-bit its own pixel. The film must keep at least
-    /// [`crate::Record::Keys`], and each source must have seen a sphere.
-    pub fn reshade(
+    /// `other`, saw, for the ray of this pixel, into `sink` (see
+    /// [`crate::PixelBatch::reshade`]). The samples' first rays are the other view's.
+    pub(crate) fn reshade(
         &self,
         j: u32,
         (other, film): (&EyeView, &Film),
         items: impl IntoIterator<Item = (u32, u32)>,
         counts: &mut RayCounts,
-        mut out: impl FnMut(u32, u32, Touch),
+        sink: &mut RowSink<impl Columns, impl Observe>,
     ) {
         debug_assert_ne!(film.record(), crate::Record::Colour, "re-shading needs the other eye's record");
-        let (view, w) = (self.eye.view, film.width());
+        let (view, w) = (self.view, film.width());
         let row = j * w..(j + 1) * w;
         with_wavefront(|wavefront| {
             for (i, s) in items {
@@ -38,11 +33,8 @@ impl PixelBatch<'_> {
                 wavefront.push_seen_at(i, source, hit, film.lights[k]);
             }
             wavefront.aim_seen(view, j, other);
-            wavefront.shade(self.eye.tracer, counts);
-            self.mark_batch(wavefront, j, false);
-            for e in 0..wavefront.len() {
-                out(wavefront.tag(e), wavefront.rgb(e), self.touch(wavefront, e));
-            }
+            wavefront.shade(self.tracer, counts);
+            sink.emit(wavefront, view, false);
         });
     }
 }
@@ -56,6 +48,9 @@ mod tests {
     use crate::scene::Scene;
     use crate::surface::NO_OBJECT;
     use crate::tracer::Tracer;
+
+    /// A colour no shaded pixel has: its high byte is set.
+    const UNTOUCHED: u32 = 0xFF00_FF00;
 
     fn scene(name: &str) -> Scene {
         let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
@@ -74,11 +69,14 @@ mod tests {
         let batch = renderer.batch(&tracer, &view);
         let (mut counts, mut reshaded) = (RayCounts::default(), 0);
         for j in 0..h {
-            let items = (0..w).filter(|&i| film.object[(j * w + i) as usize] != NO_OBJECT).map(|i| (i, j * w + i));
-            batch.reshade(j, (&view, &film), items, &mut counts, |i, rgb, _| {
-                assert_eq!(rgb, film.rgb[(j * w + i) as usize], "({i}, {j})");
-                reshaded += 1;
-            });
+            let hit = |&i: &u32| film.object[(j * w + i) as usize] != NO_OBJECT;
+            let mut rgb = vec![UNTOUCHED; w as usize];
+            batch.reshade(j, (&view, &film), (0..w).filter(hit).map(|i| (i, j * w + i)), &mut counts, (&mut rgb, None));
+            for i in 0..w {
+                let want = if hit(&i) { film.rgb[(j * w + i) as usize] } else { UNTOUCHED };
+                assert_eq!(rgb[i as usize], want, "({i}, {j})");
+                reshaded += usize::from(hit(&i));
+            }
         }
         assert!(reshaded > 100, "the view sees spheres: {reshaded}");
     }
@@ -98,18 +96,22 @@ mod tests {
         let (mut counts, mut reshaded) = (RayCounts::default(), [0; 2]);
         let source = |i: u32, j: u32| if i % 7 == 3 { ((i + 5) % w, (j + 1) % h) } else { ((i + 5) % w, j) };
         for j in 0..h {
-            let items = (0..w)
-                .map(|i| (i, source(i, j)))
-                .filter(|&(_, (si, sj))| film.object[(sj * w + si) as usize] != NO_OBJECT)
-                .map(|(i, (si, sj))| (i, sj * w + si));
-            batch.reshade(j, (&lv, &film), items, &mut counts, |i, rgb, _| {
+            let hit = |i: u32| {
+                let (si, sj) = source(i, j);
+                film.object[(sj * w + si) as usize] != NO_OBJECT
+            };
+            let items = (0..w).filter(|&i| hit(i)).map(|i| (i, source(i, j))).map(|(i, (si, sj))| (i, sj * w + si));
+            let mut rgb = vec![UNTOUCHED; w as usize];
+            batch.reshade(j, (&lv, &film), items, &mut counts, (&mut rgb, None));
+            for i in 0..w {
                 let (si, sj) = source(i, j);
                 let k = (sj * w + si) as usize;
                 let keys = (film.t[k], film.object[k], film.lights[k]);
                 let d = rv.primary_ray(i, j).dir;
-                assert_eq!(rgb, tracer.reshaded_rgb(&lv.primary_ray(si, sj), keys, d), "({i}, {j})");
-                reshaded[usize::from(sj != j)] += 1;
-            });
+                let want = if hit(i) { tracer.reshaded_rgb(&lv.primary_ray(si, sj), keys, d) } else { UNTOUCHED };
+                assert_eq!(rgb[i as usize], want, "({i}, {j})");
+                reshaded[usize::from(sj != j)] += usize::from(hit(i));
+            }
         }
         assert!(reshaded[0] > 100 && reshaded[1] > 10, "sources on the row and off it: {reshaded:?}");
     }

@@ -1,31 +1,27 @@
-//! [`PixelBatch::trace_pixels`]: chosen pixels of a row with full primary rays.
+//! [`BinnedView::trace_pixels`]: chosen pixels of a row with full primary rays.
 
-use super::{by_lanes, PixelBatch};
-use crate::reuse::Touch;
+use super::{by_lanes, lanes, BinnedView};
+use crate::sink::{Columns, Observe, RowSink};
 use crate::stats::RayCounts;
 use crate::wavefront::with_wavefront;
 
-impl PixelBatch<'_> {
-    /// Traces the pixels `cols` (ascending columns) of row `j` with full primary rays, and
-    /// hands each pixel's sRGB colour to `out(column, colour, touch)`.
-    pub fn trace_pixels(
+impl BinnedView<'_> {
+    /// Traces the pixels `cols` (ascending columns) of row `j` with full primary rays into
+    /// `sink`.
+    pub(crate) fn trace_pixels(
         &self,
         j: u32,
         cols: impl IntoIterator<Item = u32>,
         counts: &mut RayCounts,
-        mut out: impl FnMut(u32, u32, Touch),
+        sink: &mut RowSink<impl Columns, impl Observe>,
     ) {
         with_wavefront(|wavefront| {
-            by_lanes(cols, Self::lanes(), |base, mask| {
+            by_lanes(cols, lanes(), |base, mask| {
                 counts.primary += u64::from(mask.count_ones());
-                self.push_traced(wavefront, base, j, mask, &mut out);
+                self.push_traced(wavefront, (base, j, mask), sink);
             });
-            wavefront.shade(self.eye.tracer, counts);
-            self.mark_batch(wavefront, j, true);
-            for e in 0..wavefront.len() {
-                out(wavefront.tag(e), wavefront.rgb(e), self.touch(wavefront, e));
-            }
-            self.mark_background(wavefront, j, &mut out);
+            wavefront.shade(self.tracer, counts);
+            sink.emit(wavefront, self.view, true);
         });
     }
 }
@@ -54,8 +50,9 @@ mod tests {
         let (mut listed, mut plain) = (RayCounts::default(), RayCounts::default());
         for j in 0..h {
             // Every other pixel, then the rest: scattered lists, whole quads and lone pixels.
-            batch.trace_pixels(j, (0..w).step_by(2), &mut listed, |_, _, _| {});
-            batch.trace_pixels(j, (1..w).step_by(2), &mut listed, |_, _, _| {});
+            let mut rgb = vec![0; w as usize];
+            batch.trace_pixels(j, (0..w).step_by(2), &mut listed, (&mut rgb, None));
+            batch.trace_pixels(j, (1..w).step_by(2), &mut listed, (&mut rgb, None));
             for i in 0..w {
                 let _ = tracer.trace_pixel(&view, i, j, &mut plain);
             }

@@ -1,27 +1,35 @@
 //! The parallel renderer: one eye, rows spread over rayon's pool, through one call.
 //!
 //! [`Renderer::render`] is given a pixel set ([`Pixels`]: all, or these pixels) and a target
-//! ([`Target`]: a film keeping the record its caller names, or colour only, optionally
-//! marked for temporal reuse). One row loop serves them all. A [`Renderer`] owns the
-//! buffers an eye needs besides its image (the screen bins of its primary rays,
-//! `accel/screen.rs`), so a warm renderer allocates nothing; [`Renderer::batch`] hands the
-//! same bins to whoever makes an eye's pixels in batches of its own (`batch/`). A row's
-//! tracing is in `row.rs`.
+//! ([`Target`]: a film keeping the record its caller names, colour only, or depth only,
+//! optionally marked for temporal reuse). It builds the screen bins of the view once, then
+//! runs one parallel loop over the target's rows: each row's planes become a
+//! [`RowSink`](crate::sink::RowSink) (`sink.rs`), with the row's marks as one more column
+//! whose observer is temporal reuse's (`reuse/observer.rs`), and one row loop (`row.rs`)
+//! fills it, as pbrt-v4's film takes every sample. A [`Renderer`] owns the buffers an eye
+//! needs besides its image (the screen bins of its primary rays, `accel/screen.rs`), so a
+//! warm renderer allocates nothing; [`Renderer::batch`] hands the same bins to whoever makes
+//! an eye's pixels in batches of its own ([`PixelBatch`], `batch.rs` over `batch/`).
 
+mod batch;
 mod row;
 
 use rayon::iter::Either;
 use rayon::prelude::*;
 
 use crate::accel::screen::ScreenBins;
-use crate::batch::{BinnedView, PixelBatch};
+use crate::batch::BinnedView;
 use crate::bits::PixelBits;
 use crate::camera::EyeView;
 use crate::film::{Film, Record};
-use crate::reuse::{Marker, Marks, MarksRow, Rewrite, Swept};
+use crate::reuse::{with_marks, Marker, Marks, MarksColumn, MarksRow, Rewrite, Swept};
+use crate::sink::{DepthRow, FilmRow, KeysRow, RgbRow, RowSink};
 use crate::stats::RayCounts;
+use crate::surface::Shading;
 use crate::tracer::Tracer;
-use row::{depth_row, trace_row, FilmRow, KeysRow, RgbRow};
+use row::trace_row;
+
+pub use batch::{BatchRow, PixelBatch};
 
 /// Renders one eye's views, keeping its screen bins from frame to frame.
 #[derive(Clone, Debug, Default)]
@@ -89,6 +97,72 @@ impl<'a> Target<'a> {
     }
 }
 
+/// Which of a target's planes a render writes, and so which columns its rows have.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    Colour,
+    Keys,
+    Full,
+    Depth,
+}
+
+/// A target's planes, sized to the view; those its [`Kind`] does not write are empty.
+#[derive(Debug, Default)]
+struct Planes<'a> {
+    rgb: &'a mut [u32],
+    z: &'a mut [f32],
+    t: &'a mut [f32],
+    object: &'a mut [u32],
+    lights: &'a mut [u32],
+    shading: &'a mut [Shading],
+}
+
+impl<'a> Image<'a> {
+    /// Sizes the image to `view` (a film also takes `record`), and returns which planes the
+    /// render writes.
+    fn planes(self, view: &EyeView, pixels: Pixels<'_>) -> (Kind, Planes<'a>) {
+        let n = view.width as usize * view.height as usize;
+        match self {
+            Image::Colour(rgb) => {
+                rgb.resize(n, 0);
+                (Kind::Colour, Planes { rgb, ..Planes::default() })
+            }
+            Image::Depth(z) => {
+                debug_assert!(matches!(pixels, Pixels::All), "a depth pass traces every pixel");
+                z.resize(n, f32::INFINITY);
+                (Kind::Depth, Planes { z, ..Planes::default() })
+            }
+            Image::Film(film, record) => {
+                if let Pixels::Only(_) = pixels {
+                    debug_assert_eq!(
+                        (film.width(), film.height()),
+                        (view.width, view.height),
+                        "a film of another size"
+                    );
+                    debug_assert_eq!(film.record(), record, "a film rendered with another record");
+                }
+                film.resize(view.width, view.height);
+                film.set_record(record);
+                let Film { rgb, z, t, object, lights, shading, .. } = film;
+                match record {
+                    Record::Colour => (Kind::Colour, Planes { rgb, ..Planes::default() }),
+                    Record::Keys => (Kind::Keys, Planes { rgb, z, t, object, lights, ..Planes::default() }),
+                    Record::Full => (Kind::Full, Planes { rgb, z, t, object, lights, shading }),
+                }
+            }
+        }
+    }
+}
+
+/// The rows of a plane `w` pixels wide, or `h` empty rows for a plane not written.
+fn rows_of<T: Send>(plane: &mut [T], w: usize, h: usize) -> impl IndexedParallelIterator<Item = &mut [T]> {
+    if plane.is_empty() {
+        Either::Right(rayon::iter::repeat_n((), h).map(|()| <&mut [T]>::default()))
+    } else {
+        Either::Left(plane.par_chunks_mut(w))
+    }
+}
+
 /// The rows of `marks` for a pass, or none per row when the pass does not mark.
 fn marks_rows(
     marks: Option<&mut Marks>,
@@ -98,6 +172,56 @@ fn marks_rows(
     match marks {
         Some(marks) => Either::Left(marks.rows_mut(rewrite).map(Some)),
         None => Either::Right(rayon::iter::repeat_n((), rows).map(|()| None)),
+    }
+}
+
+/// One row of a target, as a [`Kind`] of columns.
+enum Row<'a> {
+    Colour(RgbRow<'a>),
+    Keys(KeysRow<'a>),
+    Full(FilmRow<'a>),
+    Depth(DepthRow<'a>),
+}
+
+impl<'a> Row<'a> {
+    /// Row `planes` (each the row's part of a plane, empty if not written) as `kind`'s
+    /// columns.
+    #[expect(clippy::type_complexity, reason = "one row of each of a film's six planes")]
+    fn of(
+        kind: Kind,
+        (rgb, z, t, object, lights, shading): (
+            &'a mut [u32],
+            &'a mut [f32],
+            &'a mut [f32],
+            &'a mut [u32],
+            &'a mut [u32],
+            &'a mut [Shading],
+        ),
+    ) -> Self {
+        match kind {
+            Kind::Colour => Self::Colour(RgbRow(rgb)),
+            Kind::Keys => Self::Keys(KeysRow { rgb, z, t, object, lights }),
+            Kind::Full => Self::Full(FilmRow { keys: KeysRow { rgb, z, t, object, lights }, shading }),
+            Kind::Depth => Self::Depth(DepthRow(z)),
+        }
+    }
+
+    /// Traces row `j` of `eye` into these columns, watched by `marks`, through the one row
+    /// loop (`row.rs`), made for this kind of row.
+    fn trace(
+        self,
+        eye: &BinnedView<'_>,
+        j: u32,
+        marks: Option<MarksColumn<'_, '_>>,
+        only: Option<&[u64]>,
+    ) -> RayCounts {
+        let w = eye.view.width as usize;
+        match self {
+            Self::Colour(row) => trace_row(eye, j, w, &mut RowSink::new(row, marks), only),
+            Self::Keys(row) => trace_row(eye, j, w, &mut RowSink::new(row, marks), only),
+            Self::Full(row) => trace_row(eye, j, w, &mut RowSink::new(row, marks), only),
+            Self::Depth(row) => trace_row(eye, j, w, &mut RowSink::new(row, marks), only),
+        }
     }
 }
 
@@ -118,104 +242,45 @@ impl Renderer {
     pub fn render(&mut self, tracer: &Tracer, view: &EyeView, pixels: Pixels<'_>, target: Target<'_>) -> RayCounts {
         let Target { image, marking } = target;
         let (w, h) = (view.width as usize, view.height as usize);
-        let (marks, marker) = match marking {
+        if let Pixels::Only(bits) = pixels {
+            debug_assert_eq!((bits.width(), bits.height()), (view.width, view.height), "a selection of another size");
+        }
+        let (kind, planes) = image.planes(view, pixels);
+        let (marks, swept) = match marking {
             Some((marks, swept)) => {
+                debug_assert!(kind != Kind::Depth, "a depth pass marks nothing");
                 if (marks.width(), marks.height()) != (view.width, view.height) {
                     debug_assert!(matches!(pixels, Pixels::All), "marks of another size");
                     marks.resize(view.width, view.height);
                 }
-                (Some(marks), Some(Marker::new(swept, view)))
+                (Some(marks), Some(swept))
             }
             None => (None, None),
         };
+        if w == 0 || h == 0 {
+            return RayCounts::default();
+        }
+        self.bins.build((&tracer.scene.centers, &tracer.scene.radii), view);
+        let eye = BinnedView { tracer, view, bins: &self.bins };
+        let marker = swept.map(|swept| Marker::new(swept, view, &tracer.scene.lights));
         let rewrite = if matches!(pixels, Pixels::Only(_)) { Rewrite::Few } else { Rewrite::All };
-        let only = |j: usize| match pixels {
-            Pixels::All => None,
-            Pixels::Only(bits) => Some(bits.row(j as u32)),
-        };
-        if let Pixels::Only(bits) = pixels {
-            debug_assert_eq!((bits.width(), bits.height()), (view.width, view.height), "a selection of another size");
-        }
-        match image {
-            Image::Depth(z) => {
-                debug_assert!(matches!(pixels, Pixels::All) && marks.is_none(), "a depth pass traces every pixel");
-                z.resize(w * h, f32::INFINITY);
-                if w == 0 || h == 0 {
-                    return RayCounts::default();
+        let Planes { rgb, z, t, object, lights, shading } = planes;
+        let rows = (rows_of(rgb, w, h), rows_of(z, w, h), rows_of(t, w, h), rows_of(object, w, h));
+        let rows = (rows, rows_of(lights, w, h), rows_of(shading, w, h), marks_rows(marks, h, rewrite));
+        rows.into_par_iter()
+            .enumerate()
+            .map(|(j, ((rgb, z, t, object), lights, shading, mut marks))| {
+                let only = match pixels {
+                    Pixels::All => None,
+                    Pixels::Only(bits) => Some(bits.row(j as u32)),
+                };
+                if let Some(marks) = marks.as_mut() {
+                    marks.clear_only(only);
                 }
-                self.bins.build((&tracer.scene.centers, &tracer.scene.radii), view);
-                let eye = BinnedView { tracer, view, bins: &self.bins };
-                z.par_chunks_mut(w).enumerate().for_each(|(j, z)| depth_row(&eye, j as u32, z));
-                RayCounts { primary: (w * h) as u64, ..RayCounts::default() }
-            }
-            Image::Colour(rgb) => {
-                rgb.resize(w * h, 0);
-                if w == 0 || h == 0 {
-                    return RayCounts::default();
-                }
-                self.bins.build((&tracer.scene.centers, &tracer.scene.radii), view);
-                let eye = BinnedView { tracer, view, bins: &self.bins };
-                (rgb.par_chunks_mut(w), marks_rows(marks, h, rewrite))
-                    .into_par_iter()
-                    .enumerate()
-                    .map(|(j, (rgb, m))| {
-                        trace_row(&eye, j as u32, w, &mut RgbRow(rgb), m.zip(marker.as_ref()), only(j))
-                    })
-                    .sum()
-            }
-            Image::Film(film, record) => {
-                if let Pixels::Only(_) = pixels {
-                    debug_assert_eq!(
-                        (film.width(), film.height()),
-                        (view.width, view.height),
-                        "a film of another size"
-                    );
-                    debug_assert_eq!(film.record(), record, "a film rendered with another record");
-                }
-                film.resize(view.width, view.height);
-                film.set_record(record);
-                if w == 0 || h == 0 {
-                    return RayCounts::default();
-                }
-                self.bins.build((&tracer.scene.centers, &tracer.scene.radii), view);
-                let eye = BinnedView { tracer, view, bins: &self.bins };
-                match record {
-                    Record::Colour => (film.rgb.par_chunks_mut(w), marks_rows(marks, h, rewrite))
-                        .into_par_iter()
-                        .enumerate()
-                        .map(|(j, (rgb, m))| {
-                            trace_row(&eye, j as u32, w, &mut RgbRow(rgb), m.zip(marker.as_ref()), only(j))
-                        })
-                        .sum(),
-                    Record::Keys => (
-                        (film.rgb.par_chunks_mut(w), film.z.par_chunks_mut(w), film.t.par_chunks_mut(w)),
-                        film.object.par_chunks_mut(w),
-                        film.lights.par_chunks_mut(w),
-                        marks_rows(marks, h, rewrite),
-                    )
-                        .into_par_iter()
-                        .enumerate()
-                        .map(|(j, ((rgb, z, t), object, lights, m))| {
-                            let sink = &mut KeysRow { rgb, z, t, object, lights };
-                            trace_row(&eye, j as u32, w, sink, m.zip(marker.as_ref()), only(j))
-                        })
-                        .sum(),
-                    Record::Full => (
-                        (film.rgb.par_chunks_mut(w), film.z.par_chunks_mut(w), film.t.par_chunks_mut(w)),
-                        (film.object.par_chunks_mut(w), film.lights.par_chunks_mut(w)),
-                        film.shading.par_chunks_mut(w),
-                        marks_rows(marks, h, rewrite),
-                    )
-                        .into_par_iter()
-                        .enumerate()
-                        .map(|(j, ((rgb, z, t), (object, lights), shading, m))| {
-                            let sink = &mut FilmRow { keys: KeysRow { rgb, z, t, object, lights }, shading };
-                            trace_row(&eye, j as u32, w, sink, m.zip(marker.as_ref()), only(j))
-                        })
-                        .sum(),
-                }
-            }
-        }
+                let row = Row::of(kind, (rgb, z, t, object, lights, shading));
+                with_marks(marks.as_mut(), marker.as_ref(), j as u32, |marks| row.trace(&eye, j as u32, marks, only))
+            })
+            .sum()
     }
 
     /// Heap bytes of the screen bins this renderer keeps.
@@ -228,7 +293,7 @@ impl Renderer {
     /// screen bins rebuilt for it.
     pub fn batch<'a>(&'a mut self, tracer: &'a Tracer, view: &'a EyeView) -> PixelBatch<'a> {
         self.bins.build((&tracer.scene.centers, &tracer.scene.radii), view);
-        PixelBatch::new(BinnedView { tracer, view, bins: &self.bins }, None)
+        PixelBatch::new(BinnedView { tracer, view, bins: &self.bins })
     }
 }
 
@@ -328,7 +393,7 @@ mod tests {
             let mut hits = 0;
             for j in 0..h {
                 with_wavefront(|wavefront| {
-                    let mut sink = RgbRow(&mut rgb);
+                    let mut sink = RowSink::new(RgbRow(&mut rgb), ());
                     dispatch!(crate::simd::level(), simd => trace_row_in(simd, wavefront, &eye, j, w as usize, &mut sink, None));
                     for e in 0..wavefront.len() {
                         let i = wavefront.tag(e);

@@ -12,8 +12,8 @@
 
 use fearless_simd::{prelude::*, Simd};
 
+use super::level::{LevelMarks, LevelRays};
 use super::swept::{SweptRing, Touch};
-use super::tree::{LevelMarks, LevelRays};
 use super::Swept;
 use crate::camera::EyeView;
 use crate::scene::Light;

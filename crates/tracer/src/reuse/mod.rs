@@ -18,20 +18,20 @@
 //! same tree, colour and record at both.
 
 mod lanes;
+mod level;
 mod marks;
+mod observer;
 mod swept;
 mod tree;
 
 use glam::Vec3;
 
-use crate::accel::screen::pixel_rect;
-use crate::camera::EyeView;
 use crate::scene::Scene;
 use crate::snapshot::Snapshot;
 
 pub use marks::{Marks, MarksBand, MarksRow, Rewrite};
+pub(crate) use observer::{with_marks, Marker, MarksColumn};
 pub use swept::{Arc, SweptRing, Touch};
-pub(crate) use tree::{LevelRays, TreeMarks};
 
 /// The swept volumes of a scene's moving spheres: where each can be at any instant.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -90,35 +90,5 @@ impl Swept {
             debug_assert!(ring.holds(c, r), "sphere {} at {c} lies outside its swept volume {ring:?}", ring.object);
             ring.wedge(c, r)
         }));
-    }
-}
-
-/// The hook a render marks its pixels through: the volumes, and where on one view's screen
-/// a primary ray can meet them.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct Marker<'a> {
-    /// The volumes.
-    pub(crate) swept: &'a Swept,
-    /// The inclusive pixel rectangle `[i0, j0, i1, j1]` outside which no primary ray of
-    /// the view can meet a volume, or `None` if none can.
-    screen: Option<[u32; 4]>,
-}
-
-impl<'a> Marker<'a> {
-    /// The hook for the pixels of `view`.
-    pub(crate) fn new(swept: &'a Swept, view: &EyeView) -> Self {
-        let screen = swept
-            .rings
-            .iter()
-            .filter_map(|ring| pixel_rect(view, ring.center, ring.bounding_radius()))
-            .reduce(|[a0, b0, a1, b1], [c0, d0, c1, d1]| [a0.min(c0), b0.min(d0), a1.max(c1), b1.max(d1)]);
-        Self { swept, screen }
-    }
-
-    /// Whether the primary ray of pixel (i, j) might meet a volume (if `false`, it cannot).
-    #[inline]
-    #[must_use]
-    pub(crate) fn may_meet(&self, i: u32, j: u32) -> bool {
-        self.screen.is_some_and(|[i0, j0, i1, j1]| (i0..=i1).contains(&i) && (j0..=j1).contains(&j))
     }
 }

@@ -1,5 +1,6 @@
-//! The hook the wavefront calls after shading a batch: where each sample's ray tree meets
-//! the swept volumes — its ray, its shadow rays, its mirror ray and, at every depth, theirs.
+//! The marking the observer (`observer.rs`) runs once a batch is shaded: where each
+//! sample's ray tree meets the swept volumes — its ray, its shadow rays, its mirror ray
+//! and, at every depth, theirs.
 //! A sample whose tree meets none of the moving spheres' wedges at two instants has the same
 //! tree, colour and record at both (`docs/design/reuse-exactness.md`).
 //!
@@ -11,62 +12,19 @@
 use fearless_simd::Simd;
 use glam::Vec3;
 
+use std::cell::RefCell;
+
+use super::level::{LevelMarks, LevelRays};
 use super::{lanes, Marker, Swept, Touch};
 use crate::camera::EyeView;
 use crate::ray::reflect;
 use crate::scene::Light;
+use crate::wavefront::Levels;
 
-/// One level of a shaded batch, as the marking reads it: the wavefront's columns of the
-/// rays of that reflection depth (an entry per hit), padded to whole vectors of lanes.
-#[derive(Clone, Copy, Debug)]
-pub(crate) struct LevelRays<'a> {
-    /// Entries in use.
-    pub len: usize,
-    /// Entries the columns hold (at least `len`, rounded up to whole vectors).
-    pub capacity: usize,
-    /// The ray's origin and unit direction, and its hit parameter.
-    pub o: &'a [Vec<f32>; 3],
-    pub d: &'a [Vec<f32>; 3],
-    pub t: &'a [f32],
-    /// The direction the hit is seen along.
-    pub v: &'a [Vec<f32>; 3],
-    /// The hit point and unit outward normal.
-    pub p: &'a [Vec<f32>; 3],
-    pub n: &'a [Vec<f32>; 3],
-    /// Level 0: the sample's tag; deeper: the entry above whose mirror ray this is.
-    pub parent: &'a [u32],
-    /// Level 0: whether the light bits were known (no shadow rays were cast).
-    pub known: &'a [bool],
-    /// Whether the entry cast a mirror ray.
-    pub reflects: &'a [bool],
-}
-
-/// One level's marks, an entry per entry of the wavefront's level.
+/// A worker's marks of its batch: the marker's scratch, one per thread, kept from batch to
+/// batch ([`with_tree_marks`]).
 #[derive(Clone, Debug, Default)]
-pub(crate) struct LevelMarks {
-    /// Where the entry's tree meets the volumes.
-    pub(super) touch: Vec<Touch>,
-    /// Whether the entry's mirror ray hit a sphere (then that subtree is marked one level
-    /// down, and the ray itself is a segment of it).
-    pub(super) mirror_hit: Vec<bool>,
-    /// Whether the entry's own ray is to be tested.
-    pub(super) own: Vec<bool>,
-}
-
-impl LevelMarks {
-    /// Makes every column at least `n` entries long.
-    fn reserve(&mut self, n: usize) {
-        if self.touch.len() < n {
-            self.touch.resize(n, Touch::NONE);
-            self.mirror_hit.resize(n, false);
-            self.own.resize(n, false);
-        }
-    }
-}
-
-/// A worker's marks of its batch, kept beside its wavefront from batch to batch.
-#[derive(Clone, Debug, Default)]
-pub(crate) struct TreeMarks {
+pub(super) struct TreeMarks {
     levels: Vec<LevelMarks>,
     /// Tags of samples whose primary rays met nothing, to be marked together
     /// ([`TreeMarks::mark_background`]).
@@ -74,22 +32,18 @@ pub(crate) struct TreeMarks {
 }
 
 impl TreeMarks {
-    /// Forgets the last batch.
-    pub(crate) fn clear(&mut self) {
-        self.background.clear();
-    }
-
-    /// Marks the `depth` shaded levels of a batch (`level(k)`: reflection depth k) against
-    /// `marker`'s volumes, with the scene's `lights`. `incoming(tag)` says whether a sample's
+    /// Marks the levels of the shaded `batch` against `marker`'s volumes, with the scene's
+    /// `lights`. `incoming(tag)` says whether a sample's
     /// own ray (the first segment of its tree) can meet a volume at all: `false` for a
     /// primary ray outside the volumes' screen bound, or for a ray another view cast
     /// (whose pixel carries that ray's marks). Read the marks with [`TreeMarks::touch`].
-    pub(crate) fn mark<'a>(
+    pub(super) fn mark(
         &mut self,
         (marker, lights): (&Marker<'_>, &[Light]),
-        (depth, levels): (usize, impl Fn(usize) -> LevelRays<'a>),
+        batch: Levels<'_>,
         incoming: impl Fn(u32) -> bool,
     ) {
+        let (depth, levels) = (batch.depth(), |k| LevelRays::of(batch, k));
         while self.levels.len() < depth {
             self.levels.push(LevelMarks::default());
         }
@@ -129,19 +83,19 @@ impl TreeMarks {
 
     /// Where sample `e`'s ray tree meets the volumes, once marked.
     #[inline]
-    pub(crate) fn touch(&self, e: usize) -> Touch {
+    pub(super) fn touch(&self, e: usize) -> Touch {
         self.levels[0].touch[e]
     }
 
     /// Notes that the sample `tag` (a pixel's column) saw only background, for
     /// [`TreeMarks::mark_background`].
-    pub(crate) fn push_background(&mut self, tag: u32) {
+    pub(super) fn push_background(&mut self, tag: u32) {
         self.background.push(tag);
     }
 
     /// Marks the pixels [`TreeMarks::push_background`] noted, of row `j` of `view`, in lanes:
     /// `out(tag, touch)` for each whose primary ray meets a volume; then forgets them.
-    pub(crate) fn mark_background(
+    pub(super) fn mark_background(
         &mut self,
         marker: &Marker<'_>,
         view: &EyeView,
@@ -153,6 +107,23 @@ impl TreeMarks {
             self.background.clear();
         }
     }
+}
+
+thread_local! {
+    /// This thread's marks.
+    static TREE_MARKS: RefCell<TreeMarks> = RefCell::new(TreeMarks::default());
+}
+
+/// Runs `f` with this thread's [`TreeMarks`], with no background noted. A nested call (from
+/// inside `f`) gets fresh marks of its own rather than failing.
+pub(super) fn with_tree_marks<R>(f: impl FnOnce(&mut TreeMarks) -> R) -> R {
+    TREE_MARKS.with(|cell| match cell.try_borrow_mut() {
+        Ok(mut marks) => {
+            marks.background.clear();
+            f(&mut marks)
+        }
+        Err(_) => f(&mut TreeMarks::default()),
+    })
 }
 
 /// Where the rays entry `e` itself casts meet the volumes: the ray that found it, up to the

@@ -2,10 +2,12 @@
 
 use glam::Vec3;
 
-use crate::reuse::LevelRays;
+/// The most lanes a kernel runs with: every level's capacity is a multiple of it, so that
+/// an observer may read whole vectors past a level's end.
+const WIDEST: usize = 16;
 
 /// Structure-of-arrays columns of three.
-pub(super) type Column3 = [Vec<f32>; 3];
+pub(crate) type Column3 = [Vec<f32>; 3];
 
 pub(super) fn get3(c: &Column3, e: usize) -> Vec3 {
     Vec3::new(c[0][e], c[1][e], c[2][e])
@@ -17,48 +19,50 @@ pub(super) fn set3(c: &mut Column3, e: usize, v: Vec3) {
 
 /// The hits of one reflection depth, one entry per hit in each column.
 ///
-/// Every column is as long as the level's capacity; the first [`Level::len`] entries are
-/// in use. Entries are written in place (no per-column push), and the columns only ever
-/// grow, so a warm level allocates nothing.
+/// Every column is as long as the level's capacity, a whole number of vectors of the
+/// widest lanes; the first [`Level::len`] entries are in use. Entries are written in place
+/// (no per-column push), and the columns only ever grow, so a warm level allocates
+/// nothing. Outside the wavefront a level is only read (observers, through
+/// [`super::Levels`]): its columns are visible to the crate, its writers are not.
 #[derive(Clone, Debug, Default)]
-pub(super) struct Level {
+pub(crate) struct Level {
     /// Entries in use.
     pub(super) used: usize,
     /// The ray's direction (unit).
-    pub(super) d: Column3,
+    pub(crate) d: Column3,
     /// The direction the hit is seen along (unit): the ray's, except for a sample that
     /// re-shades for one view what another view's ray found.
-    pub(super) v: Column3,
+    pub(crate) v: Column3,
     /// The ray's origin.
-    pub(super) o: Column3,
+    pub(crate) o: Column3,
     /// The ray's hit parameter.
-    pub(super) t: Vec<f32>,
+    pub(crate) t: Vec<f32>,
     /// The sphere hit.
-    pub(super) object: Vec<u32>,
+    pub(crate) object: Vec<u32>,
     /// Level 0: the caller's tag of the sample; deeper: the entry of the level above whose
     /// mirror ray this is.
-    pub(super) parent: Vec<u32>,
+    pub(crate) parent: Vec<u32>,
     /// Level 0: whether the entry's light bits are known (not traced).
-    pub(super) known: Vec<bool>,
+    pub(crate) known: Vec<bool>,
     /// Hit point.
-    pub(super) p: Column3,
+    pub(crate) p: Column3,
     /// Unit outward normal.
-    pub(super) n: Column3,
+    pub(crate) n: Column3,
     /// Light bits: given (at level 0, for a pixel whose bits another view found) or found.
-    pub(super) lights: Vec<u32>,
+    pub(crate) lights: Vec<u32>,
     /// View-independent light D.
-    pub(super) diffuse: Column3,
+    pub(crate) diffuse: Column3,
     /// Highlights S.
-    pub(super) spec: Column3,
+    pub(crate) spec: Column3,
     /// Radiance of the mirror ray, once known (background until a hit is shaded).
-    pub(super) mirror: Column3,
+    pub(crate) mirror: Column3,
     /// Whether the entry cast a mirror ray.
-    pub(super) reflects: Vec<bool>,
+    pub(crate) reflects: Vec<bool>,
     /// The entry's radiance, once folded.
-    pub(super) radiance: Column3,
+    pub(crate) radiance: Column3,
     /// Level 0 of a re-shaded batch, until aimed ([`Wavefront::aim_seen`]): the pixel of
     /// the other view whose ray found the entry, as column and row.
-    pub(super) source: [Vec<u32>; 2],
+    pub(crate) source: [Vec<u32>; 2],
 }
 
 impl Level {
@@ -66,33 +70,23 @@ impl Level {
         self.used = 0;
     }
 
-    pub(super) fn len(&self) -> usize {
+    /// Entries in use.
+    pub(crate) fn len(&self) -> usize {
         self.used
     }
 
-    /// The level's rays, as the reuse layer's marking reads them.
-    pub(super) fn rays(&self) -> LevelRays<'_> {
-        LevelRays {
-            len: self.used,
-            capacity: self.t.len(),
-            o: &self.o,
-            d: &self.d,
-            t: &self.t,
-            v: &self.v,
-            p: &self.p,
-            n: &self.n,
-            parent: &self.parent,
-            known: &self.known,
-            reflects: &self.reflects,
-        }
+    /// Entries every column holds: at least [`Level::len`], in whole vectors of lanes.
+    pub(crate) fn capacity(&self) -> usize {
+        self.t.len()
     }
 
-    /// Makes every column at least `n` entries long (doubling, so growth is rare).
+    /// Makes every column at least `n` entries long (doubling, so growth is rare), and a
+    /// whole number of vectors of [`WIDEST`] lanes.
     pub(super) fn reserve(&mut self, n: usize) {
         if self.t.len() >= n {
             return;
         }
-        let n = n.max(2 * self.t.len()).max(64);
+        let n = n.max(2 * self.t.len()).max(64).next_multiple_of(WIDEST);
         let columns = [
             &mut self.d,
             &mut self.v,
