@@ -7,6 +7,11 @@
 //! eyes, plus yaw and pitch) places head space in the world:
 //! `world = position + R · (head + (0, 0, d))`, R = R_y(yaw) · R_x(−pitch).
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 use std::ops::{Add, Div};
 
 use fearless_simd::{dispatch, prelude::*, Simd};
@@ -167,10 +172,6 @@ impl Disparity {
     /// lane value of a constant (`fearless_simd`'s splat needs its instruction-set token,
     /// so its vectors have no `From<f32>`). The same operations in the same order, so that
     /// a lane gives bit for bit the scalar answer.
-    #[expect(
-        clippy::inline_always,
-        reason = "called inside a kernel dispatched for an instruction set: out of line, its lanes would lose those target features"
-    )]
     #[inline(always)]
     #[must_use]
     pub fn shortfall_in<T>(self, z: T, splat: impl Fn(f32) -> T) -> T
@@ -267,10 +268,6 @@ impl EyeView {
 
     /// The primary ray directions of pixels (i + l, j), l = 0..LEN, one per lane
     /// ([`EyeView::primary_dirs_rows`]).
-    #[expect(
-        clippy::inline_always,
-        reason = "inlined into the dispatched lane kernels, whose target features it needs"
-    )]
     #[inline(always)]
     pub(crate) fn primary_dirs_lanes<S: Simd>(&self, simd: S, i: u32, j: u32) -> [F<S>; 3] {
         // (i + l) as f32, from whole lanes.
@@ -280,10 +277,6 @@ impl EyeView {
 
     /// The primary ray directions of pixels (`columns[l]`, j), one per lane (each column a
     /// whole number, as f32).
-    #[expect(
-        clippy::inline_always,
-        reason = "inlined into the dispatched lane kernels, whose target features it needs"
-    )]
     #[inline(always)]
     pub(crate) fn primary_dirs_at<S: Simd>(&self, simd: S, columns: F<S>, j: u32) -> [F<S>; 3] {
         self.primary_dirs_rows(simd, columns, F::<S>::splat(simd, j as f32))
@@ -293,10 +286,6 @@ impl EyeView {
     /// whole number, as f32): **the primary-ray kernel**. The head-space direction
     /// (x − eye_x, y, d) is turned to world space and normalised with the operations, in the
     /// order, of glam's `Mat3 * Vec3` and `Vec3::normalize`.
-    #[expect(
-        clippy::inline_always,
-        reason = "inlined into the dispatched lane kernels, whose target features it needs"
-    )]
     #[inline(always)]
     pub(crate) fn primary_dirs_rows<S: Simd>(&self, simd: S, columns: F<S>, rows: F<S>) -> [F<S>; 3] {
         let splat = |x: f32| F::<S>::splat(simd, x);

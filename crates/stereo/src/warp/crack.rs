@@ -29,6 +29,11 @@
 //! from those copies once every band is done (`warp/mod.rs`), so a crack at a seam is
 //! filled as one inside a band.
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 use std::ops::Range;
 
 use tracer::EyeView;
@@ -85,7 +90,6 @@ fn crack(a: i32, b: i32, here: i32, tolerance: f32) -> Option<bool> {
 }
 
 /// The first pixel at or after `k` whose key is not its own eye's, or `keys.len()`.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched function, whose target features it needs")]
 #[inline(always)]
 pub(crate) fn next_hole(keys: &[i32], mut k: usize) -> usize {
     // Past the own eye's pixels 32 at a time, then 8, then one at a time: their words are

@@ -23,6 +23,11 @@
 //! f64 and rounded once. A background pixel (z = +∞) is a point at infinity: its n is h
 //! alone (the rotation, no translation), and its depth is +∞.
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 use fearless_simd::{dispatch, prelude::*, Level, Simd};
 use glam::{DMat3, DVec3};
 use tracer::EyeView;
@@ -172,7 +177,6 @@ pub(crate) fn rows_reached(
 
 /// The nearest depth of `row` (NaN left out, as the kernel takes it for background), +∞
 /// for a row of background.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched function, whose target features it needs")]
 #[inline(always)]
 fn nearest<S: Simd>(simd: S, row: &[f32]) -> f32 {
     let n = S::f32s::LEN;

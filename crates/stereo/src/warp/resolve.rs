@@ -14,6 +14,11 @@
 //! (a band, or the rows about a seam between two bands), each row on its own; the rows
 //! nothing reached are copied after, in one pass over the image.
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 use std::ops::Range;
 
 use fearless_simd::{dispatch, Level, Simd};
@@ -44,7 +49,6 @@ pub(crate) fn resolve(
 }
 
 /// [`resolve`]'s work.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched function, whose target features it needs")]
 #[inline(always)]
 fn resolve_rows(
     window: &mut Window<'_>,
@@ -111,7 +115,6 @@ pub(crate) fn fill_uncovered_rows(out: &mut [u32], width: usize, covered: &[bool
 /// Each pixel of a row its class, from its keys' first words `depth` (its colour is in
 /// place, or, for a hole, left for [`fill_run`]). Returns how many pixels came from the own
 /// eye and from the other. Branch-free, so that it runs in vectors.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched function, whose target features it needs")]
 #[inline(always)]
 fn resolve_row(depth: &[i32], classes: &mut [WarpClass]) -> (u64, u64) {
     // Pixels with a word of the other eye or none, and holes.

@@ -25,6 +25,11 @@
 //! cache, and reads only the source rows that can reach the band
 //! ([`WarpMap::rows_reached`]).
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 use fearless_simd::{dispatch, prelude::*, Level, Simd};
 
 use super::map::{EyeShift, WarpMap};
@@ -125,7 +130,6 @@ struct Lanes<S: Simd> {
 }
 
 impl<S: Simd> Lanes<S> {
-    #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
     #[inline(always)]
     fn new(simd: S, map: &WarpMap) -> Self {
         let splat3 = |v: [f32; 3]| [F::<S>::splat(simd, v[0]), F::<S>::splat(simd, v[1]), F::<S>::splat(simd, v[2])];
@@ -139,7 +143,6 @@ impl<S: Simd> Lanes<S> {
 }
 
 /// The pass over the source rows that reach the band, a vector of pixels at a time.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
 fn scatter_in<S: Simd>(simd: S, source: Source<'_>, band: &mut Band<'_>) {
     let n = F::<S>::LEN;
@@ -228,7 +231,6 @@ struct Landed<S: Simd> {
 }
 
 /// Where vector `k` of a row's pixels (depths `z`, colours `rgb`) lands.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
 fn lands_vector<S: Simd>(simd: S, at: &RowMap<'_, S>, k: usize, z: F<S>, rgb: U<S>) -> Landed<S> {
     let n = F::<S>::LEN;
@@ -264,7 +266,6 @@ struct Projected<S: Simd> {
 /// Projects the source pixels (`columns`, row of `h_row`) of depth `z` to the target: n =
 /// g + w·h, w = z + d; for the background w = [`FAR`], which makes px = h_x/h_z and
 /// py = h_y/h_z bit for bit (scaling by a power of two is exact), the direction alone.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
 fn project<S: Simd>(simd: S, lanes: &Lanes<S>, h_row: [F<S>; 3], columns: F<S>, z: F<S>) -> Projected<S> {
     let finite = z.simd_lt(F::<S>::splat(simd, f32::INFINITY));
@@ -284,7 +285,6 @@ struct Row<S: Simd> {
 }
 
 /// [`Row`] of the projected lanes `p`, in the band from target row `first_row`.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
 fn land_row<S: Simd>(simd: S, lanes: &Lanes<S>, p: &Projected<S>, first_row: F<S>) -> Row<S> {
     Row { ahead: p.nz.simd_gt(F::<S>::splat(simd, 0.0)), first: (floor(simd, p.py) - first_row) * lanes.width }
@@ -293,7 +293,6 @@ fn land_row<S: Simd>(simd: S, lanes: &Lanes<S>, p: &Projected<S>, first_row: F<S
 /// The pixel of the band each lane lands on, in the row `row` and at column coordinate
 /// `px`: its index in the band's keys, past their end (as an unsigned number) for a lane
 /// that lands outside the band, before it or after it, or outside the target.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
 fn land<S: Simd>(simd: S, lanes: &Lanes<S>, row: &Row<S>, px: F<S>) -> U<S> {
     let inside = row.ahead & px.simd_ge(F::<S>::splat(simd, 0.0)) & px.simd_lt(lanes.width);
@@ -308,7 +307,6 @@ fn land<S: Simd>(simd: S, lanes: &Lanes<S>, row: &Row<S>, px: F<S>) -> U<S> {
 /// number, outside it too). SSE2 alone has no floor instruction, and `fearless_simd` then
 /// floors lane by lane through libm: there it is a truncation, less one where that rounded
 /// up. Both give the same bits.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
 fn floor<S: Simd>(simd: S, x: F<S>) -> F<S> {
     #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
@@ -327,7 +325,6 @@ fn floor<S: Simd>(simd: S, x: F<S>) -> F<S> {
 /// its pixel of the band (`local`, its index in the band's keys), where its first word is
 /// smaller than the one there. A whole vector landing on consecutive pixels (where the image
 /// neither stretches nor folds) is compared and stored as two vectors.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
 fn emit<S: Simd>(simd: S, keys: &mut KeysMut<'_>, local: U<S>, word: I<S>, colour: U<S>, count: usize) {
     let n = U::<S>::LEN;
@@ -364,7 +361,6 @@ fn emit<S: Simd>(simd: S, keys: &mut KeysMut<'_>, local: U<S>, word: I<S>, colou
 
 /// Lands the lanes `lanes` (all if `None`) of a vector of keys on the band's pixels from
 /// `first` on, lane l on pixel `first` + l, where their first words are smaller.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
 #[inline(always)]
 fn emit_window<S: Simd>(simd: S, keys: &mut KeysMut<'_>, first: usize, lanes: Option<M<S>>, word: I<S>, colour: U<S>) {
     let n = U::<S>::LEN;

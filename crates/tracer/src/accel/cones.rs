@@ -17,6 +17,11 @@
 //! The lists grow as the square of the sphere count, so they are built only up to
 //! [`MAX_SPHERES`]; larger scenes use the BVH.
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 use fearless_simd::{f32x4, prelude::*, Simd};
 use glam::Vec3;
 
@@ -103,10 +108,6 @@ impl Cones {
     ///
     /// # Panics
     /// If the cones were not built ([`Cones::is_built`]).
-    #[expect(
-        clippy::inline_always,
-        reason = "inlined into the dispatched lane kernels, whose target features it needs"
-    )]
     #[inline(always)]
     pub(crate) fn intersect_from<S: Simd>(&self, simd: S, from: u32, ray: &Ray, t_max: f32) -> Option<Hit> {
         let k = from as usize;

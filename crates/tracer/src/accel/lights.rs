@@ -35,6 +35,11 @@
 //! (a molecule of millions of atoms, where a cell lists hundreds) tests only what lies
 //! between it and the light; without the order, all of them.
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 use std::f64::consts::FRAC_PI_4;
 
 use glam::{DVec3, Vec3};
@@ -288,10 +293,6 @@ impl LightBins {
     /// Whether a sphere of `cell` other than `skip` (the ray's own sphere when it leaves
     /// outwards; `NO_OBJECT` for none) blocks `ray`, the shadow ray the cell was looked up
     /// for, before `t_max`. A packet holding only `skip` is not tested at all.
-    #[expect(
-        clippy::inline_always,
-        reason = "inlined into the dispatched lane kernels, whose target features it needs"
-    )]
     #[inline(always)]
     pub(crate) fn blocks<S: Simd>(&self, simd: S, cell: Cell, ray: &Ray, t_max: f32, skip: u32) -> bool {
         let range = cell.first as usize..cell.end as usize;

@@ -20,6 +20,11 @@
 //! the one ray–sphere kernel (`simd.rs`), so each answers bit-for-bit what the BVH would, and
 //! the tests compare them on every scene.
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 mod bvh;
 mod cones;
 mod flat;
@@ -127,7 +132,6 @@ impl Aggregate {
     }
 
     /// [`Aggregate::intersect`] inside a lane kernel dispatched at `simd`'s level.
-    #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
     #[inline(always)]
     #[must_use]
     pub(crate) fn intersect_in<S: Simd>(&self, simd: S, ray: &Ray, t_max: f32, origin: Origin) -> Option<Hit> {
@@ -156,7 +160,6 @@ impl Aggregate {
     }
 
     /// [`Aggregate::occluded`] inside a lane kernel dispatched at `simd`'s level.
-    #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
     #[inline(always)]
     #[must_use]
     pub(crate) fn occluded_in<S: Simd>(&self, simd: S, ray: &Ray, t_max: f32, origin: Origin) -> bool {
@@ -197,7 +200,6 @@ impl Aggregate {
     /// its point. A small scene tests every sphere against the whole vector; otherwise every
     /// lane looks up its cell first, the lanes whose cells are clear are answered at once,
     /// and the rest are tested one by one.
-    #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
     #[inline(always)]
     pub(crate) fn occluded_lanes<S: Simd>(
         &self,
@@ -242,7 +244,6 @@ impl Aggregate {
     /// `dir`: `hit(lane, Option<Hit>)` for each, in lane order. The lane form of
     /// [`Aggregate::intersect`] from a surface: a small scene tests every sphere against the
     /// whole vector, a larger one each ray through the cones or the BVH.
-    #[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernel, whose target features it needs")]
     #[inline(always)]
     pub(crate) fn intersect_lanes<S: Simd>(
         &self,

@@ -1,6 +1,11 @@
 //! Packets of four spheres in structure-of-arrays lanes: what a light's cube-map cell and a
 //! sphere's direction cones list, each tested against one ray in one SIMD test.
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 use fearless_simd::{f32x4, prelude::*, u32x4, Simd};
 use glam::Vec3;
 
@@ -26,7 +31,6 @@ pub(crate) struct SpherePacket {
 pub(crate) type PacketRay<S> = ([f32x4<S>; 3], [f32x4<S>; 3]);
 
 /// `ray` splatted across four lanes.
-#[expect(clippy::inline_always, reason = "inlined into the dispatched lane kernels, whose target features it needs")]
 #[inline(always)]
 pub(crate) fn packet_ray<S: Simd>(simd: S, ray: &Ray) -> PacketRay<S> {
     let splat = |v: Vec3| each3(|a| f32x4::splat(simd, v[a]));
@@ -49,10 +53,6 @@ impl SpherePacket {
 
     /// The ray's parameter against each lane, +∞ where it misses or the hit is outside
     /// `(0, t_max)`.
-    #[expect(
-        clippy::inline_always,
-        reason = "inlined into the dispatched lane kernels, whose target features it needs"
-    )]
     #[inline(always)]
     pub(crate) fn hits<S: Simd>(&self, simd: S, (o, d): PacketRay<S>, t_max: f32) -> f32x4<S> {
         let center = each3(|a| f32x4::from_slice(simd, &self.center[a]));
@@ -61,10 +61,6 @@ impl SpherePacket {
     }
 
     /// Whether the ray meets one of the packet's spheres other than `skip` in `(0, t_max)`.
-    #[expect(
-        clippy::inline_always,
-        reason = "inlined into the dispatched lane kernels, whose target features it needs"
-    )]
     #[inline(always)]
     pub(crate) fn blocks<S: Simd>(&self, simd: S, ray: PacketRay<S>, t_max: f32, skip: u32) -> bool {
         let t = self.hits(simd, ray, t_max);

@@ -32,6 +32,11 @@
 //! to a few 10⁻⁷ of it) and then widened by one pixel on each side; a test compares the
 //! two paths over the scenes.
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 use fearless_simd::{prelude::*, Simd};
 use glam::{DVec3, Vec3};
 
@@ -203,10 +208,6 @@ impl ScreenBins {
     /// wanted): per lane the hit parameter (+∞ for none), the sphere, and the ray's
     /// direction: [`EyeView::primary_ray`]'s rays and the BVH's hits, bit for bit (each
     /// sphere's `t` is the same kernel on the same values; a test compares the two).
-    #[expect(
-        clippy::inline_always,
-        reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
-    )]
     #[inline(always)]
     pub(crate) fn hits_lanes<S: Simd>(
         &self,

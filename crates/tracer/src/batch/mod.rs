@@ -1,22 +1,24 @@
 //! Batches of an eye's chosen pixels: what a second view is made of (Adelson & Hodges 1993,
 //! "Stereoscopic ray-tracing"), and what a reused frame retraces in either eye.
 //!
-//! A [`PixelBatch`] is one eye's view with its screen bins built, made by
-//! [`crate::Renderer::batch`]. For a row's chosen pixels it makes, each job in a file:
-//! - `trace.rs`, [`PixelBatch::trace_pixels`]: full primary rays (the retrace of gaps,
-//!   borders and object edges, and of what changed since the last
-//!   frame), bit-for-bit the pixels [`crate::Renderer::render`] would make;
-//! - `reshade.rs`, [`PixelBatch::reshade`]: surfaces another view saw, re-lit for these
+//! A [`BinnedView`] is one eye's view with its screen bins built. For a row's chosen pixels
+//! it makes, each job in a file, into the row's sink (`sink.rs`):
+//! - `trace.rs`, [`BinnedView::trace_pixels`]: full primary rays (the retrace of gaps,
+//!   borders and object edges, and of what changed since the last frame), bit-for-bit the
+//!   pixels [`crate::Renderer::render`] would make;
+//! - `reshade.rs`, [`BinnedView::reshade`]: surfaces another view saw, re-lit for these
 //!   pixels' rays: their view-independent light and light visibility kept, highlights and
 //!   mirror rays recomputed (`reshade` mode);
-//! - `plan.rs`, [`PixelBatch::shade_row`]: a whole row by a plan, a pixel of the other view
+//! - `plan.rs`, [`BinnedView::shade_row`]: a whole row by a plan, a pixel of the other view
 //!   per column (or none: trace afresh, or keep): each pixel's own ray against the one
 //!   sphere the other view saw there, shaded as a full trace shades it (its own shadow rays),
 //!   and fully traced where it misses that sphere or the plan says so (`exact` mode).
 //!
 //! Every row's pixels are shaded as one batch of the thread's wavefront (`wavefront.rs`), so
-//! they go through the very kernels a whole eye's do. Each job can also mark its pixels for
-//! temporal reuse ([`PixelBatch::marking`], `reuse/`).
+//! they go through the very kernels a whole eye's do, and leave through the sink as a
+//! render's do. Whoever watches the sink (temporal reuse's marks) is the sink's business:
+//! these producers know nothing of it. The public face of these jobs is
+//! [`crate::PixelBatch`] (`render/batch.rs`), which builds each row's sink.
 //!
 //! **Light bits.** Visibility travels as bits: bit k of [`crate::Surface::lights`] (and of
 //! the film's `lights` plane) is set when light k reaches the point. A point of a surface is
@@ -24,6 +26,11 @@
 //! first; only what depends on the direction of view is recomputed. Exact mode does not
 //! reuse them: its pixel's own hit point is not its source's, and a shadow thinner than a
 //! pixel can fall between the two.
+
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
 
 mod plan;
 mod reshade;

@@ -1,5 +1,10 @@
 //! [`BinnedView::shade_row`]: a row made by a plan, exact mode's one pass.
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 use fearless_simd::{dispatch, prelude::*, Simd};
 use glam::Vec3;
 
@@ -12,12 +17,12 @@ use crate::stats::RayCounts;
 use crate::surface::{Hit, NO_OBJECT};
 use crate::wavefront::{per_object, with_wavefront, Wavefront};
 
-/// A [`PixelBatch::shade_row`] plan entry: trace the pixel afresh.
+/// A [`crate::PixelBatch::shade_row`] plan entry: trace the pixel afresh.
 pub const TRACE: u32 = u32::MAX;
-/// A [`PixelBatch::shade_row`] plan entry: leave the pixel as it is.
+/// A [`crate::PixelBatch::shade_row`] plan entry: leave the pixel as it is.
 pub const KEEP: u32 = u32::MAX - 1;
 
-/// A row's plan for [`PixelBatch::shade_row`]: two slices with an entry per column.
+/// A row's plan for [`crate::PixelBatch::shade_row`]: two slices with an entry per column.
 ///
 /// Where `source` names a pixel of the other view's film, `object` holds that pixel's
 /// object, read from the film in column order: a group of lanes then reads them in one

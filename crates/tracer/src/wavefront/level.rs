@@ -1,5 +1,10 @@
 //! One reflection depth of a [`super::Wavefront`]: its hits as columns.
 
+#![expect(
+    clippy::inline_always,
+    reason = "a helper that is not inlined into the dispatched function loses its target features, and then every SIMD operation in it becomes a call"
+)]
+
 use glam::Vec3;
 
 /// The most lanes a kernel runs with: every level's capacity is a multiple of it, so that
@@ -114,10 +119,9 @@ impl Level {
 
     /// Adds a hit: ray (`o`, `d`) meets `object` at `t`, its light bits to be found by shadow
     /// rays.
-    #[expect(
-        clippy::inline_always,
-        reason = "called per primary and mirror hit from the lane kernels; out of line, its arguments go through the stack and the loads that read them back stall (measured: 10 % of a frame)"
-    )]
+    // Always inlined: called per primary and mirror hit from the lane kernels; out of line,
+    // its arguments go through the stack and the loads that read them back stall (10 % of a
+    // frame).
     #[inline(always)]
     pub(super) fn push(&mut self, o: Vec3, d: Vec3, t: f32, object: u32, parent: u32) {
         let e = self.used;
