@@ -29,9 +29,12 @@
 //! the light. The `stereo` crate reads that record to build the second eye; this crate
 //! knows nothing about stereo pairs beyond the camera geometry.
 //!
-//! Temporal reuse ([`reuse`]) is one layer on top: the swept volumes of the moving spheres,
-//! the per-pixel marks of where each pixel's ray tree meets them, and the hook the
-//! wavefront calls to make them. A render marks only when asked ([`Target::marking`]).
+//! Every pixel leaves through one row sink (`sink`), whatever made it: the render's row
+//! loop and each batch job write a row's columns through it, as pbrt-v4's film takes every
+//! sample. Temporal reuse ([`reuse`]) is one layer on top: the swept volumes of the moving
+//! spheres, the per-pixel marks of where each pixel's ray tree meets them, and the observer
+//! that makes them, a marks column of the sink that watches each shaded batch. A render
+//! marks only when asked ([`Target::marking`]).
 //!
 //! ## Modules, in dependency order
 //!
@@ -50,14 +53,18 @@
 //! - `tracer` (snapshot, accel): the scene at one instant, ready to trace;
 //! - `shade` (tracer, camera): Whitted shading, recursively, pixel by pixel: the plain path
 //!   every fast one is tested against;
-//! - `reuse` (bits, scene, camera, accel's screen bound, tracer): the temporal reuse layer;
-//!   its `tree` and `lanes` mark a shaded batch (reading the wavefront's levels);
-//! - `wavefront` (its child `lanes` has the SIMD stages; tracer, accel, reuse's hook): the
-//!   same shading as a stream of queues;
+//! - `wavefront` (its child `lanes` has the SIMD stages; tracer, accel): the same shading
+//!   as a stream of queues, whose shaded batch observers read through `Levels`;
+//! - `sink` (wavefront, camera, surface): the row sink every pixel producer writes through,
+//!   and the seam (`Observe`) where an observer watches each shaded batch;
+//! - `reuse` (bits, scene, camera, accel's screen bound, wavefront's levels, sink's seam):
+//!   the temporal reuse layer; its `observer` is the marks column, whose `tree` and `lanes`
+//!   mark a shaded batch;
 //! - `film` (surface): the image and its visible-surface record;
-//! - `batch` (wavefront, accel, reuse): batches of an eye's chosen pixels, a file per job:
+//! - `batch` (wavefront, accel, sink): batches of an eye's chosen pixels, a file per job:
 //!   `trace`, `reshade`, `plan`;
-//! - `render` (batch, film, wavefront, reuse): the parallel renderer.
+//! - `render` (batch, film, sink, wavefront, reuse): the parallel renderer, and
+//!   [`PixelBatch`], the batch jobs with their rows' sinks.
 //!
 //! Conventions (see the README): left-handed, +x right, +y up, +z into the scene; world
 //! units are arbitrary but shared by positions and radii; light is linear inside and

@@ -11,7 +11,10 @@
 //! recursive one, which the tests check on every scene.
 //!
 //! The queues live in a [`Wavefront`] that each worker thread keeps from batch to batch, so
-//! a warm renderer allocates nothing.
+//! a warm renderer allocates nothing. A shaded batch leaves through the row's sink
+//! (`sink.rs`), which hands it first, read-only ([`Levels`]), to whoever observes it:
+//! temporal reuse marks its ray trees there. The wavefront owns no observer's state and
+//! knows of none.
 
 #![expect(
     clippy::inline_always,

@@ -7,9 +7,13 @@
 //!   of it a ray crosses ([`Touch`]), and the wedge the sphere fills at an instant.
 //! - `marks.rs`: per pixel, where its ray tree meets those volumes ([`Marks`]), and the
 //!   pixels that can differ between two instants ([`Marks::select`]).
-//! - `tree.rs` and `lanes.rs`: the hook. After the wavefront shades a batch, it hands its
-//!   levels to its `Marker`, which marks every ray of each sample's tree (primary, shadow and
-//!   mirror, at every depth) against the volumes, in SIMD lanes.
+//! - `observer.rs`: the layer's one seam with the renderer. A marking render's row sinks
+//!   (`sink.rs`) carry a marks column (`MarksColumn`) that observes each shaded batch, as
+//!   Embree's filter callbacks observe hits: the producers and the wavefront never know it.
+//! - `tree.rs`, `lanes.rs` and `level.rs`: what the observer runs, once per batch, with its
+//!   per-thread scratch: every ray of each sample's tree (primary, shadow and mirror, at
+//!   every depth) marked against the volumes, in SIMD lanes, reading the wavefront's levels
+//!   through their read-only view.
 //!
 //! A render marks only when its caller asks (`Target::marking`), and a scene with no
 //! moving sphere is never marked: without reuse, no code here runs. The argument that the

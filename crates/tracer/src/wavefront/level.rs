@@ -65,7 +65,7 @@ pub(crate) struct Level {
     pub(crate) reflects: Vec<bool>,
     /// The entry's radiance, once folded.
     pub(crate) radiance: Column3,
-    /// Level 0 of a re-shaded batch, until aimed ([`Wavefront::aim_seen`]): the pixel of
+    /// Level 0 of a re-shaded batch, until aimed ([`super::Wavefront::aim_seen`]): the pixel of
     /// the other view whose ray found the entry, as column and row.
     pub(crate) source: [Vec<u32>; 2],
 }
