@@ -106,7 +106,8 @@ enum Kind {
     Depth,
 }
 
-/// A target's planes, sized to the view; those its [`Kind`] does not write are empty.
+/// A target's planes sized to the view, or one row of them; those its [`Kind`] does not
+/// write are empty.
 #[derive(Debug, Default)]
 struct Planes<'a> {
     rgb: &'a mut [u32],
@@ -184,20 +185,8 @@ enum Row<'a> {
 }
 
 impl<'a> Row<'a> {
-    /// Row `planes` (each the row's part of a plane, empty if not written) as `kind`'s
-    /// columns.
-    #[expect(clippy::type_complexity, reason = "one row of each of a film's six planes")]
-    fn of(
-        kind: Kind,
-        (rgb, z, t, object, lights, shading): (
-            &'a mut [u32],
-            &'a mut [f32],
-            &'a mut [f32],
-            &'a mut [u32],
-            &'a mut [u32],
-            &'a mut [Shading],
-        ),
-    ) -> Self {
+    /// One row of each plane (empty where not written) as `kind`'s columns.
+    fn of(kind: Kind, Planes { rgb, z, t, object, lights, shading }: Planes<'a>) -> Self {
         match kind {
             Kind::Colour => Self::Colour(RgbRow(rgb)),
             Kind::Keys => Self::Keys(KeysRow { rgb, z, t, object, lights }),
@@ -277,7 +266,7 @@ impl Renderer {
                 if let Some(marks) = marks.as_mut() {
                     marks.clear_only(only);
                 }
-                let row = Row::of(kind, (rgb, z, t, object, lights, shading));
+                let row = Row::of(kind, Planes { rgb, z, t, object, lights, shading });
                 with_marks(marks.as_mut(), marker.as_ref(), j as u32, |marks| row.trace(&eye, j as u32, marks, only))
             })
             .sum()
