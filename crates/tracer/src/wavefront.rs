@@ -76,7 +76,7 @@ impl<'a> Levels<'a> {
 
     /// Sample `e`'s tag.
     pub(crate) fn tag(&self, e: usize) -> u32 {
-        self.levels[0].parent[e]
+        self.levels[0].parent()[e]
     }
 }
 

@@ -60,15 +60,15 @@ impl<'a> LevelRays<'a> {
         Self {
             len: level.len(),
             capacity: level.capacity(),
-            o: &level.o,
-            d: &level.d,
-            t: &level.t,
-            v: &level.v,
-            p: &level.p,
-            n: &level.n,
-            parent: &level.parent,
-            known: &level.known,
-            reflects: &level.reflects,
+            o: level.o(),
+            d: level.d(),
+            t: level.t(),
+            v: level.v(),
+            p: level.p(),
+            n: level.n(),
+            parent: level.parent(),
+            known: level.known(),
+            reflects: level.reflects(),
         }
     }
 }

@@ -27,47 +27,47 @@ pub(super) fn set3(c: &mut Column3, e: usize, v: Vec3) {
 /// Every column is as long as the level's capacity, a whole number of vectors of the
 /// widest lanes; the first [`Level::len`] entries are in use. Entries are written in place
 /// (no per-column push), and the columns only ever grow, so a warm level allocates
-/// nothing. Outside the wavefront a level is only read (observers, through
-/// [`super::Levels`]): its columns are visible to the crate, its writers are not.
+/// nothing. Outside the wavefront a level is only read, by observers of a shaded batch
+/// ([`super::Levels`]), through the accessors below.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Level {
     /// Entries in use.
     pub(super) used: usize,
     /// The ray's direction (unit).
-    pub(crate) d: Column3,
+    pub(super) d: Column3,
     /// The direction the hit is seen along (unit): the ray's, except for a sample that
     /// re-shades for one view what another view's ray found.
-    pub(crate) v: Column3,
+    pub(super) v: Column3,
     /// The ray's origin.
-    pub(crate) o: Column3,
+    pub(super) o: Column3,
     /// The ray's hit parameter.
-    pub(crate) t: Vec<f32>,
+    pub(super) t: Vec<f32>,
     /// The sphere hit.
-    pub(crate) object: Vec<u32>,
+    pub(super) object: Vec<u32>,
     /// Level 0: the caller's tag of the sample; deeper: the entry of the level above whose
     /// mirror ray this is.
-    pub(crate) parent: Vec<u32>,
+    pub(super) parent: Vec<u32>,
     /// Level 0: whether the entry's light bits are known (not traced).
-    pub(crate) known: Vec<bool>,
+    pub(super) known: Vec<bool>,
     /// Hit point.
-    pub(crate) p: Column3,
+    pub(super) p: Column3,
     /// Unit outward normal.
-    pub(crate) n: Column3,
+    pub(super) n: Column3,
     /// Light bits: given (at level 0, for a pixel whose bits another view found) or found.
-    pub(crate) lights: Vec<u32>,
+    pub(super) lights: Vec<u32>,
     /// View-independent light D.
-    pub(crate) diffuse: Column3,
+    pub(super) diffuse: Column3,
     /// Highlights S.
-    pub(crate) spec: Column3,
+    pub(super) spec: Column3,
     /// Radiance of the mirror ray, once known (background until a hit is shaded).
-    pub(crate) mirror: Column3,
+    pub(super) mirror: Column3,
     /// Whether the entry cast a mirror ray.
-    pub(crate) reflects: Vec<bool>,
+    pub(super) reflects: Vec<bool>,
     /// The entry's radiance, once folded.
-    pub(crate) radiance: Column3,
+    pub(super) radiance: Column3,
     /// Level 0 of a re-shaded batch, until aimed ([`super::Wavefront::aim_seen`]): the pixel of
     /// the other view whose ray found the entry, as column and row.
-    pub(crate) source: [Vec<u32>; 2],
+    pub(super) source: [Vec<u32>; 2],
 }
 
 impl Level {
@@ -136,5 +136,54 @@ impl Level {
         self.known[e] = false;
         self.reflects[e] = false;
         self.used = e + 1;
+    }
+}
+
+/// The columns of a shaded level an observer reads (the marking of temporal reuse): its
+/// rays and where they hit, read-only.
+impl Level {
+    /// The rays' origins.
+    pub(crate) fn o(&self) -> &Column3 {
+        &self.o
+    }
+
+    /// The rays' unit directions.
+    pub(crate) fn d(&self) -> &Column3 {
+        &self.d
+    }
+
+    /// The rays' hit parameters.
+    pub(crate) fn t(&self) -> &[f32] {
+        &self.t
+    }
+
+    /// The directions the hits are seen along.
+    pub(crate) fn v(&self) -> &Column3 {
+        &self.v
+    }
+
+    /// The hit points.
+    pub(crate) fn p(&self) -> &Column3 {
+        &self.p
+    }
+
+    /// The unit outward normals.
+    pub(crate) fn n(&self) -> &Column3 {
+        &self.n
+    }
+
+    /// Level 0: the samples' tags; deeper: the entries above whose mirror rays these are.
+    pub(crate) fn parent(&self) -> &[u32] {
+        &self.parent
+    }
+
+    /// Level 0: whether an entry's light bits were known (no shadow rays cast).
+    pub(crate) fn known(&self) -> &[bool] {
+        &self.known
+    }
+
+    /// Whether an entry cast a mirror ray.
+    pub(crate) fn reflects(&self) -> &[bool] {
+        &self.reflects
     }
 }
