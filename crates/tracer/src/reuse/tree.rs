@@ -9,10 +9,10 @@
 //! their own segments, in lanes (`lanes.rs`), the entries left over from whole vectors in
 //! scalar code.
 
+use std::cell::RefCell;
+
 use fearless_simd::Simd;
 use glam::Vec3;
-
-use std::cell::RefCell;
 
 use super::level::{LevelMarks, LevelRays};
 use super::{lanes, Marker, Swept, Touch};
@@ -33,10 +33,10 @@ pub(super) struct TreeMarks {
 
 impl TreeMarks {
     /// Marks the levels of the shaded `batch` against `marker`'s volumes, with the scene's
-    /// `lights`. `incoming(tag)` says whether a sample's
-    /// own ray (the first segment of its tree) can meet a volume at all: `false` for a
-    /// primary ray outside the volumes' screen bound, or for a ray another view cast
-    /// (whose pixel carries that ray's marks). Read the marks with [`TreeMarks::touch`].
+    /// `lights`. `incoming(tag)` says whether a sample's own ray (the first segment of its
+    /// tree) can meet a volume at all: `false` for a primary ray outside the volumes' screen
+    /// bound, or for a ray another view cast (whose pixel carries that ray's marks). Read the
+    /// marks with [`TreeMarks::touch`].
     pub(super) fn mark(
         &mut self,
         (marker, lights): (&Marker<'_>, &[Light]),
