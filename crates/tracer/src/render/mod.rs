@@ -296,6 +296,7 @@ mod tests {
     use crate::camera::{Camera, Eye};
     use crate::film::Record;
     use crate::material::Material;
+    use crate::reuse::Swept;
     use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere};
     use crate::surface::Surface;
     use crate::wavefront::with_wavefront;
@@ -434,6 +435,60 @@ mod tests {
                 );
             }
         }
+    }
+
+    #[test]
+    fn a_selection_rendered_over_another_instant_is_the_full_render_there() {
+        // A film (and its marks) made at one instant, then the selected pixels rendered at
+        // another: those become the other instant's full render, pixel, record and mark;
+        // every other pixel stays as it was. Scattered pixels, whole lane groups and a whole
+        // row, in a view that is not a whole number of tiles.
+        let scene = seed();
+        let swept = Swept::of(&scene);
+        let (t0, t1) = (Tracer::new(&scene, 0.2), Tracer::new(&scene, 1.1));
+        let view = scene.camera.view(Eye::Left, 83, 45);
+        let (w, h) = (view.width, view.height);
+        let mut bits = PixelBits::new(w, h);
+        for (i, j) in (0..h).flat_map(|j| (0..w).map(move |i| (i, j))) {
+            bits.set(i, j, (i * 7 + j * 3) % 5 == 0 || (16..24).contains(&i) || j == 20);
+        }
+        let mut renderer = Renderer::new();
+        for record in [Record::Colour, Record::Keys, Record::Full] {
+            let (mut full, mut full_marks) = (Film::new(1, 1), Marks::default());
+            let target = Target::film(&mut full, record).marking(&mut full_marks, &swept);
+            renderer.render(&t1, &view, Pixels::All, target);
+            let (mut film, mut marks) = (Film::new(1, 1), Marks::default());
+            renderer.render(&t0, &view, Pixels::All, Target::film(&mut film, record).marking(&mut marks, &swept));
+            let (stale, stale_marks) = (film.clone(), marks.clone());
+            let target = Target::film(&mut film, record).marking(&mut marks, &swept);
+            let counts = renderer.render(&t1, &view, Pixels::Only(&bits), target);
+            assert_eq!(counts.primary, bits.count(), "{record:?}: a primary ray per selected pixel");
+            for k in 0..(w * h) as usize {
+                let (i, j) = (k as u32 % w, k as u32 / w);
+                let (want, want_marks) = if bits.get(i, j) { (&full, &full_marks) } else { (&stale, &stale_marks) };
+                let at = |f: &Film| {
+                    let shading = (record == Record::Full).then(|| f.surface(k));
+                    (f.rgb[k], f.z[k].to_bits(), f.object[k], f.lights[k], shading)
+                };
+                assert_eq!(at(&film), at(want), "{record:?} ({i}, {j})");
+                assert_eq!(marks.touch(k), want_marks.touch(k), "{record:?} ({i}, {j}): mark");
+            }
+            assert!(full_marks.bits().count() > 100, "{record:?}: pixels marked");
+        }
+        // And the marks of background pixels are their primary rays' own, found apart.
+        let (mut film, mut marks) = (Film::new(1, 1), Marks::default());
+        renderer.render(&t1, &view, Pixels::All, Target::film(&mut film, Record::Keys).marking(&mut marks, &swept));
+        let missed = (0..(w * h) as usize).filter(|&k| film.object[k] == crate::surface::NO_OBJECT);
+        let met = missed
+            .map(|k| {
+                let ray = view.primary_ray(k as u32 % w, k as u32 / w);
+                let touch = swept.touch(ray.origin, ray.dir, f32::INFINITY);
+                assert_eq!(marks.touch(k).is_some(), touch.is_some(), "background pixel {k}");
+                touch.is_some()
+            })
+            .filter(|&met| met)
+            .count();
+        assert!(met > 20, "{met} background pixels meet a volume");
     }
 
     #[test]
