@@ -166,8 +166,8 @@ impl Viewer {
         let (pose_at, warped) = (Instant::now(), self.settings.timewarp);
         let warped = warped.then(|| self.timewarp.show(traced, &pose, look)).flatten();
         let shown_pose =
-            if warped.is_some() { Some((pose, pose_at)) } else { traced.info.map(|i| (i.request.camera, i.posted)) };
-        let frame = warped.unwrap_or(traced);
+            if warped.is_some() { Some((pose, pose_at)) } else { traced.info.map(|i| (i.views.camera, i.posted)) };
+        let frame = warped.unwrap_or(&traced.eyes);
         let Some(eyes) = window.present(size, frame, look, &self.egui, ui, self.dump.as_mut())? else {
             return Ok(());
         };
