@@ -4,21 +4,27 @@
 //! reprojected and classified (stages 2 and 3, `reproject.rs`), retraced where it must be
 //! (stage 4, `retrace.rs`) and filled as the mode says (stage 5, `fill.rs`).
 //!
+//! The pair keeps the views it was traced through ([`StereoFrame::views`], made once per
+//! frame by `views.rs`), so a warp reads them from the pair ([`StereoFrame::warp_sources`])
+//! rather than deriving them again from the pose.
+//!
 //! With reuse on ([`StereoFrame::set_reuse`]), a frame whose only change is the scene time
-//! makes again only what can have changed: `reuse/` keeps that bookkeeping, and each stage
-//! asks it which pixels to make.
+//! makes again only what can have changed: `reuse/` keeps that bookkeeping. The frame enters
+//! it once, and each stage asks the frame's reuse which pixels to make.
 
 use std::time::Instant;
 
-use tracer::{Camera, Eye, EyeView, Film, PixelBatch, PixelBits, Pixels, Record, Renderer, Scene, Target, Tracer};
+use tracer::{Camera, EyeView, Film, PixelBatch, PixelBits, Pixels, Record, Renderer, Scene, Target, Tracer};
 
 use crate::fill::{fill, reproject_and_fill_exact, Fill};
 use crate::image::Image;
 use crate::mode::{Mode, Options};
-use crate::reproject::{reproject_and_classify, Reprojection, NO_SOURCE};
+use crate::reproject::{Reprojection, NO_SOURCE};
 use crate::retrace::{retrace, Redo};
-use crate::reuse::{Asked, Made, Temporal};
-use crate::stats::{FrameStats, PixelClass, PixelCounts, Reuse};
+use crate::reuse::{Asked, FrameReuse, Temporal};
+use crate::stats::{FrameStats, PixelClass};
+use crate::views::StereoViews;
+use crate::warp::WarpSource;
 
 /// The buffers of one stereo pair, reused from frame to frame: a warm `StereoFrame` renders
 /// without allocating.
@@ -43,6 +49,8 @@ pub struct StereoFrame {
     /// eye's.
     depths: bool,
     right_z: Vec<f32>,
+    /// The views the last frame was traced through.
+    views: StereoViews,
 }
 
 /// Pixels per eye of a `width` × `height` frame, which must be fewer than `u32::MAX`: the
@@ -129,7 +137,24 @@ impl StereoFrame {
     /// kept from the frame before; `None` when it made all of them (it did not reuse).
     #[must_use]
     pub fn made(&self) -> Option<(&PixelBits, &PixelBits)> {
-        self.stats.reuse.reused.then_some((&self.reuse.left_retraced, &self.reuse.right_made))
+        self.stats.reuse.reused.then(|| self.reuse.made())
+    }
+
+    /// The views the last frame was traced through, guard band included (the default
+    /// camera's, of no pixels, before the first frame).
+    #[must_use]
+    pub fn views(&self) -> &StereoViews {
+        &self.views
+    }
+
+    /// What a warp of the last frame reads: each eye's view as traced, with its colours and
+    /// depths. `None` unless frames keep both eyes' depth ([`StereoFrame::set_depths`]).
+    #[must_use]
+    pub fn warp_sources(&self) -> Option<[WarpSource<'_>; 2]> {
+        self.depths.then(|| {
+            let [lv, rv] = self.views.eyes;
+            [WarpSource::from_film(lv, &self.left), WarpSource { view: rv, rgb: &self.right.rgb, z: &self.right_z }]
+        })
     }
 
     /// Heap bytes of the two eyes' screen bins (what grows with the scene, besides the
@@ -157,9 +182,8 @@ impl StereoFrame {
 
     /// [`StereoFrame::render`] with a guard band: each eye is traced `margin` = (mx, my)
     /// pixels wider on each side than the `width` × `height` it shows
-    /// ([`tracer::Camera::view_with_margin`]), so its images are (width + 2·mx) ×
-    /// (height + 2·my), the shown part bit for bit the frame without the band. A timewarp
-    /// turns the head into the band.
+    /// ([`StereoViews::new`]), so its images are (width + 2·mx) × (height + 2·my), the shown
+    /// part bit for bit the frame without the band. A timewarp turns the head into the band.
     ///
     /// # Panics
     ///
@@ -172,85 +196,75 @@ impl StereoFrame {
         margin: (u32, u32),
         opts: Options,
     ) -> FrameStats {
-        let lv = camera.view_with_margin(Eye::Left, width, height, margin);
-        let rv = camera.view_with_margin(Eye::Right, width, height, margin);
+        self.views = StereoViews::new(camera, (width, height), margin);
+        let Self {
+            left,
+            right,
+            left_renderer,
+            right_renderer,
+            src,
+            class,
+            mask,
+            stats: last,
+            reuse,
+            depths,
+            right_z,
+            views,
+        } = self;
+        let [lv, rv] = &views.eyes;
         let size = (lv.width, lv.height);
         let n = pixel_count(size.0, size.1);
-        let asked = Asked { camera: *camera, width, height, margin, opts };
-        let made = self.reuse.begin(tracer, asked);
+        let mut reuse = reuse.frame(tracer, Asked { camera: *camera, width, height, margin, opts }, size);
         let mut stats = FrameStats::default();
 
         // Stage 1: the left eye, keeping only what the mode's later stages read of its record.
         let t = Instant::now();
-        let record = if opts.mode == Mode::Full && !self.depths { Record::Colour } else { Record::Keys };
-        let (pixels, target) = self.reuse.left(&mut self.left, record, made, size);
-        stats.left.rays = self.left_renderer.render(tracer, &lv, pixels, target);
+        let record = if opts.mode == Mode::Full && !*depths { Record::Colour } else { Record::Keys };
+        let (pixels, target) = reuse.left(left, record);
+        stats.left.rays = left_renderer.render(tracer, lv, pixels, target);
         stats.stages.trace_left = ms_since(t);
         stats.left.ms = stats.stages.trace_left;
 
-        self.mask.resize(n, PixelClass::Traced);
-        self.src.resize(n, NO_SOURCE);
-        self.class.resize(n, PixelClass::Traced);
-        (self.right.width, self.right.height) = size;
-        self.right.rgb.resize(n, 0);
-        // The right pixels made, and on a reused frame of a reprojecting mode the last
-        // classes of the pixels made again.
-        let (mut right_made, mut removed) = (n as u64, None);
+        mask.resize(n, PixelClass::Traced);
+        src.resize(n, NO_SOURCE);
+        class.resize(n, PixelClass::Traced);
+        (right.width, right.height) = size;
+        right.rgb.resize(n, 0);
+        let planes = (&mut src[..], &mut class[..], &mut mask[..]);
         if n == 0 {
             // Nothing to make.
         } else if opts.mode == Mode::Full {
             // The right eye as the left: timed as stage 4.
             let t = Instant::now();
-            let (pixels, target, count) = self.reuse.right_full(&mut self.right.rgb, made, size);
-            stats.right.rays = self.right_renderer.render(tracer, &rv, pixels, target);
-            right_made = count;
-            self.mask.fill(PixelClass::Traced);
+            let (pixels, target) = reuse.right_full(&mut right.rgb);
+            stats.right.rays = right_renderer.render(tracer, rv, pixels, target);
+            planes.2.fill(PixelClass::Traced);
             stats.stages.retrace = ms_since(t);
-        } else if made != Made::Reused && opts.mode == Mode::Exact {
+        } else if !reuse.reused() && opts.mode == Mode::Exact {
             // Stages 2 to 5 in one banded pass.
-            self.exact_in_one_pass(tracer, (camera, &rv), opts, made, &mut stats);
+            let right_eye = (&mut *right_renderer, rv, &mut *right);
+            exact_in_one_pass(tracer, camera, (left, right_eye), planes, opts, &mut reuse, &mut stats);
         } else {
             // Stages 2 and 3: the source map and the class of every right pixel (on a
             // reused frame, of the rows that can have changed).
             let t = Instant::now();
-            let plan = Reprojection::new(tracer, camera, &rv, opts);
-            if made == Made::Reused {
-                let planes = (&mut self.src[..], &mut self.class[..], &mut self.mask[..]);
-                let (count, was) = self.reuse.reproject_changed(&self.left, plan, planes);
-                (right_made, removed) = (count, Some(was));
-            } else {
-                reproject_and_classify(&self.left, plan, &mut self.src, &mut self.class);
-                self.mask.copy_from_slice(&self.class);
-                self.reuse.planned(plan);
-            }
+            reuse.reproject(left, Reprojection::new(tracer, camera, rv, opts), planes);
             stats.stages.reproject = ms_since(t);
             // Stages 4 and 5.
-            let (only, marks, swept) = self.reuse.right(made, size);
-            let right = self.right_renderer.batch(tracer, &rv).marking(swept);
+            let (only, marks, swept) = reuse.right();
+            let right_eye = right_renderer.batch(tracer, rv).marking(swept);
             let redo = Redo { only, marks, mark: swept.is_some() };
-            retrace_and_fill(
-                right,
-                (&lv, &self.left),
-                opts.mode,
-                (&mut self.mask, &self.src),
-                &mut self.right,
-                redo,
-                &mut stats,
-            );
+            retrace_and_fill(right_eye, (lv, left), opts.mode, (mask, src), right, redo, &mut stats);
         }
         stats.right.ms = stats.stages.reproject + stats.stages.retrace + stats.stages.reshade;
-        if self.depths {
+        if *depths {
             // The right eye's depth, for a timewarp: its first hits alone.
             let t = Instant::now();
-            self.right_renderer.render(tracer, &rv, Pixels::All, Target::depth(&mut self.right_z));
+            right_renderer.render(tracer, rv, Pixels::All, Target::depth(right_z));
             stats.stages.depth = ms_since(t);
         }
-        stats.pixels = self.pixel_counts(made, removed);
-        let reused = made == Made::Reused;
-        let left_made = if reused { self.reuse.left_retraced.count() } else { n as u64 };
-        stats.reuse = Reuse { reused, made: left_made + right_made, pixels: 2 * n as u64 };
-        self.reuse.end(tracer, asked, made);
-        self.stats = stats;
+        (stats.reuse, stats.pixels) = reuse.finish(mask, last.pixels);
+        *last = stats;
         stats
     }
 }
@@ -286,72 +300,69 @@ fn retrace_and_fill(
     }
 }
 
-/// How many of the pixels `made` names have each class in `mask` (by discriminant).
-fn made_classes(mask: &[PixelClass], made: &PixelBits) -> [u64; PixelClass::COUNT] {
-    use rayon::prelude::*;
-    let w = made.width() as usize;
-    if w == 0 {
-        return [0; PixelClass::COUNT];
-    }
-    mask.par_chunks(w)
-        .enumerate()
-        .map(|(j, row)| {
-            let mut n = [0u64; PixelClass::COUNT];
-            for i in tracer::bits::ones(made.row(j as u32)) {
-                n[row[i as usize] as usize] += 1;
-            }
-            n
-        })
-        .reduce(|| [0; PixelClass::COUNT], |a, b| std::array::from_fn(|c| a[c] + b[c]))
-}
-
-impl StereoFrame {
-    /// Stages 2 to 5 of a fresh exact frame in one banded pass (`fill.rs`), for the right
-    /// eye's view `rv` of `camera`, marking if `made` does. The pass's time goes to `stats`,
-    /// split between the reproject and reshade stages as the thread time each part took.
-    fn exact_in_one_pass(
-        &mut self,
-        tracer: &Tracer,
-        (camera, rv): (&Camera, &EyeView),
-        opts: Options,
-        made: Made,
-        stats: &mut FrameStats,
-    ) {
-        let t = Instant::now();
-        let plan = Reprojection::new(tracer, camera, rv, opts);
-        self.reuse.planned(plan);
-        let (_, marks, swept) = self.reuse.right(made, (rv.width, rv.height));
-        let right = self.right_renderer.batch(tracer, rv).marking(swept);
-        let bins_s = t.elapsed().as_secs_f64();
-        let planes = (&mut self.src[..], &mut self.class[..], &mut self.mask[..]);
-        let cost = reproject_and_fill_exact(right, &self.left, plan, planes, &mut self.right, (marks, swept.is_some()));
-        let (ms, fill_s) = (ms_since(t), cost.fill_s + bins_s);
-        let share = cost.reproject_s / (cost.reproject_s + fill_s).max(f64::MIN_POSITIVE);
-        (stats.stages.reproject, stats.stages.reshade) = (ms * share, ms * (1.0 - share));
-        stats.right.rays = cost.filled.rays;
-        stats.sphere_tests = cost.filled.sphere_tests;
-    }
-
-    /// The right pixels by class. A fresh frame counts its mask; a reused one takes the
-    /// last frame's counts, less the last classes of the pixels it made again (`removed`,
-    /// `None` in full mode, where every pixel is traced) plus their new ones: kept pixels
-    /// keep their classes.
-    fn pixel_counts(&self, made: Made, removed: Option<[u64; PixelClass::COUNT]>) -> PixelCounts {
-        match (made, removed) {
-            (Made::Reused, Some(removed)) => {
-                let last = self.stats.pixels.to_array();
-                let added = made_classes(&self.mask, &self.reuse.right_made);
-                PixelCounts::from_array(std::array::from_fn(|c| last[c] - removed[c] + added[c]))
-            }
-            (Made::Reused, None) => self.stats.pixels,
-            _ => PixelCounts::of_par(&self.mask),
-        }
-    }
+/// Stages 2 to 5 of a fresh exact frame in one banded pass (`fill.rs`): from the `left`
+/// film into the right eye (its renderer, its view `rv` of `camera`, its image) and the
+/// `planes` (sources, stage-3 classes, final classes), marking if `reuse` does. The pass's
+/// time goes to `stats`, split between the reproject and reshade stages as the thread time
+/// each part took.
+fn exact_in_one_pass(
+    tracer: &Tracer,
+    camera: &Camera,
+    (left, (renderer, rv, out)): (&Film, (&mut Renderer, &EyeView, &mut Image)),
+    planes: (&mut [u32], &mut [PixelClass], &mut [PixelClass]),
+    opts: Options,
+    reuse: &mut FrameReuse<'_>,
+    stats: &mut FrameStats,
+) {
+    let t = Instant::now();
+    let plan = Reprojection::new(tracer, camera, rv, opts);
+    reuse.reprojected_in_one_pass(plan);
+    let (_, marks, swept) = reuse.right();
+    let right = renderer.batch(tracer, rv).marking(swept);
+    let bins_s = t.elapsed().as_secs_f64();
+    let cost = reproject_and_fill_exact(right, left, plan, planes, out, (marks, swept.is_some()));
+    let (ms, fill_s) = (ms_since(t), cost.fill_s + bins_s);
+    let share = cost.reproject_s / (cost.reproject_s + fill_s).max(f64::MIN_POSITIVE);
+    (stats.stages.reproject, stats.stages.reshade) = (ms * share, ms * (1.0 - share));
+    stats.right.rays = cost.filled.rays;
+    stats.sphere_tests = cost.filled.sphere_tests;
 }
 
 #[cfg(test)]
 mod tests {
-    use super::pixel_count;
+    use super::*;
+    use crate::warp::Warp;
+
+    /// The pair keeps the views it was traced through, and with its depths offers a warp
+    /// what it needs: warped to the very pose it was traced at, it gives back its shown part.
+    #[test]
+    fn a_pair_carries_its_views_and_warps_back_to_itself() {
+        let scene = Scene::from_toml(include_str!("../../../assets/scenes/seed.toml"), "seed.toml").unwrap();
+        let tracer = Tracer::new(&scene, 0.0);
+        let camera = Camera { yaw_deg: 3.0, ..scene.camera };
+        let mut frame = StereoFrame::new();
+        frame.render_banded(&tracer, &camera, (40, 24), (3, 2), Options::default());
+        let views = frame.views();
+        assert_eq!((views.camera, views.shown, views.margin), (camera, (40, 24), (3, 2)));
+        assert_eq!((frame.left().width(), frame.right().width), (views.left().width, views.right().width));
+        assert!(frame.warp_sources().is_none(), "no depths kept: nothing to warp");
+        frame.set_depths(true);
+        frame.render_banded(&tracer, &camera, (40, 24), (3, 2), Options::default());
+        let sources = frame.warp_sources().unwrap();
+        assert_eq!(
+            sources.map(|s| (s.view.eye, s.view.margin, s.rgb.len(), s.z.len())),
+            [(tracer::Eye::Left, (3, 2), 46 * 28, 46 * 28), (tracer::Eye::Right, (3, 2), 46 * 28, 46 * 28),]
+        );
+        let targets = frame.views().warped_to(&camera);
+        let (mut out, mut classes) = (<[Vec<u32>; 2]>::default(), <[Vec<_>; 2]>::default());
+        let [lo, ro] = &mut out;
+        let [lc, rc] = &mut classes;
+        Warp::new().warp(sources, [&targets[0], &targets[1]], [lo, ro], [lc, rc]);
+        let shown =
+            |rgb: &[u32]| -> Vec<u32> { rgb.chunks(46).skip(2).take(24).flat_map(|r| r[3..43].to_vec()).collect() };
+        assert_eq!(out[0], shown(&frame.left().rgb), "the left eye's shown part");
+        assert_eq!(out[1], shown(&frame.right().rgb), "the right eye's shown part");
+    }
 
     #[test]
     fn an_eye_just_below_u32_max_pixels_is_accepted() {

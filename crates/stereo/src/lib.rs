@@ -33,7 +33,7 @@
 //! With reuse on ([`StereoFrame::set_reuse`]), a frame whose only change is the scene time
 //! is made from the last one: each eye retraces only the pixels whose ray trees can meet a
 //! moving sphere then or now, stages 2 and 3 redo only the rows a retraced left row feeds,
-//! and stages 4 and 5 only the right pixels that can differ (`reuse.rs`: the rule and why
+//! and stages 4 and 5 only the right pixels that can differ (`reuse/`: the rule and why
 //! it is exact). The frame is byte for byte a fresh one.
 //!
 //! ## Modules
@@ -46,17 +46,20 @@
 //! - `retrace` (image, stats): stage 4;
 //! - `fill` (image, mode, reproject, retrace, stats): stage 5 (and exact mode's stage 4, and
 //!   on a fresh frame its stages 2 to 5 in one banded pass);
-//! - `reuse` (reproject, stats): which right pixels a reused frame makes again;
-//! - `frame` (reproject, retrace, fill, reuse, image, mode, stats): the stages in order;
+//! - `reuse` (reproject, stats): which pixels a reused frame makes again, one entry per
+//!   frame that the driver follows stage by stage;
+//! - `views`: the eye views a pair is traced through, guard band included ([`StereoViews`]);
+//! - `warp` (its own `map`, `scatter`, `resolve`): timewarp's warp stage, beside the
+//!   pipeline: a traced stereo pair moved to a newer head pose by its depth (Mark,
+//!   McMillan & Bishop 1997), the holes one eye leaves filled from the other eye, then by a
+//!   rule ([`Warp`]);
+//! - `frame` (reproject, retrace, fill, reuse, views, warp, image, mode, stats): the stages
+//!   in order, and the pair they made with its views, which a warp reads;
 //! - `mask` (stats), `layout`: how a frame is shown, beside the pipeline (the mask's colour
 //!   for pixels a reused frame kept, too);
 //! - `downsample` (mask, stats): a supersampled frame's eyes and mask filtered down to the
 //!   output size (box filter in linear light), beside the pipeline too: the stages run at
-//!   the sampled size and know nothing of it;
-//! - `warp` (its own `map`, `scatter`, `resolve`): timewarp's warp stage, beside the
-//!   pipeline too: a traced stereo pair moved to a newer head pose by its depth (Mark,
-//!   McMillan & Bishop 1997), the holes one eye leaves filled from the other eye, then by a
-//!   rule ([`Warp`]).
+//!   the sampled size and know nothing of it.
 //!
 //! ## Errors
 //!
@@ -84,6 +87,7 @@ mod reproject;
 mod retrace;
 mod reuse;
 mod stats;
+mod views;
 mod warp;
 
 pub use downsample::{downsample, downsample_mask, downsample_mask_kept, downsample_mask_kept_banded};
@@ -95,4 +99,5 @@ pub use metrics::Quality;
 pub use mode::{Mode, Options};
 pub use reproject::{reproject_row, NO_SOURCE};
 pub use stats::{EyeStats, FrameStats, PixelClass, PixelCounts, Reuse, StageTimes};
+pub use views::StereoViews;
 pub use warp::{Warp, WarpClass, WarpCounts, WarpSource};

@@ -15,8 +15,9 @@
 //! the warp loses and nothing else (a warp to the traced pose is that frame bit for bit). The
 //! frames are traced as the viewer's worker traces them for its timewarp
 //! (`window/worker.rs`): with a guard band (`--guard-band`, the viewer's 5 % by default) and
-//! each eye's colour and depth; the warp turns the head into the band, and only the shown
-//! part is scored. The scene time stays at `--time`: only the head moves.
+//! each eye's colour and depth; the warp reads the pair with the views it was traced through
+//! ([`StereoFrame::warp_sources`]) and turns the head into the band, and only the shown part
+//! is scored. The scene time stays at `--time`: only the head moves.
 //!
 //! The medians (`--json`, the table) are over the displayed frames. Ctrl-C stops after the
 //! displayed frame being measured; the rows done are still written.
@@ -28,7 +29,7 @@ use std::time::Instant;
 use anyhow::Result;
 use serde_json::Value;
 use stereo::{Options, Quality, StereoFrame, Warp, WarpClass, WarpCounts, WarpSource};
-use tracer::{Camera, Eye, Tracer};
+use tracer::{Camera, Tracer};
 
 use crate::args::TimewarpArgs;
 use crate::cli::age_plot::AgeFigure;
@@ -106,9 +107,8 @@ struct Experiment {
     size: (u32, u32),
     guard: (u32, u32),
     opts: Options,
-    /// The last traced frame (banded, with depths) and the pose it was traced at.
+    /// The last traced frame (banded, with depths), with the views it was traced through.
     source: StereoFrame,
-    source_pose: Camera,
     /// Its eyes' shown part: what `none` displays.
     stale: [Vec<u32>; 2],
     /// Depths at infinity, the size of a banded eye: the `rotation` warp's.
@@ -121,7 +121,7 @@ struct Experiment {
 }
 
 impl Experiment {
-    fn new(size: (u32, u32), guard: (u32, u32), opts: Options, start: Camera) -> Self {
+    fn new(size: (u32, u32), guard: (u32, u32), opts: Options) -> Self {
         let mut source = StereoFrame::new();
         source.set_depths(true);
         Self {
@@ -129,7 +129,6 @@ impl Experiment {
             guard,
             opts,
             source,
-            source_pose: start,
             stale: Default::default(),
             far: Vec::new(),
             reference: StereoFrame::new(),
@@ -145,7 +144,6 @@ impl Experiment {
         let started = Instant::now();
         self.source.render_banded(tracer, pose, self.size, self.guard, self.opts);
         let ms = started.elapsed().as_secs_f64() * 1e3;
-        self.source_pose = *pose;
         let ((w, h), (gx, gy)) = (self.size, self.guard);
         let shown = Crop { x: gx, y: gy, w, h };
         self.stale =
@@ -165,19 +163,16 @@ impl Experiment {
     /// The last traced frame shown at `pose` by `method`, scored against the reference:
     /// (quality, hole share, warp ms).
     fn show(&mut self, method: Method, pose: &Camera) -> (Quality, f64, f64) {
-        let (w, h) = self.size;
-        let Self { source, source_pose, stale, far, reference, warp, out, classes, guard, .. } = self;
-        let (shown, holes, ms) = match method {
-            Method::None => (&*stale, 0.0, 0.0),
-            Method::Rotation | Method::Depth => {
-                let (left_z, right_z): (&[f32], &[f32]) =
-                    if method == Method::Depth { (&source.left().z, source.right_depth()) } else { (far, far) };
-                let view = |camera: &Camera, eye, band| camera.view_with_margin(eye, w, h, band);
-                let sources = [
-                    WarpSource { view: view(source_pose, Eye::Left, *guard), rgb: &source.left().rgb, z: left_z },
-                    WarpSource { view: view(source_pose, Eye::Right, *guard), rgb: &source.right().rgb, z: right_z },
-                ];
-                let targets = [pose.view(Eye::Left, w, h), pose.view(Eye::Right, w, h)];
+        let Self { source, stale, far, reference, warp, out, classes, .. } = self;
+        // (The source keeps its depths, Experiment::new: a warp always has its sources.)
+        let warped = if method == Method::None { None } else { source.warp_sources() };
+        let (shown, holes, ms) = match warped {
+            None => (&*stale, 0.0, 0.0),
+            Some(mut sources) => {
+                if method == Method::Rotation {
+                    sources = sources.map(|eye| WarpSource { z: &far[..], ..eye });
+                }
+                let targets = source.views().warped_to(pose);
                 let [left_out, right_out] = &mut *out;
                 let [left_classes, right_classes] = classes;
                 let started = Instant::now();
@@ -278,7 +273,7 @@ pub fn run(args: &TimewarpArgs) -> Result<()> {
         indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} frames {msg}")
             .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
     );
-    let mut experiment = Experiment::new(size, guard, opts, start);
+    let mut experiment = Experiment::new(size, guard, opts);
     // Warm-up, untimed: the first trace and warp size every buffer.
     experiment.trace_source(&tracer, &pose(0));
     experiment.trace_reference(&tracer, &pose(0));

@@ -142,15 +142,7 @@ mod tests {
         (stats.left.ms, stats.right.ms) = (20.0, 5.5);
         let request = settings.request(&scene, 0.0, 8, 8);
         let quality = Some(Quality { psnr_db: f64::INFINITY, ..Quality::default() });
-        let frame = FrameInfo {
-            seq: 7,
-            request,
-            samples: request.samples,
-            stats,
-            quality,
-            wall_ms: 30.0,
-            posted: std::time::Instant::now(),
-        };
+        let frame = FrameInfo { stats, quality, wall_ms: 30.0, ..FrameInfo::answering(7, request) };
         (report.frame, report.ui_hidden, report.pose_fps) = (Some(&frame), true, 90.04);
         report.medians = Medians { latency_ms: Some(7.25), age_ms: Some(80.0) };
         let mut warp = Warped { ms: 2.5, ..Warped::default() };

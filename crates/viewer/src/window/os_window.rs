@@ -17,7 +17,7 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 
 use crate::window::present::{self, Compositor, Look};
 use crate::window::syslibs::Backend;
-use crate::window::worker::Finished;
+use crate::window::worker::Eyes;
 
 /// The event loop on the chosen backend, with a clear error if the display cannot be opened.
 pub fn build_event_loop(backend: Backend) -> anyhow::Result<EventLoop<()>> {
@@ -163,7 +163,7 @@ impl Window {
     pub fn present(
         &mut self,
         size: Size,
-        frame: &Finished,
+        frame: &Eyes,
         look: Look,
         egui: &egui::Context,
         ui: egui::FullOutput,

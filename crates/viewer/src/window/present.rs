@@ -1,5 +1,5 @@
-//! Composition of a finished stereo frame into the window's pixel buffer (`0x00RRGGBB`, the
-//! format softbuffer presents).
+//! Composition of the eyes to present ([`Eyes`]: a finished stereo frame's, or the
+//! timewarp's) into the window's pixel buffer (`0x00RRGGBB`, the format softbuffer presents).
 //!
 //! Each eye fills one half of the window: `width / 2` physical pixels wide (an odd last column
 //! stays background) and the full height. If the finished frame was rendered for another
@@ -19,7 +19,7 @@ use std::ops::Range;
 use stereo::Layout;
 use tracer::Eye;
 
-use crate::window::worker::Finished;
+use crate::window::worker::Eyes;
 
 /// Colour of window areas no eye covers.
 pub const BACKGROUND: u32 = 0x0018_1818;
@@ -99,17 +99,17 @@ impl Compositor {
     /// A frame without its anaglyph (the layout was just switched) is shown side by side.
     /// Returns whether the eyes were drawn (false before the first frame or when the window
     /// is too small).
-    pub fn compose(&mut self, dst: &mut [u32], width: usize, height: usize, frame: &Finished, look: Look) -> bool {
+    pub fn compose(&mut self, dst: &mut [u32], width: usize, height: usize, frame: &Eyes, look: Look) -> bool {
         debug_assert_eq!(dst.len(), width * height, "the buffer is width × height");
         let (ew, eh) = eye_size(width as u32, height as u32);
         let (ew, eh) = (ew as usize, eh as usize);
-        let (fw, fh) = frame.size();
+        let (fw, fh) = frame.size;
         let (fw, fh) = (fw as usize, fh as usize);
         let n = fw * fh;
         let complete = frame.left.len() == n && frame.right.len() == n;
         // The frame the mask was switched on in may not have its colours yet: it shows
         // without them, and the next frame has them.
-        let show_mask = look.show_mask && frame.mask_overlay.len() == n;
+        let show_mask = look.show_mask && frame.right_overlay.len() == n;
         // A timewarp's mask covers the left eye too.
         let show_left_mask = look.show_mask && frame.left_overlay.len() == n;
         if ew == 0 || fw == 0 || fh == 0 || !complete {
@@ -122,7 +122,7 @@ impl Compositor {
         // Same width: whole rows are copied, not gathered column by column.
         let direct = fw == ew;
         let Look { layout, swap, .. } = look;
-        let (left, right, mask, left_mask) = (&frame.left, &frame.right, &frame.mask_overlay, &frame.left_overlay);
+        let (left, right, mask, left_mask) = (&frame.left, &frame.right, &frame.right_overlay, &frame.left_overlay);
         let anaglyph = (layout == Layout::Anaglyph && frame.anaglyph.len() == fw * fh).then_some(&frame.anaglyph);
         let halves = if layout == Layout::Anaglyph { Layout::SideBySide } else { layout };
         let left_first = halves.slots(swap)[0] == Eye::Left;
@@ -172,47 +172,18 @@ mod tests {
     use super::*;
     use stereo::{mask_color, PixelClass};
 
-    use crate::window::worker::{FrameInfo, Request};
-
     fn look(layout: Layout, swap: bool, show_mask: bool) -> Look {
         Look { layout, swap, show_mask }
     }
 
-    fn frame(w: u32, h: u32) -> Finished {
+    fn frame(w: u32, h: u32) -> Eyes {
         let n = (w * h) as usize;
-        let request = Request {
-            camera: tracer::Camera::default(),
-            depth: 0,
-            opts: stereo::Options::default(),
-            time: 0.0,
-            width: w,
-            height: h,
-            samples: (w, h),
-            psnr: false,
-            anaglyph: false,
-            overlay: true,
-            swap: false,
-            reuse: false,
-            light: None,
-            timewarp: false,
-            guard: (0, 0),
-        };
-        Finished {
-            info: Some(FrameInfo {
-                seq: 1,
-                request,
-                samples: (w, h),
-                stats: stereo::FrameStats::default(),
-                quality: None,
-                wall_ms: 0.0,
-                posted: std::time::Instant::now(),
-            }),
+        Eyes {
+            size: (w, h),
             left: (0..n as u32).collect(),
             right: (0..n as u32).map(|p| p | 0x0010_0000).collect(),
-            mask: vec![PixelClass::Reprojected; n],
-            mask_overlay: vec![mask_color(PixelClass::Reprojected); n],
-            anaglyph: Vec::new(),
-            ..Finished::default()
+            right_overlay: vec![mask_color(PixelClass::Reprojected); n],
+            ..Eyes::default()
         }
     }
 
@@ -271,10 +242,10 @@ mod tests {
         let mut dst = vec![0; 8 * 2];
         let mut c = Compositor::default();
         assert!(c.compose(&mut dst, 8, 2, &f, look(Layout::SideBySide, false, true)));
-        let blended: Vec<u32> = f.right[0..4].iter().map(|&p| blend_half(p, f.mask_overlay[0])).collect();
+        let blended: Vec<u32> = f.right[0..4].iter().map(|&p| blend_half(p, f.right_overlay[0])).collect();
         assert_eq!(&dst[4..8], &blended[..]);
         // The frame the mask was switched on in has no colours yet: the eye shows plain.
-        f.mask_overlay.clear();
+        f.right_overlay.clear();
         assert!(c.compose(&mut dst, 8, 2, &f, look(Layout::SideBySide, false, true)));
         assert_eq!(&dst[4..8], &f.right[0..4]);
         assert_eq!(&dst[0..4], &f.left[0..4]);
@@ -292,7 +263,7 @@ mod tests {
         let mut one = [0u32; 1];
         assert!(!c.compose(&mut one, 1, 1, &f, look(Layout::SideBySide, false, false)));
         assert_eq!(one[0], BACKGROUND);
-        assert!(!c.compose(&mut dst, 8, 2, &Finished::default(), look(Layout::SideBySide, false, true)));
+        assert!(!c.compose(&mut dst, 8, 2, &Eyes::default(), look(Layout::SideBySide, false, true)));
     }
 
     #[test]

@@ -98,29 +98,23 @@ pub fn save(folder: &Path, frame: &Finished, look: Look, time: SystemTime) -> an
     let (w, h) = frame.size();
     let n = w as usize * h as usize;
     let (sw, sh) = frame.samples();
-    if frame.info.is_none()
-        || frame.left.len() != n
-        || frame.right.len() != n
-        || frame.mask.len() != sw as usize * sh as usize
-    {
+    let (left, right) = (&frame.eyes.left, &frame.eyes.right);
+    if frame.info.is_none() || left.len() != n || right.len() != n || frame.mask.len() != sw as usize * sh as usize {
         anyhow::bail!("nothing to save yet: no frame has been rendered");
     }
     std::fs::create_dir_all(folder).with_context(|| format!("cannot create the folder {}", folder.display()))?;
     let base = format!("stereotrace-{}", stamp(time));
     let mut pair = Vec::new();
-    stereo::compose(layout, swap, &frame.left, &frame.right, w, h, &mut pair);
+    stereo::compose(layout, swap, left, right, w, h, &mut pair);
     let (pw, ph) = layout.size(w, h);
     let mut mask = Vec::new();
     if show_mask {
         stereo::mask_image(&frame.mask, &mut mask);
     }
     let mut written = Vec::new();
-    for (name, pixels, (iw, ih)) in [
-        ("left", &frame.left, (w, h)),
-        ("right", &frame.right, (w, h)),
-        ("pair", &pair, (pw, ph)),
-        ("mask", &mask, (sw, sh)),
-    ] {
+    for (name, pixels, (iw, ih)) in
+        [("left", left, (w, h)), ("right", right, (w, h)), ("pair", &pair, (pw, ph)), ("mask", &mask, (sw, sh))]
+    {
         if pixels.is_empty() {
             continue;
         }
@@ -151,43 +145,19 @@ mod tests {
     /// A supersampled frame: the eyes at their size, the mask per sample.
     #[test]
     fn a_supersampled_mask_is_saved_per_sample() {
-        use crate::window::worker::{FrameInfo, Request};
+        use crate::window::worker::{Eyes, FrameInfo, Request};
         let dir = std::env::temp_dir().join(format!("stereotrace-shot-ss-test-{}", std::process::id()));
-        let request = Request {
-            camera: tracer::Camera::default(),
-            depth: 0,
-            opts: stereo::Options::default(),
-            time: 0.0,
-            width: 2,
-            height: 1,
-            samples: (4, 2),
-            psnr: false,
-            anaglyph: false,
-            overlay: false,
-            swap: false,
-            reuse: false,
-            light: None,
-            timewarp: false,
-            guard: (0, 0),
-        };
-        let info = FrameInfo {
-            seq: 1,
-            request,
-            samples: (4, 2),
-            stats: stereo::FrameStats::default(),
-            quality: None,
-            wall_ms: 0.0,
-            posted: std::time::Instant::now(),
-        };
-        let frame = Finished {
-            info: Some(info),
+        let request = Request::sized(2, 1).sampled((4, 2));
+        let info = FrameInfo::answering(1, request);
+        let eyes = Eyes {
+            size: (2, 1),
             left: vec![0; 2],
             right: vec![0x00FF_FFFF; 2],
-            mask: vec![stereo::PixelClass::Reprojected; 8],
-            mask_overlay: vec![0; 2],
-            anaglyph: Vec::new(),
-            ..Finished::default()
+            right_overlay: vec![0; 2],
+            ..Eyes::default()
         };
+        let frame =
+            Finished { info: Some(info), eyes, mask: vec![stereo::PixelClass::Reprojected; 8], ..Finished::default() };
         let look = Look { layout: stereo::Layout::SideBySide, swap: false, show_mask: true };
         let paths = save(&dir, &frame, look, UNIX_EPOCH).unwrap();
         let size = |p: &Path| {

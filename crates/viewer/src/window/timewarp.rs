@@ -11,8 +11,10 @@
 //! except for the few milliseconds a display tick asks for, which it gets at once instead of
 //! queueing behind the tracer's jobs in the global pool.
 //!
-//! Both eyes go to one pose, from one traced pair. A supersampled pair is warped at its
-//! samples and filtered down to the eye size, as the worker filters a traced one. A frame at
+//! Both eyes go to one pose, from one traced pair, read with the views the pair was traced
+//! through ([`Finished::warp_sources`]). The warp's output is its own [`Eyes`], finished as
+//! the worker finishes a traced pair: a supersampled pair is warped at its samples and
+//! filtered down to the eye size, then made into an anaglyph when shown as one. A frame at
 //! the very pose it was traced for (fresh) is not warped: it is shown as traced, with the
 //! stereo pair's debug mask (the seed paper's Fig. 2). A warped frame's debug mask colours
 //! each pixel by where it came from: warped from its own eye, a hole filled from the other
@@ -21,11 +23,11 @@
 
 use std::time::Instant;
 
-use stereo::{Layout, Warp, WarpClass, WarpCounts, WarpSource};
-use tracer::{Camera, Eye};
+use stereo::{Layout, Warp, WarpClass, WarpCounts};
+use tracer::Camera;
 
 use crate::window::present::Look;
-use crate::window::worker::Finished;
+use crate::window::worker::{filter_eyes, Eyes, Finished};
 
 /// Mask colour of a pixel warped from its own eye's traced frame.
 pub const WARPED_COLOR: u32 = 0x0040_80FF;
@@ -68,9 +70,8 @@ impl Warped {
 pub struct Timewarp {
     pool: rayon::ThreadPool,
     warp: Warp,
-    /// The frame shown: the traced frame's info, the warped eyes, their mask colours (its
-    /// class mask stays empty: the mask colours are the warp's).
-    out: Finished,
+    /// The frame shown: the warped eyes and their mask colours.
+    out: Eyes,
     /// Each eye's warp at the sampled size, and its pixels' classes.
     sampled: [Vec<u32>; 2],
     classes: [Vec<WarpClass>; 2],
@@ -95,7 +96,7 @@ impl Timewarp {
         Ok(Self {
             pool,
             warp: Warp::new(),
-            out: Finished::default(),
+            out: Eyes::default(),
             sampled: Default::default(),
             classes: Default::default(),
             colours: Default::default(),
@@ -109,66 +110,44 @@ impl Timewarp {
         self.last
     }
 
-    /// The frame to present for `traced` at the head pose `pose` (its scene's camera with
+    /// The eyes to present for `traced` at the head pose `pose` (its scene's camera with
     /// the settings' head, IPD and distance), shown as `look` asks: `traced` warped to
     /// `pose`; or `None`, to show `traced` as it is, when it was traced without what the warp
     /// needs or at `pose` itself (fresh: the warp would give it back bit for bit, and shown
     /// as traced, its debug mask is the stereo pair's, the seed paper's Fig. 2).
-    pub fn show(&mut self, traced: &Finished, pose: &Camera, look: Look) -> Option<&Finished> {
+    pub fn show(&mut self, traced: &Finished, pose: &Camera, look: Look) -> Option<&Eyes> {
         let info = traced.info?;
-        if *pose == info.request.camera {
+        let views = info.views;
+        if *pose == views.camera {
             self.last = Warped { fresh: true, ..Warped::default() };
             return None;
         }
-        let planes = &traced.traced;
-        let samples = info.samples;
-        let eye = (info.request.width, info.request.height);
-        let banded = |n: u32, g: u32| n as usize + 2 * g as usize;
-        let n = banded(samples.0, planes.guard.0) * banded(samples.1, planes.guard.1);
-        if planes.is_empty() || [planes.left.len(), planes.right.len(), planes.left_z.len()] != [n; 3] {
-            return None;
-        }
+        let sources = traced.warp_sources()?;
         let started = Instant::now();
-        let traced_at = info.request.camera;
-        let view = |camera: &Camera, e: Eye, guard| camera.view_with_margin(e, samples.0, samples.1, guard);
-        let sources = [
-            WarpSource { view: view(&traced_at, Eye::Left, planes.guard), rgb: &planes.left, z: &planes.left_z },
-            WarpSource { view: view(&traced_at, Eye::Right, planes.guard), rgb: &planes.right, z: &planes.right_z },
-        ];
-        let targets = [view(pose, Eye::Left, (0, 0)), view(pose, Eye::Right, (0, 0))];
+        let (samples, eye) = (views.shown, traced.size());
+        let [left_to, right_to] = views.warped_to(pose);
         let Self { pool, warp, out, sampled, classes, colours, .. } = self;
         let counts = pool.install(|| {
-            let Finished { left, right, mask_overlay, left_overlay, anaglyph, .. } = out;
+            out.size = eye;
+            let Eyes { left, right, left_overlay, right_overlay, .. } = out;
             let [left_classes, right_classes] = classes;
-            // At the eye's size the warp lands in the shown frame itself; supersampled, in the
-            // samples, filtered down after.
+            // At the eye's size the warp lands in the shown eyes themselves; supersampled, in
+            // the samples, filtered down after.
             let same = samples == eye;
             let [left_sampled, right_sampled] = sampled;
             let planes = if same { [&mut *left, &mut *right] } else { [left_sampled, right_sampled] };
-            let counts = warp.warp(sources, [&targets[0], &targets[1]], planes, [left_classes, right_classes]);
+            let counts = warp.warp(sources, [&left_to, &right_to], planes, [left_classes, right_classes]);
+            if !same {
+                filter_eyes([&sampled[0], &sampled[1]], samples, [left, right], eye);
+            }
             let [left_colours, right_colours] = colours;
             rayon::join(
-                || {
-                    if !same {
-                        stereo::downsample(&sampled[0], samples, left, eye);
-                    }
-                    mask_colours(look.show_mask, &classes[0], left_colours, samples, left_overlay, eye);
-                },
-                || {
-                    if !same {
-                        stereo::downsample(&sampled[1], samples, right, eye);
-                    }
-                    mask_colours(look.show_mask, &classes[1], right_colours, samples, mask_overlay, eye);
-                },
+                || mask_colours(look.show_mask, &classes[0], left_colours, samples, left_overlay, eye),
+                || mask_colours(look.show_mask, &classes[1], right_colours, samples, right_overlay, eye),
             );
-            if look.layout == Layout::Anaglyph {
-                stereo::compose(Layout::Anaglyph, info.request.swap, left, right, eye.0, eye.1, anaglyph);
-            } else {
-                anaglyph.clear();
-            }
+            out.finish_anaglyph(look.layout == Layout::Anaglyph, info.request.swap);
             counts
         });
-        out.info = Some(info);
         self.last = Warped { counts, fresh: false, ms: started.elapsed().as_secs_f64() * 1e3 };
         Some(&self.out)
     }
@@ -199,9 +178,7 @@ fn mask_colours(
 
 #[cfg(test)]
 mod tests {
-    use std::time::Instant;
-
-    use stereo::{FrameStats, Options, StereoFrame};
+    use stereo::{Options, StereoFrame};
     use tracer::{Scene, Tracer};
 
     use super::*;
@@ -220,32 +197,8 @@ mod tests {
         let mut frame = StereoFrame::new();
         frame.set_depths(true);
         frame.render_banded(&tracer, &camera, size, guard, Options::default());
-        let request = Request {
-            camera,
-            depth: 1,
-            opts: Options::default(),
-            time: 0.0,
-            width: size.0,
-            height: size.1,
-            samples: size,
-            psnr: false,
-            anaglyph: false,
-            overlay: true,
-            swap: false,
-            reuse: false,
-            light: None,
-            timewarp: true,
-            guard,
-        };
-        let info = FrameInfo {
-            seq: 1,
-            request,
-            samples: size,
-            stats: FrameStats::default(),
-            quality: None,
-            wall_ms: 0.0,
-            posted: Instant::now(),
-        };
+        let request = Request::sized(size.0, size.1).at(camera).with_timewarp(guard);
+        let info = FrameInfo::answering(1, request);
         let (w, gx, gy) = (size.0 + 2 * guard.0, guard.0 as usize, guard.1 as usize);
         let cut = |image: &[u32]| -> Vec<u32> {
             image
@@ -257,10 +210,8 @@ mod tests {
         };
         Finished {
             info: Some(info),
-            left: cut(&frame.left().rgb),
-            right: cut(&frame.right().rgb),
+            eyes: Eyes { size, left: cut(&frame.left().rgb), right: cut(&frame.right().rgb), ..Eyes::default() },
             traced: Traced {
-                guard,
                 left: frame.left().rgb.clone(),
                 left_z: frame.left().z.clone(),
                 right: frame.right().rgb.clone(),
@@ -286,11 +237,15 @@ mod tests {
         let nudged = Camera { yaw_deg: 1e-30, ..camera };
         assert_ne!(nudged, camera, "a pose the timewarp warps to");
         let shown = timewarp.show(&frame, &nudged, MASK).unwrap();
-        assert_eq!((&shown.left, &shown.right), (&frame.left, &frame.right), "warped to the traced pose: as traced");
+        assert_eq!(
+            (&shown.left, &shown.right),
+            (&frame.eyes.left, &frame.eyes.right),
+            "warped to the traced pose: as traced"
+        );
         assert!(!timewarp.last().fresh && timewarp.last().hole_share() == 0.0);
         let turned = Camera { yaw_deg: 8.0, ..camera };
         let shown = timewarp.show(&frame, &turned, MASK).unwrap();
-        assert_ne!(shown.left, frame.left, "a turn moves the picture");
+        assert_ne!(shown.left, frame.eyes.left, "a turn moves the picture");
         let colours = |c: u32| shown.left_overlay.iter().filter(|&&p| p == c).count();
         assert!(colours(WARPED_COLOR) > 0, "warped");
         assert!(colours(OTHER_EYE_COLOR) + colours(HOLE_COLOR) > 0, "8° is beyond a 2-pixel band: an exposed edge");
@@ -303,7 +258,9 @@ mod tests {
     fn a_frame_without_depths_is_not_warped() {
         let camera = Camera::default();
         let mut frame = traced(camera, (16, 8), (0, 0));
+        let turned = Camera { yaw_deg: 8.0, ..camera };
+        assert!(Timewarp::new().unwrap().show(&frame, &turned, MASK).is_some(), "with them, a turn is warped");
         frame.traced = Traced::default();
-        assert!(Timewarp::new().unwrap().show(&frame, &camera, MASK).is_none());
+        assert!(Timewarp::new().unwrap().show(&frame, &turned, MASK).is_none());
     }
 }

@@ -1,11 +1,19 @@
 //! The render worker: stereo frames are traced on their own thread so the window never waits.
 //!
-//! The UI thread posts the newest [`Request`] into a one-slot mailbox (a `Mutex` + `Condvar`);
-//! an older request that the worker has not started yet is simply replaced. The worker renders
-//! with [`StereoFrame::render`] (which spreads the work over rayon's global pool), copies the
-//! pictures into a [`Finished`] frame and swaps it into a second one-slot mailbox. The UI thread
-//! swaps the newest finished frame out whenever it draws. The three `Finished` buffers (the
-//! worker's, the mailbox's, the UI's) rotate by swapping, so once warm nothing is allocated.
+//! The UI thread posts the newest [`Request`] (`worker/request.rs`, with the [`FrameInfo`]
+//! that answers it) into a one-slot mailbox (a `Mutex` + `Condvar`); an older request that
+//! the worker has not started yet is simply replaced. The worker renders with
+//! [`StereoFrame::render_banded`] (which spreads the work over rayon's global pool), copies
+//! the pictures into a [`Finished`] frame (`worker/finished.rs`; the eyes to present,
+//! `worker/eyes.rs`) and swaps it into a second one-slot mailbox. The UI thread swaps the
+//! newest finished frame out whenever it draws. The three `Finished` buffers (the worker's,
+//! the mailbox's, the UI's) rotate by swapping, so once warm nothing is allocated.
+//!
+//! A finished frame carries the views its pair was traced through ([`FrameInfo::views`]:
+//! the pose, the sampled size and the guard band), as the stereo frame kept them: the
+//! timewarp warps the pair from those views, and never derives them again from the request.
+//! With the timewarp on, the frame also keeps each eye as traced, guard band and depths
+//! included ([`Finished::traced`]).
 //!
 //! A request may ask for more samples than pixels (a render scale above 100 %): the frame is
 //! traced at the sampled size and its eyes, its mask's colours and the live-PSNR reference
@@ -25,79 +33,21 @@ use std::thread::JoinHandle;
 use std::time::Instant;
 
 use glam::Vec3;
-use stereo::{FrameStats, Options, Quality, StereoFrame};
-use tracer::{Camera, Scene, Tracer};
+use stereo::StereoFrame;
+use tracer::{Scene, Tracer};
 
 use crate::reference::Reference;
 use crate::setup;
 
-/// Everything that determines one stereo frame.
-#[derive(Clone, Copy, Debug, PartialEq)]
-#[expect(clippy::struct_excessive_bools, reason = "independent switches of one request, as the panel's ticks are")]
-pub struct Request {
-    /// Head pose and stereo parameters (IPD and distance from the sliders).
-    pub camera: Camera,
-    /// Reflection depth.
-    pub depth: u32,
-    /// Mode and edge retracing.
-    pub opts: Options,
-    /// Scene time, seconds.
-    pub time: f32,
-    /// Eye width in pixels: the images the frame delivers.
-    pub width: u32,
-    /// Eye height in pixels.
-    pub height: u32,
-    /// The size each eye is traced at: `width` × `height`, or larger to supersample (the
-    /// images are then filtered down to `width` × `height`).
-    pub samples: (u32, u32),
-    /// Also trace the right eye fully and measure the right image against it.
-    pub psnr: bool,
-    /// Also make the red–cyan anaglyph of the pair.
-    pub anaglyph: bool,
-    /// Also make the debug mask's colours ([`Finished::mask_overlay`]): only while the
-    /// overlay is shown, since they cost a pass over the eye every frame.
-    pub overlay: bool,
-    /// Reuse the unchanged pixels of the last frame when only the scene time moved
-    /// (`stereo`'s `reuse.rs`).
-    pub reuse: bool,
-    /// Exchange the eyes in the anaglyph (red over the right eye's image).
-    pub swap: bool,
-    /// Where the scene's first light is this frame (`None`: where the scene puts it).
-    pub light: Option<Vec3>,
-    /// Keep the traced eyes with their depth and a guard band for the timewarp
-    /// ([`Finished::traced`]).
-    pub timewarp: bool,
-    /// The guard band, samples beyond each side of the traced size (horizontally,
-    /// vertically): traced, never shown as such, for the timewarp to turn into.
-    pub guard: (u32, u32),
-}
-
-/// What is known about a finished frame besides its pixels.
-#[derive(Clone, Copy, Debug)]
-pub struct FrameInfo {
-    /// 1 for the first frame the worker rendered, then counting up; 0 = no frame yet.
-    pub seq: u64,
-    /// The request it answers.
-    pub request: Request,
-    /// The size each eye was traced at: `request.samples`, or the eye size when that many
-    /// samples would not fit in memory.
-    pub samples: (u32, u32),
-    /// Time, rays and pixel classes.
-    pub stats: FrameStats,
-    /// The right eye against a full trace, when the request asked for it; both filtered to
-    /// the eye size when supersampled.
-    pub quality: Option<Quality>,
-    /// Wall time of the whole job (including the PSNR reference trace, the anaglyph and the
-    /// copies for the UI), milliseconds.
-    pub wall_ms: f64,
-    /// When the request was posted: the moment of the head pose the frame shows.
-    pub posted: Instant,
-}
-
+mod eyes;
 pub(crate) mod finished;
+mod request;
 
+pub(crate) use eyes::filter_eyes;
+pub use eyes::Eyes;
 use finished::Cut;
 pub use finished::Finished;
+pub use request::{FrameInfo, Request};
 
 #[derive(Default)]
 struct Inbox {
@@ -315,7 +265,7 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
         let started = Instant::now();
         if let Some(info) = last.filter(|info| Request { overlay: request.overlay, ..info.request } == request) {
             // The mask switched on or off: the same frame, its overlay made or dropped.
-            back.fill_from(&frame, info.samples, &request, &mut cut);
+            back.fill_from(&frame, &request, &mut cut);
             seq += 1;
             let wall_ms = started.elapsed().as_secs_f64() * 1e3;
             back.info = Some(FrameInfo { seq, request, wall_ms, ..info });
@@ -346,14 +296,15 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
         frame.set_depths(request.timewarp);
         let guard = if request.timewarp { request.guard } else { (0, 0) };
         let stats = frame.render_banded(&tracer, &request.camera, samples, guard, request.opts);
-        back.fill_from(&frame, samples, &request, &mut cut);
+        back.fill_from(&frame, &request, &mut cut);
         let quality = request.psnr.then(|| {
             reference.trace(&tracer, &request.camera, samples.0, samples.1);
-            reference.compare_filtered(&back.right, samples, eye)
+            reference.compare_filtered(&back.eyes.right, samples, eye)
         });
         seq += 1;
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-        back.info = Some(FrameInfo { seq, request, samples, stats, quality, wall_ms, posted });
+        let views = *frame.views();
+        back.info = Some(FrameInfo { seq, request, views, stats, quality, wall_ms, posted });
         last = back.info;
         let mut out = lock(&shared.outbox);
         std::mem::swap(&mut out.frame, &mut back);
@@ -373,6 +324,8 @@ fn build<T>(shared: &Shared, scene: &Scene, work: impl FnOnce() -> T) -> T {
 mod tests {
     use super::*;
     use std::time::Duration;
+    use stereo::Options;
+    use tracer::Camera;
 
     fn scene() -> Scene {
         Scene::from_toml(
@@ -383,23 +336,19 @@ mod tests {
     }
 
     fn request(width: u32, psnr: bool) -> Request {
-        Request {
-            camera: Camera::default(),
-            depth: 2,
-            opts: Options::default(),
-            time: 0.0,
-            width,
-            height: 24,
-            samples: (width, 24),
-            psnr,
-            anaglyph: psnr,
-            overlay: true,
-            swap: false,
-            reuse: false,
-            light: None,
-            timewarp: false,
-            guard: (0, 0),
-        }
+        Request::sized(width, 24).measured(psnr)
+    }
+
+    #[test]
+    fn the_test_builder_sets_what_it_names_and_nothing_else() {
+        let base = Request::sized(32, 24);
+        assert_eq!((base.width, base.height, base.samples, base.guard), (32, 24, (32, 24), (0, 0)));
+        assert!(base.overlay && !base.psnr && !base.anaglyph && !base.timewarp && !base.reuse);
+        let camera = Camera { ipd: 1.5, ..Camera::default() };
+        let built = base.at(camera).sampled((64, 48)).with_timewarp((3, 2)).measured(true);
+        let expect =
+            Request { camera, samples: (64, 48), timewarp: true, guard: (3, 2), psnr: true, anaglyph: true, ..base };
+        assert_eq!(built, expect);
     }
 
     fn wait_for(worker: &mut Worker, seq: u64) -> &Finished {
@@ -418,30 +367,32 @@ mod tests {
         let f = wait_for(&mut worker, 1);
         let info = f.info.unwrap();
         assert_eq!(f.size(), (32, 24));
-        assert_eq!((f.left.len(), f.right.len(), f.mask.len()), (32 * 24, 32 * 24, 32 * 24));
+        assert_eq!((f.eyes.left.len(), f.eyes.right.len(), f.mask.len()), (32 * 24, 32 * 24, 32 * 24));
         assert!(info.quality.is_some());
-        assert_eq!(f.anaglyph.len(), 32 * 24, "asked for with the quality in these tests");
+        assert_eq!(f.eyes.anaglyph.len(), 32 * 24, "asked for with the quality in these tests");
         worker.post(request(40, false));
         let f = wait_for(&mut worker, 2);
         assert_eq!(f.size(), (40, 24));
         assert!(f.info.unwrap().quality.is_none());
-        assert!(f.anaglyph.is_empty());
+        assert!(f.eyes.anaglyph.is_empty());
         worker.check_alive().unwrap();
     }
 
     #[test]
     fn the_anaglyph_takes_red_from_the_left_eye_unless_swapped() {
         let mut worker = Worker::spawn(scene()).unwrap();
-        let req = Request { camera: Camera { ipd: 1.5, ..Camera::default() }, ..request(32, true) };
+        let req = request(32, true).at(Camera { ipd: 1.5, ..Camera::default() });
         worker.post(req);
         let f = wait_for(&mut worker, 1);
-        let expect: Vec<u32> = f.left.iter().zip(&f.right).map(|(&l, &r)| stereo::anaglyph_pixel(l, r)).collect();
-        assert_eq!(f.anaglyph, expect);
-        assert_ne!(f.left, f.right, "the eyes should differ for this test to mean anything");
+        let expect: Vec<u32> =
+            f.eyes.left.iter().zip(&f.eyes.right).map(|(&l, &r)| stereo::anaglyph_pixel(l, r)).collect();
+        assert_eq!(f.eyes.anaglyph, expect);
+        assert_ne!(f.eyes.left, f.eyes.right, "the eyes should differ for this test to mean anything");
         worker.post(Request { swap: true, ..req });
         let f = wait_for(&mut worker, 2);
-        let expect: Vec<u32> = f.left.iter().zip(&f.right).map(|(&l, &r)| stereo::anaglyph_pixel(r, l)).collect();
-        assert_eq!(f.anaglyph, expect);
+        let expect: Vec<u32> =
+            f.eyes.left.iter().zip(&f.eyes.right).map(|(&l, &r)| stereo::anaglyph_pixel(r, l)).collect();
+        assert_eq!(f.eyes.anaglyph, expect);
         // Dubois's red row weighs the left image: a white left and black right eye give red.
         assert!(stereo::anaglyph_pixel(0x00FF_FFFF, 0) >> 16 > 0xC0);
     }
@@ -450,13 +401,13 @@ mod tests {
     fn the_request_moves_the_first_light() {
         let mut worker = Worker::spawn(scene()).unwrap();
         worker.post(request(16, false));
-        let before = wait_for(&mut worker, 1).left.clone();
+        let before = wait_for(&mut worker, 1).eyes.left.clone();
         // Under the sphere: its visible side falls into shadow.
         worker.post(Request { light: Some(Vec3::new(0.0, -20.0, 12.0)), ..request(16, false) });
-        let moved = wait_for(&mut worker, 2).left.clone();
+        let moved = wait_for(&mut worker, 2).eyes.left.clone();
         assert_ne!(before, moved);
         worker.post(request(16, true));
-        assert_eq!(wait_for(&mut worker, 3).left, before, "no override: the scene's light again");
+        assert_eq!(wait_for(&mut worker, 3).eyes.left, before, "no override: the scene's light again");
     }
 
     /// At 200 % the frame is traced at 2 × 2 samples per pixel: the eyes are those samples
@@ -464,11 +415,11 @@ mod tests {
     #[test]
     fn a_supersampled_frame_is_traced_at_the_samples_and_filtered_to_the_eye() {
         let mut worker = Worker::spawn_with_memory(scene(), None).unwrap();
-        let req = Request { camera: Camera { ipd: 1.0, ..Camera::default() }, samples: (64, 48), ..request(32, true) };
+        let req = request(32, true).at(Camera { ipd: 1.0, ..Camera::default() }).sampled((64, 48));
         worker.post(req);
         let f = wait_for(&mut worker, 1);
         let info = f.info.unwrap();
-        assert_eq!((f.size(), f.samples(), info.samples), ((32, 24), (64, 48), (64, 48)));
+        assert_eq!((f.size(), f.samples(), info.samples()), ((32, 24), (64, 48), (64, 48)));
         let mut direct = StereoFrame::new();
         let mut tracer = Tracer::new(&scene(), 0.0);
         tracer.set_max_depth(2);
@@ -477,9 +428,9 @@ mod tests {
         stereo::downsample(&direct.left().rgb, (64, 48), &mut left, (32, 24));
         stereo::downsample(&direct.right().rgb, (64, 48), &mut right, (32, 24));
         stereo::downsample_mask(direct.mask(), (64, 48), &mut overlay, (32, 24));
-        assert_eq!((&f.left, &f.right, &f.mask_overlay), (&left, &right, &overlay));
+        assert_eq!((&f.eyes.left, &f.eyes.right, &f.eyes.right_overlay), (&left, &right, &overlay));
         assert_eq!(f.mask, direct.mask(), "the mask per sample");
-        assert_eq!(f.anaglyph.len(), 32 * 24, "the anaglyph of the filtered eyes");
+        assert_eq!(f.eyes.anaglyph.len(), 32 * 24, "the anaglyph of the filtered eyes");
         assert_eq!(info.stats.left.rays.primary, 64 * 48, "one primary ray per sample");
         let mut reference = Reference::default();
         reference.trace(&tracer, &req.camera, 64, 48);
@@ -493,19 +444,22 @@ mod tests {
     fn a_timewarp_request_keeps_the_banded_eyes_and_depths() {
         let mut worker = Worker::spawn_with_memory(scene(), None).unwrap();
         let camera = Camera { ipd: 1.0, ..Camera::default() };
-        let plain = Request { camera, overlay: false, ..request(32, false) };
+        let plain = Request { overlay: false, ..request(32, false).at(camera) };
         worker.post(plain);
         let (left, right) = {
             let f = wait_for(&mut worker, 1);
-            assert!(f.traced.is_empty(), "nothing kept without the timewarp");
-            (f.left.clone(), f.right.clone())
+            assert!(f.traced.is_empty() && f.warp_sources().is_none(), "nothing kept without the timewarp");
+            (f.eyes.left.clone(), f.eyes.right.clone())
         };
-        worker.post(Request { timewarp: true, guard: (3, 2), ..plain });
+        worker.post(plain.with_timewarp((3, 2)));
         let f = wait_for(&mut worker, 2);
-        assert_eq!((&f.left, &f.right), (&left, &right), "the shown part is the plain frame");
+        assert_eq!((&f.eyes.left, &f.eyes.right), (&left, &right), "the shown part is the plain frame");
         let t = &f.traced;
         let n = (32 + 6) * (24 + 4);
-        assert_eq!(t.guard, (3, 2));
+        let views = f.info.unwrap().views;
+        assert_eq!((views.camera, views.shown, views.margin), (camera, (32, 24), (3, 2)), "the views traced");
+        let sources = f.warp_sources().unwrap();
+        assert_eq!(sources.map(|s| (s.view.width, s.view.height, s.view.margin)), [(38, 28, (3, 2)); 2]);
         assert_eq!([t.left.len(), t.left_z.len(), t.right.len(), t.right_z.len()], [n; 4], "banded planes");
         let mut direct = StereoFrame::new();
         let mut tracer = Tracer::new(&scene(), 0.0);
@@ -517,13 +471,13 @@ mod tests {
         assert!(t.left_z.iter().any(|z| z.is_finite()), "the sphere is in view");
         // The mask asked for: the colours of the shown part's classes, which the frame
         // shows when the head is still (the frame shown as traced).
-        assert!(f.mask_overlay.is_empty(), "no colours unless asked for");
-        worker.post(Request { timewarp: true, guard: (3, 2), overlay: true, ..plain });
+        assert!(f.eyes.right_overlay.is_empty(), "no colours unless asked for");
+        worker.post(Request { overlay: true, ..plain.with_timewarp((3, 2)) });
         let f = wait_for(&mut worker, 3);
         let mut overlay = Vec::new();
         stereo::downsample_mask(&f.mask, (32, 24), &mut overlay, (32, 24));
         assert_eq!(f.mask.len(), 32 * 24, "the shown part's classes");
-        assert_eq!(f.mask_overlay, overlay, "their colours");
+        assert_eq!(f.eyes.right_overlay, overlay, "their colours");
         assert!(f.mask.iter().any(|&c| c != stereo::PixelClass::Reprojected), "some pixels retraced");
     }
 
@@ -532,20 +486,20 @@ mod tests {
         let mut worker = Worker::spawn_with_memory(scene(), None).unwrap();
         worker.post(Request { overlay: false, ..request(32, false) });
         let f = wait_for(&mut worker, 1);
-        assert!(f.mask_overlay.is_empty() && f.mask.len() == 32 * 24, "no colours, the mask still kept");
-        let (left, traced) = (f.left.clone(), f.info.unwrap().stats.left.ms);
+        assert!(f.eyes.right_overlay.is_empty() && f.mask.len() == 32 * 24, "no colours, the mask still kept");
+        let (left, traced) = (f.eyes.left.clone(), f.info.unwrap().stats.left.ms);
         worker.post(request(32, false));
         let f = wait_for(&mut worker, 2);
-        assert_eq!(f.mask_overlay.len(), 32 * 24, "asked for: one per pixel");
+        assert_eq!(f.eyes.right_overlay.len(), 32 * 24, "asked for: one per pixel");
         // Only the overlay was asked for: the same frame, not traced again.
-        assert_eq!((&f.left, f.info.unwrap().stats.left.ms), (&left, traced));
+        assert_eq!((&f.eyes.left, f.info.unwrap().stats.left.ms), (&left, traced));
         let mut direct = StereoFrame::new();
         let mut tracer = Tracer::new(&scene(), 0.0);
         tracer.set_max_depth(2);
         direct.render(&tracer, &Camera::default(), 32, 24, Options::default());
         let mut overlay = Vec::new();
         stereo::downsample_mask(direct.mask(), (32, 24), &mut overlay, (32, 24));
-        assert_eq!(f.mask_overlay, overlay, "the frame's own mask colours");
+        assert_eq!(f.eyes.right_overlay, overlay, "the frame's own mask colours");
     }
 
     #[test]
@@ -553,12 +507,12 @@ mod tests {
         let eye = (32, 24);
         let need = setup::viewer_frame_bytes((64, 48), eye);
         let mut worker = Worker::spawn_with_memory(scene(), Some(need - 1)).unwrap();
-        worker.post(Request { samples: (64, 48), ..request(32, false) });
+        worker.post(request(32, false).sampled((64, 48)));
         let f = wait_for(&mut worker, 1);
         assert_eq!((f.size(), f.samples()), (eye, eye), "one byte short: no supersampling");
         assert_eq!(f.info.unwrap().request.samples, (64, 48), "the frame still names what was asked");
         let mut worker = Worker::spawn_with_memory(scene(), Some(need)).unwrap();
-        worker.post(Request { samples: (64, 48), ..request(32, false) });
+        worker.post(request(32, false).sampled((64, 48)));
         assert_eq!(wait_for(&mut worker, 1).samples(), (64, 48), "exactly enough");
     }
 
@@ -566,7 +520,7 @@ mod tests {
     fn a_new_scene_is_rendered_from_the_next_request_even_an_unchanged_one() {
         let mut worker = Worker::spawn(scene()).unwrap();
         worker.post(request(16, false));
-        let before = wait_for(&mut worker, 1).left.clone();
+        let before = wait_for(&mut worker, 1).eyes.left.clone();
         let bigger = Scene::from_toml(
             "[[lights]]\nposition = [0.0, 5.0, 0.0]\n[[spheres]]\ncenter = [0.0, 0.0, 12.0]\nradius = 4.0\n",
             "bigger.toml",
@@ -574,11 +528,11 @@ mod tests {
         .unwrap();
         worker.set_scene(bigger.clone());
         worker.post(request(16, false));
-        let after = wait_for(&mut worker, 2).left.clone();
+        let after = wait_for(&mut worker, 2).eyes.left.clone();
         assert_ne!(before, after, "the bigger sphere covers more of the eye");
         let mut alone = Worker::spawn(bigger).unwrap();
         alone.post(request(16, false));
-        assert_eq!(wait_for(&mut alone, 1).left, after, "exactly what a worker started on the new scene renders");
+        assert_eq!(wait_for(&mut alone, 1).eyes.left, after, "exactly what a worker started on the new scene renders");
     }
 
     /// The tracer's threads run in the idle scheduling class on Linux, which the kernel

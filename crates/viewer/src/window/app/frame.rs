@@ -5,11 +5,13 @@
 //! frame from the [`Worker`](crate::window::worker::Worker), input, a moving head, an egui
 //! animation, or a quarter second gone by; otherwise it just posts the next render request,
 //! so the two cores go to tracing rather than to repainting an unchanged window. A redraw
-//! takes the newest frame, runs the egui panel, posts the settings as the next render
-//! request and presents.
+//! walks the head once, takes the newest frame, runs the egui panel, posts the settings as
+//! the next render request and presents; the request's head pose is the redraw's one pose,
+//! which the timewarp warps the newest frame to.
 
 use std::time::{Duration, Instant};
 
+use tracer::Camera;
 use winit::event_loop::{ActiveEventLoop, ControlFlow};
 
 use super::viewer::Viewer;
@@ -18,7 +20,7 @@ use crate::window::frame_times;
 use crate::window::os_window::{Size, Window};
 use crate::window::present;
 use crate::window::ui::{self, Actions, Motion, Readout, SceneReadout};
-use crate::window::worker::FrameInfo;
+use crate::window::worker::{FrameInfo, Request};
 
 /// Time between UI ticks (240 Hz: above VR headsets' 90 and high-refresh monitors' 144, so a
 /// fast enough renderer is never held back by the tick that posts its requests).
@@ -29,19 +31,22 @@ const FRAME_INTERVAL: Duration = Duration::from_micros(4_167);
 const IDLE_REDRAW: Duration = Duration::from_millis(250);
 
 impl Viewer {
-    /// One UI frame: take the newest rendered frame, run the panel, post the next render
-    /// request, present. A minimised (zero-sized) window is skipped entirely.
+    /// One UI frame: walk the head, take the newest rendered frame, run the panel, post the
+    /// next render request, present. A minimised (zero-sized) window is skipped entirely.
     pub(super) fn redraw(&mut self, window: &mut Window, event_loop: &ActiveEventLoop) -> anyhow::Result<()> {
         let now = Instant::now();
         self.pacing.dirty = false;
         self.pacing.last_redraw = now;
+        // The input step: the head walks once, for the time since its last walk.
         let (direction, seconds) = self.input.walk(now);
         self.settings.walk(direction, seconds);
         let Some(size) = Size::of(window.inner_size()) else { return Ok(()) };
         let frame = self.take_frame(size, now);
         let ui = self.panel(window, frame.as_ref(), now);
-        self.post_request(size.get(), now);
-        self.present(window, size, ui, event_loop)
+        // The redraw's head pose, with what the panel changed: asked of the tracer, and
+        // what the timewarp shows (none when the window is too small for an eye).
+        let pose = self.post_request(size.get(), now).map(|request| request.camera);
+        self.present(window, size, pose, ui, event_loop)
     }
 
     /// Swaps in the newest rendered frame and returns what is known about it; records its
@@ -140,34 +145,40 @@ impl Viewer {
         output
     }
 
-    /// Posts the render request for a `width` × `height` window at `now` (none for a window
-    /// too small to show an eye). The worker ignores a request equal to the last one.
-    fn post_request(&mut self, (width, height): (u32, u32), now: Instant) {
+    /// Posts the render request for a `width` × `height` window at `now`, and returns it
+    /// (none for a window too small to show an eye). The worker ignores a request equal to
+    /// the last one.
+    fn post_request(&mut self, (width, height): (u32, u32), now: Instant) -> Option<Request> {
         let (eye_w, eye_h) = present::eye_size(width, height);
-        if eye_w > 0 {
+        (eye_w > 0).then(|| {
             let request = self.settings.request(self.watch.scene(), self.clock.time(now), eye_w, eye_h);
             self.worker.post(request);
-        }
+            request
+        })
     }
 
     /// Presents the frame on screen with `ui` over it — with the timewarp on, the traced
-    /// frame warped to the head pose of this moment — counts it, and ends the run when
+    /// frame warped to `pose`, the redraw's head pose — counts it, and ends the run when
     /// `--frames` is reached.
     fn present(
         &mut self,
         window: &mut Window,
         size: Size,
+        pose: Option<Camera>,
         ui: egui::FullOutput,
         event_loop: &ActiveEventLoop,
     ) -> anyhow::Result<()> {
         let look = self.settings.look();
         let traced = self.worker.current();
-        let pose = self.settings.camera(&self.watch.scene().camera);
-        let (pose_at, warped) = (Instant::now(), self.settings.timewarp);
-        let warped = warped.then(|| self.timewarp.show(traced, &pose, look)).flatten();
-        let shown_pose =
-            if warped.is_some() { Some((pose, pose_at)) } else { traced.info.map(|i| (i.request.camera, i.posted)) };
-        let frame = warped.unwrap_or(traced);
+        let pose_at = Instant::now();
+        let pose = pose.filter(|_| self.settings.timewarp);
+        let warped = pose.and_then(|pose| Some((pose, self.timewarp.show(traced, &pose, look)?)));
+        // The pose of the picture shown: the warp's, or the one the pair was traced at.
+        let shown_pose = match warped {
+            Some((pose, _)) => Some((pose, pose_at)),
+            None => traced.info.map(|i| (i.views.camera, i.posted)),
+        };
+        let frame = warped.map_or(&traced.eyes, |(_, eyes)| eyes);
         let Some(eyes) = window.present(size, frame, look, &self.egui, ui, self.dump.as_mut())? else {
             return Ok(());
         };

@@ -88,7 +88,6 @@ impl Shown {
 
 #[cfg(test)]
 mod tests {
-    use stereo::FrameStats;
     use tracer::Scene;
 
     use super::*;
@@ -100,15 +99,7 @@ mod tests {
         let settings = Settings::from_scene(&scene);
         let info = |seq: u64, time: f32, width: u32| {
             let request = settings.request(&scene, time, width, 8);
-            FrameInfo {
-                seq,
-                request,
-                samples: request.samples,
-                stats: FrameStats::default(),
-                quality: None,
-                wall_ms: 1.0,
-                posted: Instant::now(),
-            }
+            FrameInfo { wall_ms: 1.0, ..FrameInfo::answering(seq, request) }
         };
         let (t0, history) = (Instant::now(), FrameTimes::default());
         let mut shown = Shown::default();

@@ -35,8 +35,8 @@ pub(super) fn statistics(ui: &mut egui::Ui, s: &Settings, r: &Readout<'_>) {
         let st = &f.stats;
         row("eye", format!("{} × {} · t {:.2} s", f.request.width, f.request.height, r.time));
         if f.request.samples != (f.request.width, f.request.height) {
-            let (w, h) = f.samples;
-            let note = if f.samples == f.request.samples { "" } else { " (no memory for more)" };
+            let (w, h) = f.samples();
+            let note = if f.samples() == f.request.samples { "" } else { " (no memory for more)" };
             row("samples", format!("{w} × {h}{note}"));
         }
         row("ms per eye", format!("L {:.1} · R {:.1}", st.left.ms, st.right.ms));

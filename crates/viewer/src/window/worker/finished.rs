@@ -1,18 +1,19 @@
-//! The frame the worker hands to the UI thread: both eyes cut to their shown part, filtered
-//! down to the eye size, the mask's colours, the live-PSNR reference, and for the timewarp
-//! each eye's colours and depths with their guard band ([`Traced`]).
+//! The frame the worker hands to the UI thread: both eyes cut to their shown part and
+//! filtered down to the eye size with the mask's colours ([`Eyes`]), the class mask per
+//! sample, and for the timewarp each eye's colours and depths with their guard band
+//! ([`Traced`]), which a warp reads with the views the pair was traced through
+//! ([`FrameInfo::views`]).
 
-use stereo::{Layout, PixelClass, StereoFrame};
+use stereo::{PixelClass, StereoFrame, WarpSource};
 
+use super::eyes::{filter_eyes, Eyes};
 use super::{FrameInfo, Request};
 
-/// The traced eyes as the timewarp reads them: each eye's colours and depths at the sampled
-/// size with the request's guard band around it, (samples.0 + 2·guard.0) × (samples.1 +
-/// 2·guard.1). Empty unless the request asked for them ([`Request::timewarp`]).
+/// The traced eyes as the timewarp reads them: each eye's colours and depths as traced,
+/// guard band included (the views' size, [`stereo::StereoViews::traced_pixels`] each).
+/// Empty unless the request asked for them ([`Request::timewarp`]).
 #[derive(Debug, Default)]
 pub struct Traced {
-    /// The guard band they were traced with.
-    pub guard: (u32, u32),
     /// Left colours, `0x00RRGGBB`.
     pub left: Vec<u32>,
     /// Left depths beyond the window (the film's `z`), +∞ for background.
@@ -44,21 +45,13 @@ impl Traced {
 pub struct Finished {
     /// Metadata; `None` until the first frame arrives.
     pub info: Option<FrameInfo>,
-    /// Left eye, `0x00RRGGBB`, row-major.
-    pub left: Vec<u32>,
-    /// Right eye, `0x00RRGGBB`, row-major.
-    pub right: Vec<u32>,
+    /// The eyes to present: the right eye's overlay is the mask's colours
+    /// (`stereo::mask_color`) at the eye size, each pixel's samples filtered together as the
+    /// eyes are, and empty unless the request asked for them ([`Request::overlay`]); the
+    /// anaglyph is there when the request asked for it.
+    pub eyes: Eyes,
     /// How each right sample was made, [`Finished::samples`] in size.
     pub mask: Vec<PixelClass>,
-    /// The mask's colours (`stereo::mask_color`) at the eye size, each pixel's samples
-    /// filtered together as the eyes are: what the overlay shows. Empty unless the request
-    /// asked for them ([`Request::overlay`]).
-    pub mask_overlay: Vec<u32>,
-    /// The red–cyan anaglyph (`0x00RRGGBB`) when the request asked for it, else empty.
-    pub anaglyph: Vec<u32>,
-    /// The timewarp's mask colours over the left eye (the right eye's are
-    /// [`Finished::mask_overlay`]); empty unless a timewarp made them.
-    pub left_overlay: Vec<u32>,
     /// The eyes as traced, with depth and guard band, when the request asked for them.
     pub traced: Traced,
 }
@@ -82,25 +75,52 @@ impl Finished {
     /// frame.
     #[must_use]
     pub fn samples(&self) -> (u32, u32) {
-        self.info.map_or((0, 0), |i| i.samples)
+        self.info.map_or((0, 0), |i| i.samples())
     }
 
-    /// Copies a frame rendered at `samples` in for `request`, filtered down to its eye size,
-    /// reusing this frame's allocations. The metadata is the caller's to set.
-    pub(super) fn fill_from(&mut self, frame: &StereoFrame, samples: (u32, u32), request: &Request, cut: &mut Cut) {
+    /// What a warp of this frame reads: each eye's view as traced, with its colours and
+    /// depths; `None` for a frame traced without them (or none yet).
+    #[must_use]
+    pub fn warp_sources(&self) -> Option<[WarpSource<'_>; 2]> {
+        let views = self.info?.views;
+        let t = &self.traced;
+        let n = views.traced_pixels();
+        if t.is_empty() || [t.left.len(), t.left_z.len(), t.right.len(), t.right_z.len()] != [n; 4] {
+            return None;
+        }
+        let [lv, rv] = views.eyes;
+        Some([
+            WarpSource { view: lv, rgb: &t.left, z: &t.left_z },
+            WarpSource { view: rv, rgb: &t.right, z: &t.right_z },
+        ])
+    }
+
+    /// Copies `frame`, rendered for `request`, in: its eyes' shown part filtered down to
+    /// the request's eye size, reusing this frame's allocations. The metadata is the
+    /// caller's to set.
+    pub(super) fn fill_from(&mut self, frame: &StereoFrame, request: &Request, cut: &mut Cut) {
+        let views = frame.views();
+        let (samples, guard) = (views.shown, views.margin);
         let eye = (request.width, request.height);
-        let guard = if request.timewarp { request.guard } else { (0, 0) };
-        let Self { left, right, mask_overlay: overlay, mask, traced, left_overlay, .. } = self;
+        let Self { eyes, mask, traced, .. } = self;
+        eyes.size = eye;
+        let Eyes { left, right, left_overlay, right_overlay: overlay, .. } = eyes;
         left_overlay.clear();
         // Four copies of an eye's size: side by side on the pool (one after the other they
         // were ~1 ms of every frame in which the tracer's threads waited).
         let Cut { eyes: [left_cut, right_cut], mask: shown_mask } = cut;
         rayon::join(
             || {
-                rayon::join(
-                    || shown_eye(&frame.left().rgb, (samples, guard), left_cut, left, eye),
-                    || shown_eye(&frame.right().rgb, (samples, guard), right_cut, right, eye),
-                )
+                let traced = [&frame.left().rgb[..], &frame.right().rgb[..]];
+                if guard == (0, 0) {
+                    filter_eyes(traced, samples, [left, right], eye);
+                } else {
+                    rayon::join(
+                        || cut_band(traced[0], samples, guard, left_cut),
+                        || cut_band(traced[1], samples, guard, right_cut),
+                    );
+                    filter_eyes([left_cut, right_cut], samples, [left, right], eye);
+                }
             },
             || {
                 mask.clear();
@@ -121,7 +141,6 @@ impl Finished {
                 }
                 traced.clear();
                 if request.timewarp {
-                    traced.guard = guard;
                     traced.left.extend_from_slice(&frame.left().rgb);
                     traced.left_z.extend_from_slice(&frame.left().z);
                     traced.right.extend_from_slice(&frame.right().rgb);
@@ -129,31 +148,9 @@ impl Finished {
                 }
             },
         );
-        if request.anaglyph {
-            // Dubois's matrices decode every channel to linear light: too slow for the UI
-            // thread at 240 Hz, so it is done here, once per frame, on the rayon pool.
-            let (w, h) = eye;
-            stereo::compose(Layout::Anaglyph, request.swap, &self.left, &self.right, w, h, &mut self.anaglyph);
-        } else {
-            self.anaglyph.clear();
-        }
-    }
-}
-
-/// An eye's shown part of `image`, traced at `samples` with `guard` around it (`cut` keeps
-/// the part cut out), filtered down to `eye` into `out`.
-fn shown_eye(
-    image: &[u32],
-    (samples, guard): ((u32, u32), (u32, u32)),
-    cut: &mut Vec<u32>,
-    out: &mut Vec<u32>,
-    eye: (u32, u32),
-) {
-    if guard == (0, 0) {
-        stereo::downsample(image, samples, out, eye);
-    } else {
-        cut_band(image, samples, guard, cut);
-        stereo::downsample(cut, samples, out, eye);
+        // Dubois's matrices are too slow for the UI thread at 240 Hz: the anaglyph is made
+        // here, once per frame, on the rayon pool.
+        self.eyes.finish_anaglyph(request.anaglyph, request.swap);
     }
 }
 
