@@ -20,7 +20,7 @@
 //! gets its first band later, and its scratch grows then (seen here in about one run in
 //! ten, on main before this test counted in rounds).
 //!
-//! The same holds for frames that reuse the last one (`reuse.rs`), in every mode, and for
+//! The same holds for frames that reuse the last one (`stereo/src/reuse/`), in every mode, and for
 //! timewarp's warp (`stereo::Warp`) of one traced pair to pose after pose.
 
 #![expect(

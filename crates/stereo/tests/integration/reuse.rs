@@ -1,4 +1,4 @@
-//! Exact temporal reuse (`reuse.rs`): every reused frame is the fresh frame, byte for byte,
+//! Exact temporal reuse (`stereo/src/reuse/`): every reused frame is the fresh frame, byte for byte,
 //! in every mode, on random scenes with orbiting spheres at random times and steps.
 
 use glam::Vec3;

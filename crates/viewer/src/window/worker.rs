@@ -58,7 +58,7 @@ pub struct Request {
     /// overlay is shown, since they cost a pass over the eye every frame.
     pub overlay: bool,
     /// Reuse the unchanged pixels of the last frame when only the scene time moved
-    /// (`stereo`'s `reuse.rs`).
+    /// (`stereo`'s `reuse/`).
     pub reuse: bool,
     /// Exchange the eyes in the anaglyph (red over the right eye's image).
     pub swap: bool,
