@@ -84,6 +84,8 @@ mod sphere;
 mod stats;
 mod structure;
 mod surface;
+#[doc(hidden)]
+pub mod testing;
 mod tracer;
 mod wavefront;
 

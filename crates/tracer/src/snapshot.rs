@@ -152,13 +152,8 @@ impl Snapshot {
 mod tests {
     use glam::Vec3;
 
-    use crate::scene::Scene;
+    use crate::testing::scene;
     use crate::tracer::Tracer;
-
-    fn scene(name: &str) -> Scene {
-        let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-        Scene::load(path).expect("scene loads")
-    }
 
     #[test]
     fn nearest_depth_is_the_nearest_sphere_point_ahead() {

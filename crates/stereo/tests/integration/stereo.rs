@@ -8,9 +8,8 @@ use tracer::{
     SceneSphere, Target, Tracer,
 };
 
-#[expect(clippy::unwrap_used, reason = "a test helper: a bundled scene that does not load fails the test")]
 fn seed() -> Scene {
-    Scene::from_toml(include_str!("../../../../assets/scenes/seed.toml"), "seed.toml").unwrap()
+    tracer::testing::scene("seed.toml")
 }
 
 fn full_right(tracer: &Tracer, camera: &Camera, w: u32, h: u32) -> Vec<u32> {
