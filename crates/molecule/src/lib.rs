@@ -72,7 +72,7 @@ use std::io::BufRead;
 use std::path::Path;
 
 pub use assembly::{Assembly, AssemblyPart, Operator};
-pub use bounds::{bounding_sphere, bounds, Bounds, Sphere};
+pub use bounds::{bounding_sphere, bounds, enclosing_sphere, sphere_bounds, Bounds, Sphere};
 pub use element::{srgb_to_linear, Element, RadiusSource, FALLBACK_RADIUS, UNKNOWN_SRGB};
 pub use error::{Error, Warning, MAX_VALUE_CHARS};
 pub use molecule::Molecule;

@@ -34,7 +34,7 @@ fn tii_opens_framed_in_colour_and_comfortable_in_stereo() {
     assert_eq!(scene.sphere_count(), 5684, "every ATOM and HETATM record");
     let s = &scene.structures[0];
     // Framed: the head looks along +z at the atoms' bounding sphere, which fills the view.
-    let sphere = molecule::bounding_sphere(&s.positions, &s.elements, s.radius_scale).expect("atoms");
+    let sphere = s.bounding_sphere().expect("atoms");
     let c = &scene.camera;
     assert!((c.position + glam::Vec3::Z * c.distance - sphere.centre).length() < 1e-3 * sphere.radius, "centred");
     assert!(c.distance > sphere.radius && c.distance < 4.0 * sphere.radius, "close enough to fill the view");
@@ -43,9 +43,10 @@ fn tii_opens_framed_in_colour_and_comfortable_in_stereo() {
     assert_eq!(scene.lights.len(), 2, "a key and a fill light");
     // In colour: oxygen is Jmol's red, carbon grey, nitrogen blue (linear light).
     let tracer = Tracer::new(&scene, 0.0);
+    let elements = molecule::read(&path, &molecule::ReadOptions::default()).expect("1TII reads").into_arrays().1;
     let colour = |symbol: &[u8]| {
         let e = molecule::Element::from_symbol(symbol).expect("an element");
-        let k = s.elements.iter().position(|&x| x == e).expect("an atom of it");
+        let k = elements.iter().position(|&x| x == e).expect("an atom of it");
         tracer.snapshot().material(k).color
     };
     let (o, c6, n) = (colour(b"O"), colour(b"C"), colour(b"N"));
@@ -97,7 +98,7 @@ fn btv_assembly_loads_and_renders_every_mode_within_the_memory_bound() {
         assert_eq!(stats.left.rays.primary, u64::from(w * h), "{mode}: a primary ray a pixel");
     }
     // What grows with the scene: the atoms, the tracer, the two eyes' screen bins.
-    let atoms = scene.structures.iter().map(|s| s.positions.capacity() * 12 + s.elements.capacity()).sum::<usize>();
+    let atoms = scene.structures.iter().map(|s| s.positions.capacity() * 12 + s.kind_ids.capacity()).sum::<usize>();
     let bytes = atoms + tracer.memory().total() + frame.bins_memory();
     assert!(bytes / n <= 200, "{} bytes a sphere", bytes / n);
 }
