@@ -149,7 +149,7 @@ fn what_is_not_a_scene_file_is_refused_before_it_is_read() {
         // Refused from its metadata: reading it would block forever.
         assert!(e(&fifo).ends_with("not a regular file (FIFO)"), "{}", e(&fifo));
     } else {
-        eprintln!("SKIPPED: the FIFO case (no mkfifo here)");
+        crate::testing::skipped("the FIFO case (no mkfifo here)");
     }
     let huge = dir.join("huge.toml");
     std::fs::File::create(&huge).unwrap().set_len(MAX_TOML_BYTES + 1).unwrap();
