@@ -57,7 +57,9 @@
 //! - `film` (surface): the image and its visible-surface record;
 //! - `batch` (wavefront, accel, reuse): batches of an eye's chosen pixels, a file per job:
 //!   `trace`, `reshade`, `plan`;
-//! - `render` (batch, film, wavefront, reuse): the parallel renderer.
+//! - `render` (batch, film, wavefront, reuse): the parallel renderer;
+//! - `testing` (scene), hidden from these docs: what the workspace's tests and benches
+//!   share (the bundled scenes by name, one xorshift, the SKIPPED line).
 //!
 //! Conventions (see the README): left-handed, +x right, +y up, +z into the scene; world
 //! units are arbitrary but shared by positions and radii; light is linear inside and
