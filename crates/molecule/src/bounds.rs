@@ -52,17 +52,7 @@ fn scaled_radii(scale: f32) -> [f32; 256] {
 #[must_use]
 pub fn bounds(positions: &[Vec3], elements: &[Element], radius_scale: f32) -> Option<Bounds> {
     let radii = scaled_radii(radius_scale);
-    let mut pairs = positions.iter().zip(elements);
-    let (&first, &first_element) = pairs.next()?;
-    let r = Vec3::splat(radii[usize::from(first_element.atomic_number())]);
-    let mut min = first - r;
-    let mut max = first + r;
-    for (&p, &e) in pairs {
-        let r = Vec3::splat(radii[usize::from(e.atomic_number())]);
-        min = min.min(p - r);
-        max = max.max(p + r);
-    }
-    Some(Bounds { min, max })
+    sphere_bounds(positions.iter().zip(elements).map(|(&p, &e)| (p, radii[usize::from(e.atomic_number())])))
 }
 
 /// A sphere around every atom's sphere, centred on the [`bounds`] box: its radius is the
@@ -70,13 +60,38 @@ pub fn bounds(positions: &[Vec3], elements: &[Element], radius_scale: f32) -> Op
 /// smallest enclosing sphere, but within a factor √3 of it, in two passes.
 #[must_use]
 pub fn bounding_sphere(positions: &[Vec3], elements: &[Element], radius_scale: f32) -> Option<Sphere> {
-    let centre = bounds(positions, elements, radius_scale)?.centre();
     let radii = scaled_radii(radius_scale);
-    let radius = positions
-        .iter()
-        .zip(elements)
-        .map(|(&p, &e)| p.distance(centre) + radii[usize::from(e.atomic_number())])
-        .fold(0.0_f32, f32::max);
+    enclosing_sphere(positions.iter().zip(elements).map(|(&p, &e)| (p, radii[usize::from(e.atomic_number())])))
+}
+
+/// The box around spheres given as (centre, radius); `None` for none. [`bounds`] for atoms
+/// whose radii are already resolved.
+#[must_use]
+pub fn sphere_bounds(spheres: impl IntoIterator<Item = (Vec3, f32)>) -> Option<Bounds> {
+    let mut spheres = spheres.into_iter();
+    let (first, r) = spheres.next()?;
+    let r = Vec3::splat(r);
+    let mut min = first - r;
+    let mut max = first + r;
+    for (p, r) in spheres {
+        let r = Vec3::splat(r);
+        min = min.min(p - r);
+        max = max.max(p + r);
+    }
+    Some(Bounds { min, max })
+}
+
+/// A sphere around spheres given as (centre, radius), centred on their [`sphere_bounds`] box,
+/// as [`bounding_sphere`] is for atoms; `None` for none.
+#[must_use]
+pub fn enclosing_sphere<I>(spheres: I) -> Option<Sphere>
+where
+    I: IntoIterator<Item = (Vec3, f32)>,
+    I::IntoIter: Clone,
+{
+    let spheres = spheres.into_iter();
+    let centre = sphere_bounds(spheres.clone())?.centre();
+    let radius = spheres.map(|(p, r)| p.distance(centre) + r).fold(0.0_f32, f32::max);
     Some(Sphere { centre, radius })
 }
 
@@ -102,5 +117,15 @@ mod tests {
         assert_eq!(s.centre, Vec3::ZERO, "midway");
         assert!((s.radius - (5.0 + 1.52)).abs() < 1e-6, "centre distance plus O's radius: {}", s.radius);
         assert_eq!(bounding_sphere(&[], &[], 1.0), None, "no atoms, no sphere");
+    }
+
+    #[test]
+    fn spheres_given_with_their_radii_bound_as_atoms_do() {
+        let positions = [Vec3::new(0.0, 0.0, 0.0), Vec3::new(10.0, -2.0, 4.0)];
+        let spheres = [(positions[0], Element::C.radius() * 0.5), (positions[1], Element::H.radius() * 0.5)];
+        let atoms = [Element::C, Element::H];
+        assert_eq!(sphere_bounds(spheres), bounds(&positions, &atoms, 0.5), "the same box");
+        assert_eq!(enclosing_sphere(spheres), bounding_sphere(&positions, &atoms, 0.5), "the same sphere");
+        assert_eq!(enclosing_sphere([]), None, "no spheres, no sphere");
     }
 }

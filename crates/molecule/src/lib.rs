@@ -2,7 +2,9 @@
 //! `.mmcif`, `.gro` and `.xyz`, each optionally gzipped.
 //!
 //! This crate owns file reading, elements (colours, radii), biological assemblies and the
-//! bounds of a set of atoms. It depends on no other crate of the workspace.
+//! bounds of a set of atoms. It depends on no other crate of the workspace. Why it reads PDB
+//! and mmCIF itself rather than with `pdbtbx`, and what an atom costs:
+//! `docs/design/molecule-files.md`.
 //!
 //! ```no_run
 //! let options = molecule::ReadOptions { assembly: true, ..molecule::ReadOptions::default() };
@@ -17,54 +19,10 @@
 //! # Space and units
 //!
 //! Positions are in Ångström, in the project's left-handed space (+x right, +y up, +z into
-//! the scene). Structure files use a right-handed frame; an atom at file (x, y, z) is stored
-//! at (x, y, −z). That reflection is what keeps the molecule's chirality: a right-handed
-//! frame drawn as left-handed with the coordinates copied as they are would show every
-//! molecule as its mirror image (L-amino acids as D, right-handed helices left-handed);
-//! negating one axis undoes the change of handedness. Assembly operators are mapped the same
-//! way (see [`Operator::from_file_rows`]). GRO nanometres are scaled by 10.
-//!
-//! # Memory and speed
-//!
-//! A [`Molecule`] is a structure of arrays: a `Vec3` position (12 bytes), an [`Element`] (1
-//! byte) and a chain index (2 bytes) per atom, 15 bytes in all; readers stream the text a
-//! line at a time in a reused buffer and keep no per-atom `String`. An assembly is written
-//! straight into arrays of its exact size. 2BTV's 60-fold assembly, 2,943,660 atoms, takes
-//! 44 MB.
-//!
-//! # Why our own PDB and mmCIF readers, not `pdbtbx`
-//!
-//! The issue proposed `pdbtbx` (0.12.0, the current release), the Rust crate made for PDB
-//! and mmCIF. `benches/readers.rs` reads the same bytes with both (release build, this
-//! project's shared 2-core machine, file already in memory and decompressed; peak heap by a
-//! counting allocator):
-//!
-//! | input | time, ours | time, pdbtbx | peak heap, ours | peak heap, pdbtbx |
-//! |---|---|---|---|---|
-//! | 1TII, 5,684 atoms | 0.55 ms | 8.9 ms | 0.1 MiB (22 B/atom) | 1.9 MiB (347 B/atom) |
-//! | 2BTV, 49,061 atoms | 4.6 ms | 80 ms | 0.9 MiB (20 B/atom) | 15.0 MiB (320 B/atom) |
-//! | 2BTV assembly, 2,943,660 atoms | 32 ms | 221 ms | 44.0 MiB (15.7 B/atom) | 50.8 MiB (18.1 B/atom) |
-//!
-//! Criterion medians of 10 samples; a second run at a busier moment was about 35 % slower for
-//! both readers, the ratios unchanged. pdbtbx read 1TII with `only_atomic_coords` (see
-//! below); its assembly row is pdbtbx's read, the BIOMT rows parsed from its remarks and
-//! the expansion written in the bench, since pdbtbx has none. Its heap there is mostly the
-//! same 2.9 M compact atoms (13 bytes each, without chains) plus its 15 MiB hierarchy.
-//!
-//! pdbtbx builds a full hierarchy (models, chains, residues, conformers, atoms with `String`
-//! names, `f64` coordinates, serial numbers, B-factors) that the tracer does not use: it is
-//! 15 to 17 times slower, and its structures cost about 320 bytes an atom, more than the
-//! whole 200-bytes-per-sphere budget were an assembly held in them; it has no assembly
-//! expansion. On malformed input (checked by the bench) it did not panic on the hand-made
-//! cases (a non-numeric x, a short `ATOM` line, an empty input, random bytes): its errors
-//! show the line with a marker under the columns and the expected type ("not of the right
-//! kind (f64)"), not the field's name, nor the file when reading from memory. But it
-//! refuses 1TII whole at its most lenient level (8 breaking errors on `SEQADV` and `SSBOND`
-//! records that have nothing to do with coordinates), and it panicked on 26 of 2,000 random
-//! line mutations of 1TII ("Invalid characters in Conformer creation"), where ours returned
-//! an error or a molecule every time.
-//! So the crate reads PDB and mmCIF itself, to the specifications below; `pdbtbx` stays
-//! only as the bench's comparison (a dev-dependency).
+//! the scene): an atom at file (x, y, z) is stored at (x, y, −z), which keeps the molecule's
+//! chirality (the design doc says why). Assembly operators are mapped the same way (see
+//! [`Operator::from_file_rows`]). GRO nanometres are scaled by 10. A [`Molecule`] is a
+//! structure of arrays, 15 bytes an atom.
 //!
 //! # Bounded reading
 //!
@@ -114,7 +72,7 @@ use std::io::BufRead;
 use std::path::Path;
 
 pub use assembly::{Assembly, AssemblyPart, Operator};
-pub use bounds::{bounding_sphere, bounds, Bounds, Sphere};
+pub use bounds::{bounding_sphere, bounds, enclosing_sphere, sphere_bounds, Bounds, Sphere};
 pub use element::{srgb_to_linear, Element, RadiusSource, FALLBACK_RADIUS, UNKNOWN_SRGB};
 pub use error::{Error, Warning, MAX_VALUE_CHARS};
 pub use molecule::Molecule;

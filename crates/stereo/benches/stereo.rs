@@ -1,6 +1,5 @@
 //! Criterion benchmarks of the stereo passes on the seed scene at 1280×720 per eye.
 #![expect(missing_docs, reason = "criterion_group! and criterion_main! generate undocumented items")]
-#![expect(clippy::expect_used, reason = "a benchmark whose scene does not load has nothing to measure")]
 
 use std::hint::black_box;
 
@@ -12,7 +11,7 @@ const W: u32 = 1280;
 const H: u32 = 720;
 
 fn seed() -> (Scene, Tracer) {
-    let scene = Scene::from_toml(include_str!("../../../assets/scenes/seed.toml"), "seed.toml").expect("seed scene");
+    let scene = tracer::testing::scene("seed.toml");
     let tracer = Tracer::new(&scene, 0.0);
     (scene, tracer)
 }

@@ -4,21 +4,20 @@
 //! (`stereotrace bench --scene assets/scenes/seed.toml --width 800 --height 600 --json`,
 //! `modes.full.stereo_ms`): the warp's budget is a quarter of it.
 #![expect(missing_docs, reason = "criterion_group! and criterion_main! generate undocumented items")]
-#![expect(clippy::expect_used, reason = "a benchmark whose scene does not load has nothing to measure")]
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
 use stereo::{Mode, Options, StereoFrame, Warp, WarpSource};
-use tracer::{Camera, Eye, Film, Pixels, Record, Renderer, Scene, Target, Tracer};
+use tracer::{Camera, Eye, Film, Pixels, Record, Renderer, Target, Tracer};
 
 const W: u32 = 800;
 const H: u32 = 600;
 const MARGIN: (u32, u32) = (40, 30);
 
 fn warp(c: &mut Criterion) {
-    let scene = Scene::from_toml(include_str!("../../../assets/scenes/seed.toml"), "seed.toml").expect("seed scene");
+    let scene = tracer::testing::scene("seed.toml");
     let tracer = Tracer::new(&scene, 0.0);
     let eyes = [Eye::Left, Eye::Right];
     let views = eyes.map(|eye| scene.camera.view_with_margin(eye, W, H, MARGIN));
@@ -53,7 +52,7 @@ fn warp(c: &mut Criterion) {
 /// The budget's yardstick, in the same process: a full stereo trace of the same scene and
 /// size (both eyes traced, as `stereotrace bench`'s `modes.full`).
 fn trace(c: &mut Criterion) {
-    let scene = Scene::from_toml(include_str!("../../../assets/scenes/seed.toml"), "seed.toml").expect("seed scene");
+    let scene = tracer::testing::scene("seed.toml");
     let tracer = Tracer::new(&scene, 0.0);
     let mut frame = StereoFrame::new();
     let opts = Options { mode: Mode::Full, retrace_edges: false };

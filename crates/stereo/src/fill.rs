@@ -324,7 +324,7 @@ fn with_plan<R>(f: impl FnOnce(&mut Plan) -> R) -> R {
 #[cfg(test)]
 mod tests {
     use tracer::reuse::Swept;
-    use tracer::{Eye, Pixels, Record, Renderer, Scene, Target, Tracer};
+    use tracer::{Eye, Pixels, Record, Renderer, Target, Tracer};
 
     use super::*;
     use crate::mode::Options;
@@ -335,8 +335,7 @@ mod tests {
     #[test]
     fn one_banded_pass_is_the_two_passes() {
         for (name, t) in [("seed.toml", 0.8), ("many.toml", 0.0), ("thousand.toml", 0.3)] {
-            let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-            let scene = Scene::load(path).expect("scene loads");
+            let scene = tracer::testing::scene(name);
             let tracer = Tracer::new(&scene, t);
             // Rows that end in a short band, and a short group of lanes.
             let (w, h) = (101, 3 * BAND as u32 + 5);

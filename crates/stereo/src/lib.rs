@@ -33,8 +33,8 @@
 //! With reuse on ([`StereoFrame::set_reuse`]), a frame whose only change is the scene time
 //! is made from the last one: each eye retraces only the pixels whose ray trees can meet a
 //! moving sphere then or now, stages 2 and 3 redo only the rows a retraced left row feeds,
-//! and stages 4 and 5 only the right pixels that can differ (`reuse/`: the rule and why
-//! it is exact). The frame is byte for byte a fresh one.
+//! and stages 4 and 5 only the right pixels that can differ (`reuse/`: the rule; why
+//! it is exact: `docs/design/reuse-exactness.md`). The frame is byte for byte a fresh one.
 //!
 //! ## Modules
 //!

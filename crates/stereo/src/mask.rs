@@ -14,7 +14,7 @@ pub fn mask_color(class: PixelClass) -> u32 {
     }
 }
 
-/// Mask colour of a pixel that a reused frame kept from the frame before (`reuse.rs`): a
+/// Mask colour of a pixel that a reused frame kept from the frame before (`reuse/`): a
 /// dark slate, so that what was made anew stands out in its class's colour.
 pub const KEPT_COLOR: u32 = 0x0028_2C38;
 

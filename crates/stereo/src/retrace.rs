@@ -124,7 +124,7 @@ pub(crate) fn retrace(
 
 #[cfg(test)]
 mod tests {
-    use tracer::{Eye, Pixels, Renderer, Scene, Target, Tracer};
+    use tracer::{Eye, Pixels, Renderer, Target, Tracer};
 
     use super::*;
 
@@ -133,7 +133,7 @@ mod tests {
 
     #[test]
     fn retraced_pixels_are_the_full_trace_and_reprojected_ones_are_copied() {
-        let scene = Scene::from_toml(include_str!("../../../assets/scenes/window.toml"), "window.toml").unwrap();
+        let scene = tracer::testing::scene("window.toml");
         let tracer = Tracer::new(&scene, 0.7);
         let (w, h) = (122, 68);
         let n = (w * h) as usize;

@@ -11,17 +11,12 @@
 //! (`tracer::lane_width`, in each bench's name); run once more with `STEREOTRACE_LANES=4`
 //! for the 4-lane fallback.
 #![expect(missing_docs, reason = "criterion_group! and criterion_main! generate undocumented items")]
-#![expect(clippy::expect_used, reason = "a benchmark whose scene does not load has nothing to measure")]
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use tracer::{lane_width, Eye, Film, Pixels, RayCounts, Record, Renderer, RowPlan, Scene, Shaded, Target, Tracer};
-
-fn scene(name: &str) -> Scene {
-    let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-    Scene::load(path).expect("scene loads")
-}
+use tracer::testing::scene;
+use tracer::{lane_width, Eye, Film, Pixels, RayCounts, Record, Renderer, RowPlan, Shaded, Target, Tracer};
 
 const W: u32 = 320;
 const H: u32 = 180;

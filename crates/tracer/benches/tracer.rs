@@ -1,20 +1,14 @@
 //! Criterion benchmarks of the tracer's inner loops, on fixed inputs.
 #![expect(missing_docs, reason = "criterion_group! and criterion_main! generate undocumented items")]
-#![expect(clippy::expect_used, reason = "a benchmark whose scene does not load has nothing to measure")]
 
 use std::hint::black_box;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
+use tracer::testing::scene;
 use tracer::{
-    intersect_sphere, reflect, spawn_ray, Eye, Film, Hit, Pixels, Ray, RayCounts, Record, Renderer, Scene, Target,
-    Tracer,
+    intersect_sphere, reflect, spawn_ray, Eye, Film, Hit, Pixels, Ray, RayCounts, Record, Renderer, Target, Tracer,
 };
-
-fn scene(name: &str) -> Scene {
-    let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-    Scene::load(path).expect("scene loads")
-}
 
 fn ray_sphere(c: &mut Criterion) {
     let rays: Vec<Ray> = (0..1024)

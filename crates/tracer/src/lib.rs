@@ -65,6 +65,8 @@
 //!   `trace`, `reshade`, `plan`;
 //! - `render` (batch, film, sink, wavefront, reuse): the parallel renderer, and
 //!   [`PixelBatch`], the batch jobs with their rows' sinks.
+//! - `testing` (scene), hidden from these docs: what the workspace's tests and benches
+//!   share (the bundled scenes by name, one xorshift, the SKIPPED line).
 //!
 //! Conventions (see the README): left-handed, +x right, +y up, +z into the scene; world
 //! units are arbitrary but shared by positions and radii; light is linear inside and
@@ -92,6 +94,8 @@ mod sphere;
 mod stats;
 mod structure;
 mod surface;
+#[doc(hidden)]
+pub mod testing;
 mod tracer;
 mod wavefront;
 
@@ -104,7 +108,7 @@ pub use film::{Film, Record};
 pub use material::Material;
 pub use ray::{reflect, spawn_ray, Ray};
 pub use render::{BatchRow, PixelBatch, Pixels, Renderer, Target};
-pub use scene::{Light, Motion, RenderSettings, Scene, SceneSphere, Structure, MAX_DEPTH_LIMIT, MAX_LIGHTS};
+pub use scene::{AtomKind, Light, Motion, RenderSettings, Scene, SceneSphere, Structure, MAX_DEPTH_LIMIT, MAX_LIGHTS};
 pub use scene_file::{is_scene_file_name, MAX_SPHERES, MAX_TOML_BYTES};
 pub use shade::Shaded;
 pub use simd::{lane_width, level as simd_level, widest_level as widest_simd_level, LANES_VAR};

@@ -4,8 +4,9 @@
 //! Loaded by [`Scene::load`] from TOML (see `scene_file.rs` for the format and its checks)
 //! or from a structure file (`structure.rs`). Spheres may revolve: an `orbit` sphere is at
 //! `center + radius · (sin θ, 0, −cos θ)` with θ = phase + 2π·t/period. A structure's atoms
-//! are spheres too, numbered after the scene's own, stored compactly (a position and an
-//! element each) as molecules have millions of them.
+//! are spheres too, numbered after the scene's own, stored compactly (a position and a
+//! one-byte kind each, the kinds resolved to radii and materials when read) as molecules
+//! have millions of them.
 
 use glam::Vec3;
 
@@ -89,9 +90,10 @@ impl Default for RenderSettings {
     }
 }
 
-/// A molecular structure placed in a scene: its atoms are still spheres, each an element's
-/// van der Waals radius times [`Structure::radius_scale`] and its colour (Jmol's CPK
-/// colours, linear) unless [`Structure::color`] gives one for all.
+/// A molecular structure placed in a scene: its atoms are still spheres. What an atom is
+/// made of is resolved when the structure is read (`structure.rs`): each kind of atom (an
+/// element, there) has its radius and material, and each atom keeps a one-byte index into
+/// them, as molecules have millions of atoms and a dozen kinds.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Structure {
     /// Where it was read from, as given.
@@ -99,22 +101,41 @@ pub struct Structure {
     /// Atom centres, scene space (the file's coordinates mapped to left-handed space, then
     /// placed).
     pub positions: Vec<Vec3>,
-    /// Each atom's element.
-    pub elements: Vec<molecule::Element>,
-    /// Atom radius = the element's van der Waals radius × this: 1 for the van der Waals
-    /// ("spheres") look of VMD and PyMOL, 0.25 for CPK balls.
-    pub radius_scale: f32,
-    /// Every atom's material; its colour is the element's unless `color` is set.
+    /// Each atom's kind, an index into [`Structure::kinds`].
+    pub kind_ids: Vec<u8>,
+    /// The kinds of atom, in the order their first atom comes (at most 256).
+    pub kinds: Vec<AtomKind>,
+}
+
+/// A kind of atom of a [`Structure`]: the sphere's radius and material.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AtomKind {
+    /// The sphere's radius, > 0.
+    pub radius: f32,
+    /// Its material.
     pub material: Material,
-    /// One colour for every atom instead of the element's.
-    pub color: Option<Vec3>,
 }
 
 impl Structure {
-    /// The material of an atom of `element`.
+    /// Atom `k`'s kind.
+    ///
+    /// # Panics
+    /// If `k` is not below the number of atoms.
     #[must_use]
-    pub fn material_of(&self, element: molecule::Element) -> Material {
-        Material { color: self.color.unwrap_or_else(|| element.linear_colour()), ..self.material }
+    pub fn kind(&self, k: usize) -> &AtomKind {
+        &self.kinds[usize::from(self.kind_ids[k])]
+    }
+
+    /// Each atom as a sphere: its centre and radius.
+    pub fn atom_spheres(&self) -> impl Iterator<Item = (Vec3, f32)> + Clone + '_ {
+        self.positions.iter().zip(&self.kind_ids).map(|(&p, &id)| (p, self.kinds[usize::from(id)].radius))
+    }
+
+    /// A sphere around every atom's sphere, centred on their bounding box (see
+    /// [`molecule::enclosing_sphere`]); `None` without atoms.
+    #[must_use]
+    pub fn bounding_sphere(&self) -> Option<molecule::Sphere> {
+        molecule::enclosing_sphere(self.atom_spheres())
     }
 }
 
@@ -151,8 +172,8 @@ impl Scene {
         }
         let mut k = k - self.spheres.len();
         for s in &self.structures {
-            if let (Some(&center), Some(&element)) = (s.positions.get(k), s.elements.get(k)) {
-                return Sphere { center, radius: element.radius() * s.radius_scale };
+            if let (Some(&center), Some(&id)) = (s.positions.get(k), s.kind_ids.get(k)) {
+                return Sphere { center, radius: s.kinds[usize::from(id)].radius };
             }
             k -= s.positions.len();
         }

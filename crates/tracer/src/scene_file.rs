@@ -393,8 +393,7 @@ fn sphere(ck: &Checker, k: usize, at: usize, s: &SphereDef) -> Result<SceneSpher
 fn check_camera_outside_spheres(ck: &Checker, file: &SceneFile, scene: &Scene) -> Result<(), SceneError> {
     let eyes = [scene.camera.eye_position(Eye::Left), scene.camera.eye_position(Eye::Right)];
     for (k, s) in scene.structures.iter().enumerate() {
-        for (&p, &element) in s.positions.iter().zip(&s.elements) {
-            let r = element.radius() * s.radius_scale;
+        for (p, r) in s.atom_spheres() {
             if let Some(eye) = eyes.into_iter().find(|e| (*e - p).length() <= r) {
                 return Err(ck.invalid(
                     file.structures[k].span().start,

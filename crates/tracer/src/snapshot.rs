@@ -11,7 +11,7 @@ use crate::scene::{Light, Motion, RenderSettings, Scene};
 
 /// The scene at one instant, a column per property (sphere k is entry k of each).
 ///
-/// Materials are a palette: a molecule's million atoms share a dozen elements' materials, so
+/// Materials are a palette: a molecule's million atoms share a dozen kinds' materials, so
 /// each sphere keeps an index into it (20 bytes a sphere in all).
 #[derive(Clone, Debug, Default)]
 pub struct Snapshot {
@@ -56,19 +56,13 @@ impl Snapshot {
             self.palette.push(s.material);
         }
         for s in &scene.structures {
-            // Each element's palette entry and radius, once per structure.
-            let mut entry = [u32::MAX; 256];
-            let mut radius = [0.0f32; 256];
-            for (&p, &element) in s.positions.iter().zip(&s.elements) {
-                let e = usize::from(element.atomic_number());
-                if entry[e] == u32::MAX {
-                    entry[e] = self.palette.len() as u32;
-                    radius[e] = element.radius() * s.radius_scale;
-                    self.palette.push(s.material_of(element));
-                }
+            // The structure's kinds of atom, resolved when it was read, join the palette.
+            let first = self.palette.len() as u32;
+            self.palette.extend(s.kinds.iter().map(|kind| kind.material));
+            for (&p, &id) in s.positions.iter().zip(&s.kind_ids) {
                 self.centers.push(p);
-                self.radii.push(radius[e]);
-                self.material_ids.push(entry[e]);
+                self.radii.push(s.kinds[usize::from(id)].radius);
+                self.material_ids.push(first + u32::from(id));
             }
         }
         self.exponents.clear();
@@ -152,13 +146,8 @@ impl Snapshot {
 mod tests {
     use glam::Vec3;
 
-    use crate::scene::Scene;
+    use crate::testing::scene;
     use crate::tracer::Tracer;
-
-    fn scene(name: &str) -> Scene {
-        let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-        Scene::load(path).expect("scene loads")
-    }
 
     #[test]
     fn nearest_depth_is_the_nearest_sphere_point_ahead() {

@@ -24,7 +24,7 @@ use glam::Vec3;
 use crate::camera::Camera;
 use crate::error::SceneError;
 use crate::material::Material;
-use crate::scene::{Light, RenderSettings, Scene, Structure};
+use crate::scene::{AtomKind, Light, RenderSettings, Scene, Structure};
 
 /// The look of atoms read from a structure file: matte with a soft highlight, no mirror.
 pub const ATOM_MATERIAL: Material =
@@ -61,7 +61,8 @@ impl Default for StructureOptions {
 }
 
 /// Reads the structure file at `path` (bounded: see the `molecule` crate) into a
-/// [`Structure`], its atoms placed as `options` say.
+/// [`Structure`], its atoms placed as `options` say and each element resolved to a kind of
+/// atom (its van der Waals radius × the scale, its Jmol colour unless `options` give one).
 pub fn read_structure(path: &Path, options: &StructureOptions) -> Result<Structure, SceneError> {
     let read = molecule::ReadOptions { assembly: options.assembly, ..molecule::ReadOptions::default() };
     let molecule = molecule::read(path, &read)?;
@@ -72,14 +73,30 @@ pub fn read_structure(path: &Path, options: &StructureOptions) -> Result<Structu
             *p += options.offset;
         }
     }
-    Ok(Structure {
-        source,
-        positions,
-        elements,
-        radius_scale: options.radius_scale,
-        material: options.material,
-        color: options.color,
-    })
+    let (kind_ids, kinds) = resolve(&elements, options);
+    Ok(Structure { source, positions, kind_ids, kinds })
+}
+
+/// Each atom's kind (an index into the kinds), and the kinds: one per element present, in
+/// the order its first atom comes.
+fn resolve(elements: &[molecule::Element], options: &StructureOptions) -> (Vec<u8>, Vec<AtomKind>) {
+    // An element's kind, by atomic number (a byte, so there are at most 256 kinds).
+    let mut ids = [None::<u8>; 256];
+    let mut kinds = Vec::new();
+    let kind_ids = elements
+        .iter()
+        .map(|&element| {
+            *ids[usize::from(element.atomic_number())].get_or_insert_with(|| {
+                let color = options.color.unwrap_or_else(|| element.linear_colour());
+                kinds.push(AtomKind {
+                    radius: element.radius() * options.radius_scale,
+                    material: Material { color, ..options.material },
+                });
+                (kinds.len() - 1) as u8
+            })
+        })
+        .collect();
+    (kind_ids, kinds)
 }
 
 /// How a structure file opened as a scene is read ([`Scene::load_with`]); TOML scenes say
@@ -114,7 +131,7 @@ impl Scene {
     /// A scene of `structure` alone, framed (see the module doc).
     #[must_use]
     pub fn framing(structure: Structure) -> Self {
-        let sphere = molecule::bounding_sphere(&structure.positions, &structure.elements, structure.radius_scale);
+        let sphere = structure.bounding_sphere();
         let (c, r) = sphere.map_or((Vec3::ZERO, 1.0), |s| (s.centre, s.radius.max(f32::MIN_POSITIVE)));
         let fov_deg = Camera::default().fov_deg;
         // The vertical half-angle of a 4:3 eye with this horizontal field of view.
@@ -141,12 +158,8 @@ impl Scene {
     /// 5 Å peptide and a 700 Å virus both take a few seconds to cross.
     #[must_use]
     pub fn head_speed(&self) -> f32 {
-        let radius = self
-            .structures
-            .iter()
-            .filter_map(|s| molecule::bounding_sphere(&s.positions, &s.elements, s.radius_scale))
-            .map(|s| s.radius)
-            .fold(0.0f32, f32::max);
+        let radius =
+            self.structures.iter().filter_map(Structure::bounding_sphere).map(|s| s.radius).fold(0.0f32, f32::max);
         (0.25 * radius).max(2.0)
     }
 }

@@ -1,14 +1,14 @@
 //! Golden images of the seed scene: both eyes fully traced, and exact mode's mask.
 
 use stereo::{mask_image, Mode, Options, StereoFrame};
-use stereotrace_tests::{assert_golden, root};
+use stereotrace_tests::assert_golden;
 use tracer::{Scene, Tracer};
 
 const W: u32 = 320;
 const H: u32 = 180;
 
 fn seed() -> Scene {
-    Scene::load(root().join("assets/scenes/seed.toml")).unwrap_or_else(|e| panic!("the seed scene loads: {e}"))
+    tracer::testing::scene("seed.toml")
 }
 
 #[test]

@@ -1,40 +1,51 @@
 //! Real structures (PDB entries) as scenes: 1TII from Debian's `pymol-data` (which CI
-//! installs), and 2BTV's 2.9-million-atom assembly from the project's shared data where it
-//! is (never committed; skipped with a note elsewhere).
+//! installs), and 2BTV's 2.9-million-atom assembly from the project's shared data beside the
+//! repository, `../shared/molecules/2btv.pdb.gz` (never committed). A missing file skips its
+//! test with a `SKIPPED` line, except under CI (`CI` set): there 1TII must be installed, and
+//! 2BTV must be there whenever `../shared` is.
 
 use std::path::{Path, PathBuf};
 
 use stereo::{Mode, Options, StereoFrame};
-use stereotrace_tests::assert_golden;
+use stereotrace_tests::{assert_golden, root};
 use tracer::{LoadOptions, Scene, Tracer};
 
 /// 1TII, 5,684 atoms: Debian's `pymol-data`.
 const TII: &str = "/usr/share/pymol/data/demo/1tii.pdb";
 
-/// A structure file the tests need, or `None` with a loud SKIPPED line; under CI (`CI`
-/// set), which installs `pymol-data`, a missing 1TII fails instead.
-fn structure(path: &str, ci_has_it: bool) -> Option<PathBuf> {
-    let path = Path::new(path);
+/// The project's shared data, beside the repository.
+fn shared() -> PathBuf {
+    root().join("../shared")
+}
+
+/// A structure file the tests need, or `None` with a SKIPPED line. Under CI a missing file
+/// fails instead when `ci_has_it` (CI installed it).
+fn structure(path: &Path, ci_has_it: bool) -> Option<PathBuf> {
     if path.is_file() {
         return Some(path.to_path_buf());
     }
     assert!(
         !(ci_has_it && std::env::var_os("CI").is_some()),
-        "{}: missing under CI (apt-get install pymol-data)",
+        "{}: missing under CI (.ci/run installs pymol-data; CI has shared/ beside the repository)",
         path.display()
     );
-    eprintln!("SKIPPED: {} is not on this machine", path.display());
+    tracer::testing::skipped(&format!("{} is not on this machine", path.display()));
     None
+}
+
+/// 2BTV, from the shared data: under CI, required whenever the shared data is there.
+fn btv() -> Option<PathBuf> {
+    structure(&shared().join("molecules/2btv.pdb.gz"), shared().is_dir())
 }
 
 #[test]
 fn tii_opens_framed_in_colour_and_comfortable_in_stereo() {
-    let Some(path) = structure(TII, true) else { return };
+    let Some(path) = structure(Path::new(TII), true) else { return };
     let scene = Scene::load(&path).unwrap_or_else(|e| panic!("1TII loads: {e}"));
     assert_eq!(scene.sphere_count(), 5684, "every ATOM and HETATM record");
     let s = &scene.structures[0];
     // Framed: the head looks along +z at the atoms' bounding sphere, which fills the view.
-    let sphere = molecule::bounding_sphere(&s.positions, &s.elements, s.radius_scale).expect("atoms");
+    let sphere = s.bounding_sphere().expect("atoms");
     let c = &scene.camera;
     assert!((c.position + glam::Vec3::Z * c.distance - sphere.centre).length() < 1e-3 * sphere.radius, "centred");
     assert!(c.distance > sphere.radius && c.distance < 4.0 * sphere.radius, "close enough to fill the view");
@@ -43,9 +54,10 @@ fn tii_opens_framed_in_colour_and_comfortable_in_stereo() {
     assert_eq!(scene.lights.len(), 2, "a key and a fill light");
     // In colour: oxygen is Jmol's red, carbon grey, nitrogen blue (linear light).
     let tracer = Tracer::new(&scene, 0.0);
+    let elements = molecule::read(&path, &molecule::ReadOptions::default()).expect("1TII reads").into_arrays().1;
     let colour = |symbol: &[u8]| {
         let e = molecule::Element::from_symbol(symbol).expect("an element");
-        let k = s.elements.iter().position(|&x| x == e).expect("an atom of it");
+        let k = elements.iter().position(|&x| x == e).expect("an atom of it");
         tracer.snapshot().material(k).color
     };
     let (o, c6, n) = (colour(b"O"), colour(b"C"), colour(b"N"));
@@ -56,7 +68,7 @@ fn tii_opens_framed_in_colour_and_comfortable_in_stereo() {
 
 #[test]
 fn tii_exact_mode_is_the_full_trace_and_its_golden_image() {
-    let Some(path) = structure(TII, true) else { return };
+    let Some(path) = structure(Path::new(TII), true) else { return };
     let scene = Scene::load(&path).unwrap_or_else(|e| panic!("1TII loads: {e}"));
     let tracer = Tracer::new(&scene, 0.0);
     let (w, h) = (200, 150);
@@ -81,10 +93,7 @@ fn tii_exact_mode_is_the_full_trace_and_its_golden_image() {
 
 #[test]
 fn btv_assembly_loads_and_renders_every_mode_within_the_memory_bound() {
-    let Some(path) = structure(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/molecules/2btv.pdb.gz"), false)
-    else {
-        return;
-    };
+    let Some(path) = btv() else { return };
     let scene = Scene::load_with(&path, LoadOptions { assembly: true, ..LoadOptions::default() })
         .unwrap_or_else(|e| panic!("2BTV loads: {e}"));
     let n = scene.sphere_count();
@@ -97,7 +106,7 @@ fn btv_assembly_loads_and_renders_every_mode_within_the_memory_bound() {
         assert_eq!(stats.left.rays.primary, u64::from(w * h), "{mode}: a primary ray a pixel");
     }
     // What grows with the scene: the atoms, the tracer, the two eyes' screen bins.
-    let atoms = scene.structures.iter().map(|s| s.positions.capacity() * 12 + s.elements.capacity()).sum::<usize>();
+    let atoms = scene.structures.iter().map(|s| s.positions.capacity() * 12 + s.kind_ids.capacity()).sum::<usize>();
     let bytes = atoms + tracer.memory().total() + frame.bins_memory();
     assert!(bytes / n <= 200, "{} bytes a sphere", bytes / n);
 }

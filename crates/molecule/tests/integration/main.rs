@@ -12,10 +12,23 @@ use std::path::{Path, PathBuf};
 /// pymol-data's 1TII, which CI installs.
 pub const ONE_TII: &str = "/usr/share/pymol/data/demo/1tii.pdb";
 
-/// The shared 2BTV, read where it is: `../shared/molecules` from the project's root.
+/// The project's shared data, beside the repository: `../shared` from the project's root.
+#[must_use]
+pub fn shared() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared")
+}
+
+/// The shared 2BTV, read where it is: `../shared/molecules` from the project's root. Under
+/// CI it is required whenever the shared data is there ([`two_btv_required_in_ci`]).
 #[must_use]
 pub fn two_btv() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/molecules/2btv.pdb.gz")
+    shared().join("molecules/2btv.pdb.gz")
+}
+
+/// Whether CI must have 2BTV: when it has the shared data beside the repository.
+#[must_use]
+pub fn two_btv_required_in_ci() -> bool {
+    shared().is_dir()
 }
 
 /// `path` when it exists. Absent: a loud SKIPPED, or a failure under CI when `required_in_ci`.
@@ -26,7 +39,7 @@ pub fn real_file(path: &Path, required_in_ci: bool) -> Option<PathBuf> {
     }
     assert!(
         !(required_in_ci && std::env::var_os("CI").is_some()),
-        "{} is absent under CI: .ci/run installs pymol-data, which provides it",
+        "{} is absent under CI: .ci/run installs pymol-data (1TII), and CI has shared/ beside the repository (2BTV)",
         path.display()
     );
     loud(&format!("\n*** SKIPPED: {} is absent; install it to run this test ***\n", path.display()));

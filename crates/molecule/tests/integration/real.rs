@@ -8,7 +8,7 @@ use std::time::Instant;
 use glam::Vec3;
 use molecule::{Element, Format, ReadOptions};
 
-use crate::{loud, real_file, scratch_dir, two_btv, ONE_TII};
+use crate::{loud, real_file, scratch_dir, two_btv, two_btv_required_in_ci, ONE_TII};
 
 /// The ATOM and HETATM records of a PDB text, counted as `grep -c` would.
 fn atom_records(text: &str) -> usize {
@@ -102,7 +102,7 @@ fn one_tii_reads_the_same_as_mmcif_gro_xyz_and_gzip() {
 #[test]
 fn two_btv_asymmetric_unit_and_assembly() {
     // CI may not have the shared folder: this one skips, with a note, even there.
-    let Some(path) = real_file(&two_btv(), false) else { return };
+    let Some(path) = real_file(&two_btv(), two_btv_required_in_ci()) else { return };
     let start = Instant::now();
     let unit = molecule::read(&path, &ReadOptions::default()).unwrap();
     let read_time = start.elapsed();

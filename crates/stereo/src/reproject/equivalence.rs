@@ -3,7 +3,8 @@
 //! random left films built to have runs, stretches, overlaps, points in front of the window
 //! and clipped rows, and on every scene at several IPDs.
 
-use tracer::{Disparity, Eye, Film, Pixels, Record, Renderer, Scene, Target, Tracer, NO_OBJECT};
+use tracer::testing::{scene, XorShift};
+use tracer::{Disparity, Eye, Film, Pixels, Record, Renderer, Target, Tracer, NO_OBJECT};
 
 use super::{reproject_and_classify, reproject_row, right_border_strip, Reprojection, NO_SOURCE};
 use crate::classify::Edges;
@@ -122,33 +123,11 @@ mod reference {
     }
 }
 
-/// xorshift64*: a small deterministic generator, so that a failure names a case to rerun.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> u64 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
-    }
-
-    /// Uniform in 0..n.
-    fn below(&mut self, n: usize) -> usize {
-        (self.next() % n as u64) as usize
-    }
-
-    /// Uniform in lo..hi.
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * (self.next() >> 40) as f32 / (1u64 << 24) as f32
-    }
-}
-
 /// A random left film that obeys the tracer's invariants (a miss is at +∞ with no object;
 /// a hit names one of a few spheres): rows of segments that are misses, flat,
 /// slanted, noisy, on the window or in front of it, each segment one sphere; half the rows
 /// repeat the row above, so that there are vertical runs of equal keys too.
-fn random_film(rng: &mut Rng, w: usize, h: usize, distance: f32) -> Film {
+fn random_film(rng: &mut XorShift, w: usize, h: usize, distance: f32) -> Film {
     let mut film = Film::new(w as u32, h as u32);
     for j in 0..h {
         if j > 0 && rng.below(2) == 0 {
@@ -194,7 +173,7 @@ fn fast(left: &Film, p: Reprojection, threads: usize) -> (Vec<u32>, Vec<PixelCla
 
 #[test]
 fn the_fast_pass_equals_the_reference_on_random_films() {
-    let mut rng = Rng(0x5EED_2024_0BAD_CAFE);
+    let mut rng = XorShift::new(0x5EED_CAFE);
     let widths = [1, 2, 3, 4, 5, 7, 8, 9, 31, 64, 101, 250];
     let heights = [1, 2, 3, 15, 16, 17, 33, 40];
     for case in 0..300 {
@@ -223,17 +202,11 @@ fn the_fast_pass_equals_the_reference_on_random_films() {
 
 #[test]
 fn the_fast_pass_equals_the_reference_on_every_scene() {
-    let scenes = [
-        ("seed.toml", include_str!("../../../../assets/scenes/seed.toml")),
-        ("many.toml", include_str!("../../../../assets/scenes/many.toml")),
-        ("thousand.toml", include_str!("../../../../assets/scenes/thousand.toml")),
-        ("window.toml", include_str!("../../../../assets/scenes/window.toml")),
-    ];
     // Not multiples of the band height or of the scan's block.
     let (w, h) = (203, 115);
     let (mut left, mut renderer) = (Film::default(), Renderer::new());
-    for (name, text) in scenes {
-        let scene = Scene::from_toml(text, name).unwrap();
+    for name in ["seed.toml", "many.toml", "thousand.toml", "window.toml"] {
+        let scene = scene(name);
         for ipd in [0.0, 0.05, scene.camera.ipd, 1.7] {
             for t in [0.0, 2.7] {
                 let camera = tracer::Camera { ipd, ..scene.camera };

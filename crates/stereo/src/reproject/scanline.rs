@@ -40,12 +40,8 @@
 //! SIMD: `fearless_simd`, dispatched at run time on the tracer's level
 //! ([`tracer::simd_level`], so `STEREOTRACE_LANES=4` reaches it too): the targets in the
 //! native vector (8 lanes with AVX2, 4 otherwise), the scan's blocks in `i32x4`/`u32x4`. It
-//! replaced `wide` (SSE2, fixed at compile time) as it is not slower. The rows of stereo's
-//! `reproject_rows_1280x720_one_thread` bench, timed pass by pass against the `wide` version
-//! in 10 alternating runs on a shared 2-core AMD EPYC, took a median 442 µs against 596 µs
-//! with AVX2 (×0.74) and 608 µs against 603 µs with `STEREOTRACE_LANES=4` (×1.01, within
-//! noise); criterion's own medians on that loaded machine scattered too widely to tell the
-//! 4-lane versions apart.
+//! replaced `wide` (SSE2, fixed at compile time) as it is not slower: the measurement is in
+//! `docs/performance-notes.md`, "The scanline's SIMD crate".
 
 #![expect(
     clippy::inline_always,

@@ -26,7 +26,7 @@
 //! The rule reads the keys of the two rows above and the two below, which may be in another
 //! band: the bands resolve the rows that are not within two rows of another band, keep a
 //! copy of their first and last four rows of keys, and the rows at the seams are resolved
-//! from those copies once every band is done (`warp/mod.rs`), so a crack at a seam is
+//! from those copies once every band is done (`warp/mod.rs`; `docs/design/timewarp.md`, "Seams"), so a crack at a seam is
 //! filled as one inside a band.
 
 #![expect(

@@ -1,126 +1,18 @@
 //! The warp stage of timewarp: the last traced stereo pair, moved to the newest head pose
 //! by its depth, so that the display never waits for the tracer.
 //!
-//! VR runtimes do this at every display refresh: Oculus's Asynchronous TimeWarp (J. M. P.
-//! van Waveren, "The asynchronous time warp for virtual reality on consumer hardware",
-//! VRST 2016) turns the last frame to the new orientation, and Asynchronous SpaceWarp (ASW,
-//! 2016; ASW 2.0, 2019, with the frame's depth) and SteamVR's motion smoothing move it with
-//! the head's translation too. Here the warp is the full 6-DoF, per-pixel forward warp of
-//! Mark, McMillan & Bishop ("Post-rendering 3D warping", I3D 1997): every traced pixel is
-//! a point (its primary ray at its depth) re-projected into the new view, and the second
-//! eye's frame fills what the first eye's leaves uncovered, as their two reference frames
-//! do. Reprojecting a ray-traced frame by its depth, and finding the pixels it leaves
-//! open, is Adelson & Hodges' reprojection across time ("Generating exact ray-traced
-//! animation frames by reprojection", IEEE CG&A 1995); the crate's stereo stages do it
-//! across the eyes (1993).
+//! The full 6-DoF, per-pixel forward warp of Mark, McMillan & Bishop ("Post-rendering 3D
+//! warping", I3D 1997), as VR runtimes' timewarp does at every refresh (van Waveren, VRST
+//! 2016): every traced pixel, guard band included, lands in both target eyes by its depth;
+//! the own eye's pixels win, the other eye's fill its disocclusions (Adelson & Hodges'
+//! reprojection, IEEE CG&A 1995). [`Warp::warp`] makes both eyes together in bands of 32
+//! rows: `map.rs` (one composite map per eye pair), `scatter.rs` (landing, in SIMD lanes),
+//! `resolve.rs` (winners, then the hole rule) and `crack.rs` (the crack rule), and the rows
+//! at the bands' seams last. Same bytes for any thread count and lane width; a warm
+//! [`Warp`] allocates nothing.
 //!
-//! ## Both target eyes, band by band
-//!
-//! [`Warp::warp`] makes both target eyes together, in bands of 32 target rows, in parallel
-//! over the bands (rayon), each band in one sequential pass:
-//! 1. **Map** (`map.rs`): per (source eye, target eye) pair and frame, one composite map in
-//!    homogeneous coordinates, so that a pixel lands in a handful of multiply-adds; and,
-//!    from each source row's nearest depth, the target rows it can reach, so that a band
-//!    reads only the source rows that can land in it.
-//! 2. **Land** (`scatter.rs`): every pixel of both traced views, guard band included, in
-//!    SIMD lanes (`fearless_simd`, dispatched at [`tracer::widest_simd_level`]: 16 lanes
-//!    with AVX-512, else 8 or 4, the same kernel). A pixel at z = +∞ (background) is a
-//!    direction: it turns with the head and does not translate. It lands in its own eye's
-//!    target and, by the disparity, in the other eye's, on the pixel containing its
-//!    projected centre (the floor of its continuous coordinates), as a key: its eye, its
-//!    target depth, its colour. Each target pixel keeps the smallest: any pixel of its own
-//!    eye before any of the other eye, then the nearer surface (the background loses to
-//!    every surface), and on a tie the one that landed first in the band's fixed order
-//!    (source rows from the top, the left eye before the right, pixels from the left),
-//!    whatever the threads or the lanes. So the own eye's pixels are [`WarpClass::Warped`],
-//!    and the other eye's, the nearest among them, fill exactly the holes the own eye left
-//!    (disocclusions, which the other eye saw around; cracks where the image stretches;
-//!    edges a turn exposes beyond the guard band): [`WarpClass::OtherEye`].
-//! 3. **Resolve** (`resolve.rs`): the winners' colours, the crack rule (`crack.rs`) and the
-//!    hole rule below for the rest; the rows within two rows of another band wait for the
-//!    seams' pass (below), and the hole rule's last step, rows nothing reached, runs once
-//!    every row is resolved.
-//!
-//! ## Cracks, then holes
-//!
-//! Where the new view magnifies a surface, a forward warp leaves target pixels no source
-//! pixel reached inside it: cracks, one or two pixels wide. Left to the other eye, a crack
-//! takes whatever of the other eye's lands there, often the background it saw beside the
-//! surface (speckles); left to the row rule, a crack row takes the background beside the
-//! surface (stripes). So first the **crack rule** (`crack.rs`): a run of one or two pixels
-//! the own eye did not reach, along a column (then along the row), whose two ends (the own
-//! eye's pixels just beyond it) are within a depth tolerance of each other (1.8 % at 800
-//! pixels across 45°) is a crack of their surface. It takes the colour of the farther end
-//! (the upper or left one on a tie) and is the own eye's: [`WarpClass::Crack`]. An other
-//! eye's landing there loses to it unless it is nearer than both ends by more than the
-//! tolerance (a surface in front that the own eye did not see). The rule fills only what
-//! the own eye did not reach: where a magnified surface advances over a farther one, a
-//! crack may hold a pixel of the own eye's farther surface, which stays (a few pixels at
-//! such an edge).
-//!
-//! The rest is the **hole rule**: a target pixel neither eye reached (and no crack) is
-//! filled along its row: each run of such pixels takes the colour of the farther (larger
-//! target depth, i.e. the background side) of the nearest covered pixels to its left and to
-//! its right, the left one on a tie, or of the one that exists when the run touches the
-//! row's end. A disocclusion is the background an occluder uncovered, so the farther side
-//! is the better guess, and it never smears a near edge over the background. A row with no
-//! covered pixel copies the nearest covered row above it, else the nearest below; a frame
-//! with none is black. Each eye's [`WarpCounts`] count its pixels of each class, which add
-//! up to its size; the cracks count as the own eye's pixels ([`WarpCounts::own`]), not as
-//! holes ([`WarpCounts::holes`]).
-//!
-//! ## Seams
-//!
-//! The crack rule reads two rows above and two below a row. A band keeps a copy of its
-//! first and last four rows of keys (its scratch keys go on to the thread's next band),
-//! and resolves its other rows; once every band is done, the two rows on each side of each
-//! seam are resolved from the copies of the two bands, in parallel over the seams. So a
-//! crack at a seam is filled exactly as one inside a band, whatever the threads.
-//!
-//! ## Guarantees
-//!
-//! - Warping a frame to its own pose gives back its shown part bit for bit, every pixel
-//!   [`WarpClass::Warped`] (every pixel lands on its own centre, far from a pixel edge).
-//! - Both eyes go to one head pose, from one traced pair: the warp never mixes frames.
-//! - Same bytes for any thread count (each band is one sequential pass in a fixed order,
-//!   bands do not share pixels, and the rows at the seams are resolved from the bands' kept
-//!   keys alone) and any lane width (the lanes only decide where a
-//!   pixel lands, by its centre, and every width runs the same operations per lane, in the
-//!   same order). The tests compare 4, 8 and, on a CPU that has AVX-512, 16 lanes.
-//! - A warm [`Warp`] allocates nothing: its keys and the crack rule's row (one of each per
-//!   thread), the bands' kept edges and bounds are kept, and the images are resized in
-//!   place.
-//!
-//! ## Cost
-//!
-//! `benches/warp.rs` warps the seed scene's pair, traced at 800×600 per eye with a guard
-//! band of (40, 30), to a head turned 1° and stepped 0.05 sideways, beside a full stereo
-//! trace of the same scene. On the 2-core machines it was written on, the warp took a
-//! median 1.2 ms against 5.7 ms for the trace (`stereotrace bench`, `modes.full`), about a
-//! fifth, with 8 lanes; with 4 (SSE2, which has neither a blend nor a floor instruction)
-//! 2.5 ms against 7.9 ms. The warp alone runs at the CPU's widest lanes, since its bytes do
-//! not depend on them (the shading kernels stay at 8): on a 2-core AMD EPYC with AVX-512
-//! (2026-12-04), 16 lanes took 0.71–0.94 of the time of 8 in four alternating runs of the
-//! bench (median about 0.83). A source pixel costs one projection and two landings, about
-//! 2 ns on one core, a quarter of it waiting on memory; four vectors of a row are landed
-//! before any is kept, which gives the core more independent work between the branches.
-//!
-//! About one vector in eight (per eye) does not land side by side: a gap where the image
-//! stretches, two lanes on one pixel where it folds. Most of these land as two masked
-//! vectors (the lanes side by side from the first lane's pixel, then those up to the last
-//! lane's, in that order, so ties still go to the first lane); only the rest (lanes at the
-//! band's or the target's edge, scattered lanes) go lane by lane. That took 13 % of the
-//! kernel's instructions away (callgrind, one thread) and, side by side with the scalar
-//! fallback alone on a shared 2-core machine (seven runs each, alternating), made the
-//! bench's warp a median 1.30 ms against 1.38 ms (−6 %), beside a trace of 5.5 ms: a
-//! ratio of 0.235 against 0.25.
-//!
-//! The crack rule and the seams' pass cost about a tenth more: on the same bench, side by
-//! side with the warp before them on a shared 2-core machine, a median 1.22 ms against
-//! 1.05 ms when it was quiet (+16 %), 2.59 ms against 2.38 ms under load (+9 %); 12 % more
-//! instructions (cachegrind, one thread). Each run of pixels the own eye did not reach is
-//! visited once (on that pose about 5 400 runs, 9 100 pixels, over both eyes), and each
-//! band copies its first and last four rows of keys.
+//! The design (the stages, the crack and hole rules, the seams, the guarantees):
+//! `docs/design/timewarp.md`; its cost: `docs/performance-notes.md`, "Timewarp's warp".
 
 mod crack;
 mod map;

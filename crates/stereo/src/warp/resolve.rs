@@ -4,7 +4,7 @@
 //! A pixel's key (`scatter.rs`) left the winner's colour in the image and says whose it
 //! is: [`WarpClass::Warped`] or [`WarpClass::OtherEye`]. In a row with pixels of both kinds,
 //! the crack rule (`crack.rs`) makes [`WarpClass::Crack`]s of the own eye's surface. The rest
-//! are [`WarpClass::Filled`], by the rule of the module doc (`warp/mod.rs`): along the row,
+//! are [`WarpClass::Filled`], by the hole rule (`docs/design/timewarp.md`): along the row,
 //! each run of holes takes the colour of the farther of the covered pixels on its left and
 //! on its right (the larger target depth: the background side of a disocclusion, which is
 //! what the occluder uncovered; the left one on a tie), or of the one that exists; a row

@@ -455,13 +455,8 @@ mod tests {
         // Side by side, stretched by a pixel, folded onto one, scattered, partly outside
         // the band, at its ends: the vector paths leave the keys lane by lane does, ties
         // to the first lane.
-        let mut seed = 0x2545_f491_u32;
-        let mut next = move |m: u32| {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed % m
-        };
+        let mut rng = tracer::testing::XorShift::new(0x2545_f491);
+        let mut next = move |m: u32| rng.next_u32() % m;
         let len = 64_usize;
         for level in [tracer::simd_level(), Level::baseline()] {
             let n = dispatch!(level, simd => lanes(simd));

@@ -53,7 +53,7 @@ fn warp(frames: &[Planes; 2], views: &[EyeView; 2], targets: &[EyeView; 2]) -> W
 
 /// Both eyes of the seed scene traced through `camera`, `w` × `h` with a guard band.
 fn traced(camera: &Camera, w: u32, h: u32, margin: (u32, u32)) -> ([Planes; 2], [EyeView; 2]) {
-    let scene = Scene::from_toml(include_str!("../../../../assets/scenes/seed.toml"), "seed.toml").unwrap();
+    let scene = tracer::testing::scene("seed.toml");
     let tracer = Tracer::new(&scene, 0.0);
     let views = EYES.map(|eye| camera.view_with_margin(eye, w, h, margin));
     let frames = views.map(|view| {

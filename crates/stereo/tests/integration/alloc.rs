@@ -20,7 +20,7 @@
 //! gets its first band later, and its scratch grows then (seen here in about one run in
 //! ten, on main before this test counted in rounds).
 //!
-//! The same holds for frames that reuse the last one (`reuse.rs`), in every mode, and for
+//! The same holds for frames that reuse the last one (`stereo/src/reuse/`), in every mode, and for
 //! timewarp's warp (`stereo::Warp`) of one traced pair to pose after pose.
 
 #![expect(
@@ -34,7 +34,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::Vec3;
 use stereo::{Mode, Options, StereoFrame, Warp, WarpSource};
-use tracer::{Camera, Eye, Film, Pixels, Record, Renderer, Scene, Target, Tracer};
+use tracer::testing::scene;
+use tracer::{Camera, Eye, Film, Pixels, Record, Renderer, Target, Tracer};
 
 thread_local! {
     /// The counter this thread's allocations go to: set on a [`CountingPool`]'s threads
@@ -120,8 +121,7 @@ fn a_warm_frame_allocates_nothing() {
     let pool = CountingPool::new();
     let all = [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact];
     for name in ["seed.toml", "many.toml"] {
-        let scene =
-            Scene::load(format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"))).expect("scene loads");
+        let scene = scene(name);
         let (w, h) = (160, 90);
         let mut tracer = Tracer::new(&scene, 0.0);
         let mut frame = StereoFrame::new();
@@ -153,8 +153,7 @@ fn a_warm_frame_allocates_nothing() {
 #[test]
 fn a_warm_reused_frame_allocates_nothing() {
     let pool = CountingPool::new();
-    let scene =
-        Scene::load(format!("{}/../../assets/scenes/seed.toml", env!("CARGO_MANIFEST_DIR"))).expect("scene loads");
+    let scene = scene("seed.toml");
     let (w, h) = (160, 90);
     let mut tracer = Tracer::new(&scene, 0.0);
     for mode in [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact] {
@@ -185,8 +184,7 @@ fn a_warm_reused_frame_allocates_nothing() {
 #[test]
 fn a_warm_warp_allocates_nothing() {
     let pool = CountingPool::new();
-    let scene =
-        Scene::load(format!("{}/../../assets/scenes/seed.toml", env!("CARGO_MANIFEST_DIR"))).expect("scene loads");
+    let scene = scene("seed.toml");
     let tracer = Tracer::new(&scene, 0.0);
     let (w, h, margin) = (160, 90, (8, 6));
     let eyes = [Eye::Left, Eye::Right];

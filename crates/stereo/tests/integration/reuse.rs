@@ -1,9 +1,10 @@
-//! Exact temporal reuse (`reuse.rs`): every reused frame is the fresh frame, byte for byte,
+//! Exact temporal reuse (`stereo/src/reuse/`): every reused frame is the fresh frame, byte for byte,
 //! in every mode, on random scenes with orbiting spheres at random times and steps.
 
 use glam::Vec3;
 use proptest::prelude::*;
 use stereo::{Mode, Options, StereoFrame};
+use tracer::testing::scene;
 use tracer::{Camera, Light, Material, Motion, RenderSettings, Scene, SceneSphere, Tracer};
 
 /// Everything a frame shows and records, to compare two frames by.
@@ -63,11 +64,6 @@ fn every_option() -> impl Iterator<Item = Options> {
     Mode::ALL.into_iter().flat_map(|mode| [false, true].map(|retrace_edges| Options { mode, retrace_edges }))
 }
 
-#[expect(clippy::unwrap_used, reason = "a test helper: a bundled scene that does not load fails the test")]
-fn bundled(name: &str) -> Scene {
-    Scene::load(format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"))).unwrap()
-}
-
 /// `scene` with every orbiting sphere stopped where it is at t = 0: nothing moves.
 fn still(scene: &Scene) -> Scene {
     let mut still = scene.clone();
@@ -80,7 +76,7 @@ fn still(scene: &Scene) -> Scene {
 #[test]
 fn reused_frames_of_the_bundled_scenes_are_fresh_frames() {
     for name in ["seed.toml", "many.toml", "window.toml", "thousand.toml"] {
-        for scene in [bundled(name), still(&bundled(name))] {
+        for scene in [scene(name), still(&scene(name))] {
             check_scene(name, &scene);
         }
     }
@@ -101,7 +97,7 @@ fn check_scene(name: &str, scene: &Scene) {
 
 #[test]
 fn anything_but_time_starts_afresh() {
-    let scene = bundled("seed.toml");
+    let scene = scene("seed.toml");
     let tracer = Tracer::new(&scene, 0.0);
     let opts = Options { mode: Mode::Exact, retrace_edges: true };
     let mut frame = StereoFrame::new();
@@ -197,7 +193,7 @@ proptest! {
 /// Reused frames, like fresh ones, are the same bytes for one thread and for two.
 #[test]
 fn reused_frames_are_the_same_for_one_and_two_threads() {
-    let scene = bundled("seed.toml");
+    let scene = scene("seed.toml");
     let run = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a thread pool");
         pool.install(|| {

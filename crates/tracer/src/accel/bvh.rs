@@ -421,16 +421,10 @@ mod tests {
 
     /// A deterministic cloud of spheres.
     fn cloud(n: usize) -> (Vec<Vec3>, Vec<f32>) {
-        let mut state = 0x2545_F491_u32;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 17;
-            state ^= state << 5;
-            state as f32 / u32::MAX as f32
-        };
+        let mut rng = crate::testing::XorShift::new(0x2545_F491);
         let centers =
-            (0..n).map(|_| Vec3::new(next() * 40.0 - 20.0, next() * 20.0 - 10.0, next() * 60.0 + 5.0)).collect();
-        let radii = (0..n).map(|_| 0.2 + next() * 1.5).collect();
+            (0..n).map(|_| Vec3::new(rng.range(-20.0, 20.0), rng.range(-10.0, 10.0), rng.range(5.0, 65.0))).collect();
+        let radii = (0..n).map(|_| rng.range(0.2, 1.7)).collect();
         (centers, radii)
     }
 

@@ -137,12 +137,8 @@ mod tests {
     use crate::accel::{skipped, Origin};
     use crate::ray::{reflect, spawn_ray};
     use crate::scene::Scene;
+    use crate::testing::scene;
     use crate::tracer::Tracer;
-
-    fn scene(name: &str) -> Scene {
-        let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-        Scene::load(path).expect("scene loads")
-    }
 
     /// Rays leaving points spread over every sphere, in directions over the outer
     /// hemisphere: the cones answer as the BVH does (leaving out the sphere left). Returns

@@ -392,12 +392,8 @@ mod tests {
     use crate::material::Material;
     use crate::ray::spawn_ray;
     use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere};
+    use crate::testing::scene;
     use crate::tracer::Tracer;
-
-    fn scene(name: &str) -> Scene {
-        let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-        Scene::load(path).expect("scene loads")
-    }
 
     /// Shadow rays from `points` points spread over every sphere to every light: the bins
     /// answer as the BVH does (both leaving out the sphere a ray leaves outwards). Returns

@@ -243,13 +243,8 @@ mod tests {
     use crate::camera::{Camera, Eye};
     use crate::scene::Scene;
     use crate::surface::Hit;
+    use crate::testing::scene;
     use crate::tracer::Tracer;
-
-    fn scene(name: &str) -> Scene {
-        let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-        let text = std::fs::read_to_string(&path).expect("scene file");
-        Scene::from_toml(&text, &path).expect("valid scene")
-    }
 
     /// Every pixel's first hit through the bins is the BVH's, a vector of lanes at a time
     /// (the last group short where the row ends), and the rays are the view's.

@@ -106,9 +106,12 @@ fn structures_are_placed_beside_spheres() {
     let hydrogen = molecule::Element::from_symbol(b"H").unwrap();
     assert_eq!(h.radius, 0.25 * hydrogen.radius(), "radius scale");
     let (own, coloured) = (&scene.structures[0], &scene.structures[1]);
-    assert_eq!(own.material_of(hydrogen).color, hydrogen.linear_colour(), "the element's colour");
-    assert_eq!(own.material_of(hydrogen).specular, 0.5, "the table's material");
-    assert_eq!(coloured.material_of(hydrogen).color, Vec3::new(0.1, 0.2, 0.3), "one colour for all");
+    // Water's atoms are O, H, H: two kinds, the oxygen's first.
+    assert_eq!((own.kind_ids.as_slice(), own.kinds.len()), (&[0, 1, 1][..], 2), "one kind an element");
+    assert_eq!(own.kind(1).material.color, hydrogen.linear_colour(), "the element's colour");
+    assert_eq!(own.kind(1).material.specular, 0.5, "the table's material");
+    assert_eq!(coloured.kind(1).material.color, Vec3::new(0.1, 0.2, 0.3), "one colour for all");
+    assert_eq!(coloured.kind(1).radius, hydrogen.radius(), "the default scale");
     assert_eq!(scene.sphere_at(4, 0.0).center, Vec3::new(0.0, 0.0, 20.0), "the second structure's oxygen");
 }
 
@@ -146,7 +149,7 @@ fn what_is_not_a_scene_file_is_refused_before_it_is_read() {
         // Refused from its metadata: reading it would block forever.
         assert!(e(&fifo).ends_with("not a regular file (FIFO)"), "{}", e(&fifo));
     } else {
-        eprintln!("SKIPPED: the FIFO case (no mkfifo here)");
+        crate::testing::skipped("the FIFO case (no mkfifo here)");
     }
     let huge = dir.join("huge.toml");
     std::fs::File::create(&huge).unwrap().set_len(MAX_TOML_BYTES + 1).unwrap();

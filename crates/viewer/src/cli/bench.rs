@@ -9,7 +9,7 @@
 //!
 //! The animation rows (`--animate N`) play N frames 1/60 s apart from the same start with
 //! the head still, per mode: each frame is traced fresh (reuse off) and, in a second
-//! `StereoFrame` that has seen the frame before, with exact reuse (`stereo`'s `reuse.rs`),
+//! `StereoFrame` that has seen the frame before, with exact reuse (`stereo`'s `reuse/`),
 //! interleaved. They report the median stereo time of each and the median share of pixels
 //! the reused frames made anew. The frame before the first, which primes reuse, is not
 //! counted.

@@ -176,9 +176,7 @@ impl SceneWatch {
             let result = match loading.result.try_recv() {
                 Ok(result) => result,
                 Err(TryRecvError::Empty) => return None,
-                Err(TryRecvError::Disconnected) => {
-                    Err(format!("{}: the reading thread stopped", loading.path.display()))
-                }
+                Err(TryRecvError::Disconnected) => Err(stopped(&loading.path)),
             };
             let loading = self.loading.take()?;
             return self.finish(loading, result);
@@ -196,6 +194,21 @@ impl SceneWatch {
             self.start(self.path.clone(), true);
         }
         None
+    }
+
+    /// Waits up to `timeout` for the read under way, if any, and adopts it as [`poll`] does:
+    /// tests wait for the reading thread's answer, not for time to pass.
+    ///
+    /// [`poll`]: SceneWatch::poll
+    #[cfg(test)]
+    pub fn wait_for_read(&mut self, timeout: Duration) -> Option<Change> {
+        let loading = self.loading.take()?;
+        let result = match loading.result.recv_timeout(timeout) {
+            Ok(result) => result,
+            Err(mpsc::RecvTimeoutError::Timeout) => panic!("{}: not read in {timeout:?}", loading.path.display()),
+            Err(mpsc::RecvTimeoutError::Disconnected) => Err(stopped(&loading.path)),
+        };
+        self.finish(loading, result)
     }
 
     /// Opens another scene file (dropped on the window or picked in the panel): starts
@@ -274,6 +287,11 @@ impl SceneWatch {
     }
 }
 
+/// Why a read of `path` gave no answer.
+fn stopped(path: &Path) -> String {
+    format!("{}: the reading thread stopped", path.display())
+}
+
 /// The file name of `path` (the whole path when it has none).
 fn file_name(path: &Path) -> String {
     path.file_name().map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
@@ -331,18 +349,14 @@ mod tests {
         watch.scene().spheres[0].radius
     }
 
-    /// Polls at `now` until no read is under way (reads run on their own thread), and
-    /// returns the change the last poll found.
+    /// Polls at `now` and waits for the read that starts, if one does (reads run on their
+    /// own thread), returning the change found.
     fn settle(watch: &mut SceneWatch, now: Instant) -> Option<Change> {
-        let deadline = Instant::now() + Duration::from_secs(30);
-        loop {
-            let change = watch.poll(now);
-            if change.is_some() || watch.loading().is_none() {
-                return change;
-            }
-            assert!(Instant::now() < deadline, "the read never finished");
-            std::thread::sleep(Duration::from_millis(1));
+        let change = watch.poll(now);
+        if change.is_some() {
+            return change;
         }
+        watch.wait_for_read(Duration::from_secs(30))
     }
 
     /// Opens `path` and waits for its read.
@@ -445,10 +459,11 @@ mod tests {
         let t0 = Instant::now();
         let mut watch = SceneWatch::new(first.clone(), Scene::load(&first).unwrap(), LoadOptions::default(), t0);
         assert_eq!(watch.files().len(), 1);
-        std::thread::sleep(Duration::from_millis(20));
+        let before = stamp(&dir.0).expect("the folder's stamp");
         let second = dir.write("z.toml", GOOD);
-        // A folder's time can be coarse: make sure it moved.
-        std::fs::File::open(&dir.0).unwrap().set_modified(SystemTime::now() + Duration::from_secs(2)).unwrap_or(());
+        // A folder's time can be coarse, so a new file may leave it as it was: move it on.
+        std::fs::File::open(&dir.0).unwrap().set_modified(before.0 + Duration::from_secs(2)).unwrap();
+        assert_ne!(stamp(&dir.0), Some(before), "the folder changed");
         settle(&mut watch, t0 + POLL_INTERVAL);
         assert_eq!(watch.files(), [first.clone(), second], "the new file is listed");
 

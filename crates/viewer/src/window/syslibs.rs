@@ -193,11 +193,33 @@ mod tests {
         assert_eq!(gone.len(), 1);
     }
 
+    /// Whether a file `soname` is in a library folder or one level below it (the multiarch
+    /// folders): a search that shares no code with the check's.
+    fn on_disk(soname: &str) -> bool {
+        ["/lib", "/usr/lib", "/lib64", "/usr/lib64", "/usr/local/lib"].iter().any(|root| {
+            let below = std::fs::read_dir(root).into_iter().flatten().flatten().map(|e| e.path());
+            std::iter::once(PathBuf::from(root)).chain(below).any(|dir| dir.join(soname).is_file())
+        })
+    }
+
+    /// On a host that has every X11 library (CI installs them) the check passes. Elsewhere,
+    /// a library it reports missing must truly be absent, and its package named.
     #[test]
     fn this_machine_passes_or_names_the_packages() {
-        match check_runtime_libraries(Backend::X11) {
-            Ok(()) => {}
-            Err(e) => assert!(e.to_string().contains("apt-get install"), "{e}"),
+        let absent: Vec<&str> = X11_LIBS.iter().map(|l| l.soname).filter(|s| !on_disk(s)).collect();
+        let result = check_runtime_libraries(Backend::X11);
+        if absent.is_empty() {
+            assert!(result.is_ok(), "every X11 library is on disk, yet the check fails: {result:?}");
+            return;
         }
+        assert!(std::env::var_os("CI").is_none(), "CI installs the X11 libraries, yet {absent:?} are missing");
+        if let Err(e) = result {
+            let e = e.to_string();
+            for lib in X11_LIBS.iter().filter(|l| e.contains(l.soname)) {
+                assert!(absent.contains(&lib.soname), "{} is on disk, yet reported missing: {e}", lib.soname);
+                assert!(e.contains(&format!(" {}", lib.package)), "names the package {}: {e}", lib.package);
+            }
+        }
+        tracer::testing::skipped(&format!("the X11 libraries {absent:?} are not on this host"));
     }
 }

@@ -35,7 +35,7 @@ fn missing(tools: &[&str]) -> bool {
         return false;
     }
     assert!(std::env::var_os("CI").is_none(), "{absent:?} not found, but CI must install them");
-    eprintln!("SKIPPED: {absent:?} not found — install xvfb xauth xdotool");
+    tracer::testing::skipped(&format!("{absent:?} not found — install xvfb xauth xdotool"));
     true
 }
 

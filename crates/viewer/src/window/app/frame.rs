@@ -1,6 +1,6 @@
 //! The viewer's frame loop: a tick of the 240 Hz cadence (paced with
 //! `ControlFlow::WaitUntil`, so the cadence never caps a renderer that keeps up with a 90 Hz
-//! headset or a 240 Hz monitor: frames that reuse the last one, `stereo`'s `reuse.rs`, take
+//! headset or a 240 Hz monitor: frames that reuse the last one, `stereo`'s `reuse/`, take
 //! about a millisecond) redraws only when there is something new to show — a finished stereo
 //! frame from the [`Worker`](crate::window::worker::Worker), input, a moving head, an egui
 //! animation, or a quarter second gone by; otherwise it just posts the next render request,
