@@ -40,6 +40,35 @@ pub(crate) fn parse_f64(field: &[u8]) -> Result<f64, &'static str> {
     }
 }
 
+/// The value in an optional `field` of `what` (record, field): `None` when blank, and `None`
+/// with a warning on `line` when `parse` cannot read it (a bad B-factor does not lose the
+/// atom).
+pub(crate) fn optional<T>(
+    atoms: &mut crate::molecule::Builder<'_>,
+    (record, name): (&'static str, &'static str),
+    field: &[u8],
+    line: u64,
+    parse: impl FnOnce(&str) -> Option<T>,
+) -> Option<T> {
+    let text = std::str::from_utf8(field).ok().map(str::trim_ascii);
+    match text {
+        Some("") => None,
+        Some(text) => parse(text).or_else(|| {
+            atoms.warn(line, || format!("{record} {name} {:?} is not a number: none kept", crate::error::quote(field)));
+            None
+        }),
+        None => {
+            atoms.warn(line, || format!("{record} {name} {:?} is not text: none kept", crate::error::quote(field)));
+            None
+        }
+    }
+}
+
+/// `text` as a finite `f32`, for [`optional`].
+pub(crate) fn finite(text: &str) -> Option<f32> {
+    text.parse::<f32>().ok().filter(|v| v.is_finite())
+}
+
 /// The whole non-negative number in `field` (surrounding spaces ignored), or why it is not one.
 pub(crate) fn parse_count(field: &[u8]) -> Result<u64, &'static str> {
     let text = std::str::from_utf8(field).map_err(|_| "not text")?.trim_ascii();

@@ -6,11 +6,13 @@
 //! the manual allows, wider with more decimals, the width being the distance between the
 //! decimal points of the first atom's x and y. Velocities after them are ignored.
 //! Coordinates are scaled to Ångström (×10). The element is read from the atom name
-//! ([`element_from_bare_name`]), there being no element column. Only the first frame is read.
+//! ([`element_from_bare_name`]), there being no element column. The residue number, residue
+//! name and atom name are kept as the atom's fields. Only the first frame is read.
 
 use crate::element::element_from_bare_name;
 use crate::error::{quote, Error};
-use crate::field::{columns, parse_count, parse_f64};
+use crate::field::{columns, optional, parse_count, parse_f64};
+use crate::fields::FieldsIn;
 use crate::input::Lines;
 use crate::molecule::{Builder, Molecule};
 use crate::options::{Format, Limits};
@@ -86,7 +88,9 @@ pub(crate) fn read(lines: &mut Lines<'_>, limits: &Limits) -> Result<Molecule, E
         if !element.is_known() {
             atoms.warn(line, || format!("no element in atom name {:?}: unknown (Xx)", quote(name)));
         }
-        atoms.push(xyz, element, chain)?;
+        let number = optional(&mut atoms, ("atom", "residue number"), columns(text, 0..5), line, |t| t.parse().ok());
+        let fields = FieldsIn { name, residue, residue_number: number, ..FieldsIn::NONE };
+        atoms.push(xyz, element, chain, &fields, line)?;
     }
     let Some((line, box_line)) = lines.next_line()? else {
         return Err(malformed(lines.line(), format!("no box line after the {count} atoms (truncated?)")));
@@ -126,6 +130,15 @@ Two waters and an ion, t= 0.0
     2NA      NA    4   1.000   2.000  -3.000
    1.86206   1.86206   1.86206
 ";
+
+    #[test]
+    fn residue_and_atom_names_and_numbers_are_kept() {
+        let m = read_text(WATER).unwrap();
+        let (a, na) = (m.atom(1).unwrap(), m.atom(3).unwrap());
+        assert_eq!((a.name, a.residue_name, a.residue_number), ("HW1", "SOL", Some(1)), "columns 11-15, 6-10, 1-5");
+        assert_eq!((na.name, na.residue_name, na.residue_number), ("NA", "NA", Some(2)), "the ion");
+        assert_eq!((a.b_factor, a.occupancy, a.model, a.hetero), (None, None, None, false), "GRO has none");
+    }
 
     #[test]
     fn atoms_in_angstrom_with_elements_from_names() {

@@ -60,11 +60,13 @@ mod bounds;
 mod element;
 mod error;
 mod field;
+mod fields;
 mod gro;
 mod input;
 mod mmcif;
 mod molecule;
 mod options;
+mod origin;
 mod pdb;
 mod xyz;
 
@@ -75,8 +77,10 @@ pub use assembly::{Assembly, AssemblyPart, Operator};
 pub use bounds::{bounding_sphere, bounds, enclosing_sphere, sphere_bounds, Bounds, Sphere};
 pub use element::{srgb_to_linear, Element, RadiusSource, FALLBACK_RADIUS, UNKNOWN_SRGB};
 pub use error::{Error, Warning, MAX_VALUE_CHARS};
+pub use fields::AtomFields;
 pub use molecule::Molecule;
 pub use options::{Format, Limits, ReadOptions};
+pub use origin::Atom;
 
 /// Reads the structure file at `path`: its format from [`ReadOptions::format`] or the name,
 /// gzip from the magic bytes, the assembly when [`ReadOptions::assembly`] asks.

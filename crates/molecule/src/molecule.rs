@@ -1,5 +1,6 @@
-//! The compact result of a read: one array per attribute (structure of arrays), about 15
-//! bytes an atom, and the builder the readers fill it through.
+//! The compact result of a read: one array per attribute (structure of arrays), 15 bytes an
+//! atom plus the file's per-atom fields ([`AtomFields`], 18 bytes an atom read), and the
+//! builder the readers fill it through.
 
 use std::collections::HashMap;
 
@@ -9,14 +10,18 @@ use crate::assembly::Assembly;
 use crate::bounds::{self, Bounds, Sphere};
 use crate::element::Element;
 use crate::error::{Error, Warning};
+use crate::fields::{AtomFields, FieldsIn};
 use crate::options::{Format, Limits};
+use crate::origin::{Atom, Origin};
 
 /// The atoms of a structure file, in the crate's left-handed space, Ångström.
 ///
 /// Atom `i` is at `positions()[i]`, is an `elements()[i]` and belongs to chain
-/// `chain_ids()[chains()[i]]`. A position is the file's (x, y, z) as (x, y, −z): see the
-/// crate doc for why that keeps the molecule's chirality. Each atom costs 12 + 1 + 2 = 15
-/// bytes; [`Molecule::heap_bytes`] counts what the arrays hold.
+/// `chain_ids()[chains()[i]]`; [`Molecule::atom`] gives all the file says of it. A position
+/// is the file's (x, y, z) as (x, y, −z): see the crate doc for why that keeps the
+/// molecule's chirality. Each atom costs 12 + 1 + 2 = 15 bytes, and each atom read from the
+/// file [`AtomFields::BYTES_PER_ATOM`] more (an expanded assembly points back to them, 4
+/// bytes per atom of its parts); [`Molecule::heap_bytes`] counts what the arrays hold.
 #[derive(Clone, Debug)]
 pub struct Molecule {
     source: String,
@@ -25,6 +30,12 @@ pub struct Molecule {
     elements: Vec<Element>,
     chains: Vec<u16>,
     chain_ids: Vec<String>,
+    fields: AtomFields,
+    /// The model read (PDB `MODEL` serial, mmCIF `pdbx_PDB_model_num`), when the file
+    /// numbers its models.
+    model: Option<u32>,
+    /// Where each atom comes from among the file's.
+    origin: Origin,
     assemblies: Vec<Assembly>,
     applied: Option<usize>,
     warnings: Vec<Warning>,
@@ -114,6 +125,46 @@ impl Molecule {
         self.positions.capacity() * size_of::<Vec3>()
             + self.elements.capacity() * size_of::<Element>()
             + self.chains.capacity() * size_of::<u16>()
+            + self.fields.heap_bytes()
+            + self.origin.heap_bytes()
+    }
+
+    /// The per-atom fields of the file's atoms (index them by [`Atom::file_index`]).
+    #[must_use]
+    pub fn fields(&self) -> &AtomFields {
+        &self.fields
+    }
+
+    /// The model these atoms are, when the file numbers its models.
+    #[must_use]
+    pub fn model(&self) -> Option<u32> {
+        self.model
+    }
+
+    /// All the file says of atom `i`, and where an assembly put it; `None` past the end.
+    #[must_use]
+    pub fn atom(&self, i: usize) -> Option<Atom<'_>> {
+        let (file_index, operator) = self.origin.of(i)?;
+        let operator = operator.and_then(|(part, op)| {
+            self.applied_assembly().and_then(|a| a.parts.get(part)).and_then(|p| p.operators.get(op))
+        });
+        let p = *self.positions.get(i)?;
+        Some(Atom {
+            index: i,
+            file_index,
+            element: self.elements[i],
+            chain: self.chain_ids.get(usize::from(self.chains[i])).map_or("", String::as_str),
+            name: self.fields.name(file_index),
+            residue_name: self.fields.residue_name(file_index),
+            residue_number: self.fields.residue_number(file_index),
+            insertion_code: self.fields.insertion_code(file_index),
+            b_factor: self.fields.b_factor(file_index),
+            occupancy: self.fields.occupancy(file_index),
+            hetero: self.fields.is_hetero(file_index),
+            model: self.model,
+            file_position: [p.x, p.y, -p.z],
+            operator: operator.map(|o| o.id.as_str()),
+        })
     }
 
     /// The box around every atom's sphere, radius = element radius × `radius_scale`; `None`
@@ -199,6 +250,7 @@ impl Molecule {
         let mut positions = Vec::with_capacity(total);
         let mut elements = Vec::with_capacity(total);
         let mut chains = Vec::with_capacity(total);
+        let mut origin = Origin::assembly();
         for part in &assembly.parts {
             let mask = self.chain_mask(&part.chains);
             let selected = |i: &usize| mask.get(usize::from(self.chains[*i])).copied().unwrap_or(false);
@@ -206,6 +258,8 @@ impl Molecule {
             let source: Vec<Vec3> = indices.iter().map(|&i| self.positions[i]).collect();
             let source_elements: Vec<Element> = indices.iter().map(|&i| self.elements[i]).collect();
             let source_chains: Vec<u16> = indices.iter().map(|&i| self.chains[i]).collect();
+            let file_indices = indices.iter().map(|&i| self.origin.of(i).map_or(0, |(file, _)| file));
+            origin.push_part(file_indices, part.operators.len());
             for operator in &part.operators {
                 positions.extend(source.iter().map(|&p| operator.apply(p)));
                 elements.extend_from_slice(&source_elements);
@@ -219,6 +273,9 @@ impl Molecule {
             elements,
             chains,
             chain_ids: self.chain_ids.clone(),
+            fields: self.fields.clone(),
+            model: self.model,
+            origin,
             assemblies: self.assemblies.clone(),
             applied: Some(index),
             warnings: self.warnings.clone(),
@@ -246,6 +303,8 @@ pub(crate) struct Builder<'a> {
     chain_ids: Vec<String>,
     chain_lookup: HashMap<Box<[u8]>, u16>,
     last_chain: Option<(Box<[u8]>, u16)>,
+    fields: AtomFields,
+    model: Option<u32>,
     warnings: Vec<Warning>,
     warnings_total: usize,
 }
@@ -261,6 +320,8 @@ impl<'a> Builder<'a> {
             chain_ids: Vec::new(),
             chain_lookup: HashMap::new(),
             last_chain: None,
+            fields: AtomFields::default(),
+            model: None,
             warnings: Vec::new(),
             warnings_total: 0,
         }
@@ -273,6 +334,15 @@ impl<'a> Builder<'a> {
         self.positions.reserve(n);
         self.elements.reserve(n);
         self.chains.reserve(n);
+        self.fields.reserve(n);
+    }
+
+    /// Says which model the atoms are, the file's number for it, when `first` (the model
+    /// read) and the number could be read.
+    pub(crate) fn set_model_if(&mut self, first: bool, number: Option<u64>) {
+        if let (true, Some(number)) = (first, number) {
+            self.model = Some(u32::try_from(number).unwrap_or(u32::MAX));
+        }
     }
 
     /// The index of chain `id`, made on first sight.
@@ -300,9 +370,17 @@ impl<'a> Builder<'a> {
         Ok(index)
     }
 
-    /// Adds an atom at file coordinates (x, y, z), Ångström: it is stored at (x, y, −z).
+    /// Adds an atom at file coordinates (x, y, z), Ångström (it is stored at (x, y, −z)), with
+    /// what the file says of it on `line`.
     #[inline]
-    pub(crate) fn push(&mut self, file_xyz: [f32; 3], element: Element, chain: u16) -> Result<(), Error> {
+    pub(crate) fn push(
+        &mut self,
+        file_xyz: [f32; 3],
+        element: Element,
+        chain: u16,
+        fields: &FieldsIn<'_>,
+        line: u64,
+    ) -> Result<(), Error> {
         if self.positions.len() >= self.limits.max_atoms {
             return Err(Error::TooManyAtoms {
                 file: self.file.to_owned(),
@@ -311,6 +389,7 @@ impl<'a> Builder<'a> {
                 limit: self.limits.max_atoms,
             });
         }
+        self.fields.push(fields, self.file, line)?;
         let [x, y, z] = file_xyz;
         self.positions.push(Vec3::new(x, y, -z));
         self.elements.push(element);
@@ -341,6 +420,7 @@ impl<'a> Builder<'a> {
         self.positions.shrink_to_fit();
         self.elements.shrink_to_fit();
         self.chains.shrink_to_fit();
+        self.fields.shrink();
         Ok(Molecule {
             source: self.file.to_owned(),
             format,
@@ -348,6 +428,9 @@ impl<'a> Builder<'a> {
             elements: self.elements,
             chains: self.chains,
             chain_ids: self.chain_ids,
+            fields: self.fields,
+            model: self.model,
+            origin: Origin::File,
             assemblies,
             applied: None,
             warnings: self.warnings,
@@ -366,12 +449,12 @@ mod tests {
     fn two_chains() -> Molecule {
         let mut b = Builder::new("t.pdb", &Limits::default());
         let a = b.chain(b"A", 1).unwrap();
-        b.push([1.0, 2.0, 3.0], Element::C, a).unwrap();
+        b.push([1.0, 2.0, 3.0], Element::C, a, &FieldsIn::NONE, 1).unwrap();
         let c = b.chain(b"B", 2).unwrap();
-        b.push([0.0, 0.0, 1.0], Element::O, c).unwrap();
+        b.push([0.0, 0.0, 1.0], Element::O, c, &FieldsIn::NONE, 2).unwrap();
         let a_again = b.chain(b"A", 3).unwrap();
         assert_eq!(a_again, a, "a chain keeps its index");
-        b.push([4.0, 5.0, 6.0], Element::N, a).unwrap();
+        b.push([4.0, 5.0, 6.0], Element::N, a, &FieldsIn::NONE, 3).unwrap();
         let shift = |id: &str, x: f32| Operator {
             id: id.into(),
             rotation: Mat3::IDENTITY,
@@ -393,7 +476,10 @@ mod tests {
         assert_eq!(m.positions()[0], Vec3::new(1.0, 2.0, -3.0), "file (1, 2, 3)");
         assert_eq!(m.chain_ids(), ["A", "B"], "chains in order met");
         assert_eq!(m.chains(), [0, 1, 0], "chain per atom");
-        assert_eq!(m.heap_bytes(), 3 * 15, "15 bytes an atom once shrunk");
+        // The name tables hold one empty name each.
+        let fields = 3 * AtomFields::BYTES_PER_ATOM + 2 * size_of::<Box<str>>();
+        assert_eq!(m.heap_bytes(), 3 * 15 + fields, "15 bytes an atom once shrunk, and the fields");
+        assert_eq!(m.fields().len(), 3, "a field row per atom");
     }
 
     #[test]
@@ -407,7 +493,14 @@ mod tests {
         assert_eq!(big.elements(), [Element::C, Element::N, Element::C, Element::N, Element::O], "elements follow");
         assert_eq!(big.chains(), [0, 0, 0, 0, 1], "chains follow");
         assert_eq!(big.applied_assembly().map(|a| a.id.as_str()), Some("1"), "says which");
-        assert_eq!(big.heap_bytes(), 5 * 15, "exact allocation");
+        let copy = big.atom(3).unwrap();
+        assert_eq!((copy.file_index, copy.operator, copy.chain), (2, Some("2"), "A"), "file atom 2 moved by 2");
+        assert_eq!(copy.file_position, [14.0, 5.0, 6.0], "the file's coordinates after the operator");
+        assert_eq!(big.atom(4).map(|a| (a.file_index, a.operator)), Some((1, Some("3"))), "part B");
+        assert!(big.atom(5).is_none(), "past the end");
+        let (fields, origin) = (big.fields().heap_bytes(), big.origin.heap_bytes());
+        assert_eq!(fields, 3 * AtomFields::BYTES_PER_ATOM + 2 * size_of::<Box<str>>(), "the file's fields, not copied");
+        assert_eq!(big.heap_bytes() - fields - origin, 5 * 15, "exact allocation");
     }
 
     #[test]
@@ -421,8 +514,8 @@ mod tests {
     #[test]
     fn the_atom_limit_holds_while_reading() {
         let mut b = Builder::new("t.xyz", &Limits { max_atoms: 1, ..Limits::default() });
-        b.push([0.0; 3], Element::C, 0).unwrap();
-        let e = b.push([0.0; 3], Element::C, 0).unwrap_err();
+        b.push([0.0; 3], Element::C, 0, &FieldsIn::NONE, 1).unwrap();
+        let e = b.push([0.0; 3], Element::C, 0, &FieldsIn::NONE, 1).unwrap_err();
         assert!(matches!(e, Error::TooManyAtoms { count: 2, limit: 1, .. }), "{e}");
     }
 
@@ -432,7 +525,7 @@ mod tests {
         for line in 1..=5 {
             b.warn(line, || format!("number {line}"));
         }
-        b.push([0.0; 3], Element::C, 0).unwrap();
+        b.push([0.0; 3], Element::C, 0, &FieldsIn::NONE, 1).unwrap();
         let m = b.finish(Format::Pdb, Vec::new(), "none").unwrap();
         assert_eq!(m.warnings().len(), 2, "capped");
         assert_eq!(m.warnings_total(), 5, "counted");

@@ -3,8 +3,11 @@
 //! (2011), sections "Coordinate Section" and "Remarks 350".
 //!
 //! Columns read (1-based, as the spec numbers them): 13–16 atom name, 17 alternate location,
-//! 22 chain, 31–38 x, 39–46 y, 47–54 z (Ångström), 77–78 element. A record shorter than 54
-//! columns is an error; a missing element column falls back to the atom name.
+//! 18–20 residue name, 22 chain, 23–26 residue number, 27 insertion code, 31–38 x, 39–46 y,
+//! 47–54 z (Ångström), 55–60 occupancy, 61–66 B-factor, 77–78 element. A record shorter
+//! than 54 columns is an error; a missing element column falls back to the atom name; a
+//! blank or unreadable residue number, occupancy or B-factor is kept as none (unreadable
+//! with a warning).
 //!
 //! What is kept: model 1 only (later `MODEL`s are skipped with a warning); of alternate
 //! locations, blank and the first letter seen in the file (usually `A`; the others are
@@ -13,7 +16,8 @@
 use crate::assembly::{Assembly, AssemblyPart, Operator};
 use crate::element::Element;
 use crate::error::{quote, Error};
-use crate::field::{columns, parse_f32, parse_f64};
+use crate::field::{columns, finite, optional, parse_count, parse_f32, parse_f64};
+use crate::fields::FieldsIn;
 use crate::input::Lines;
 use crate::molecule::{Builder, Molecule};
 use crate::options::{Format, Limits};
@@ -164,6 +168,7 @@ pub(crate) fn read(lines: &mut Lines<'_>, limits: &Limits, want_assembly: bool) 
             b"HETATM" => true,
             b"MODEL" => {
                 models += 1;
+                atoms.set_model_if(models == 1, parse_count(columns(text, 6..text.len())).ok());
                 continue;
             }
             b"END" => break,
@@ -218,7 +223,8 @@ pub(crate) fn read(lines: &mut Lines<'_>, limits: &Limits, want_assembly: bool) 
         }
         let element = element_of(&mut atoms, text, hetero, line);
         let chain = atoms.chain(columns(text, 21..22).trim_ascii(), line)?;
-        atoms.push(xyz, element, chain)?;
+        let fields = fields_of(&mut atoms, text, hetero, line);
+        atoms.push(xyz, element, chain, &fields, line)?;
     }
     if lines.line() == 0 {
         return Err(Error::NoAtoms { file: file.to_owned(), why: "the file is empty" });
@@ -244,6 +250,21 @@ pub(crate) fn read(lines: &mut Lines<'_>, limits: &Limits, want_assembly: bool) 
     }
     assemblies.retain(|a| !a.parts.is_empty());
     atoms.finish(Format::Pdb, assemblies, "no ATOM or HETATM record")
+}
+
+/// Columns 13–27 and 55–66 of an `ATOM` or `HETATM` record (see the module doc).
+fn fields_of<'t>(atoms: &mut Builder<'_>, text: &'t [u8], hetero: bool, line: u64) -> FieldsIn<'t> {
+    let record = if hetero { "HETATM" } else { "ATOM" };
+    let code = columns(text, 26..27).first().copied().filter(|&c| c != b' ');
+    FieldsIn {
+        name: columns(text, 12..16),
+        residue: columns(text, 17..20),
+        residue_number: optional(atoms, (record, "resSeq"), columns(text, 22..26), line, |t| t.parse().ok()),
+        insertion_code: code,
+        b_factor: optional(atoms, (record, "tempFactor"), columns(text, 60..66), line, finite),
+        occupancy: optional(atoms, (record, "occupancy"), columns(text, 54..60), line, finite),
+        hetero,
+    }
 }
 
 /// The element from columns 77–78, else from the atom name; unknown with a warning.
@@ -293,6 +314,37 @@ ATOM      3  C   GLY D   1      44.140 -10.512  18.447  1.00 40.48           C
         assert_eq!(m.elements()[1].symbol(), "Fe", "element columns 77-78");
         assert_eq!(m.chain_ids(), ["D", "A"], "column 22");
         assert!(m.warnings().is_empty(), "{:?}", m.warnings());
+    }
+
+    #[test]
+    fn each_atoms_fields_from_their_columns() {
+        let text = "\
+MODEL        3
+ATOM      1  N   GLY D   1A     42.053  -9.336  17.867  0.50 43.86           N
+HETATM 5470 FE   HEM A 200       1.000   2.000   3.000  1.00 20.00          FE
+ATOM      2  CA  GLY D   x      42.704 -10.253  18.851
+ENDMDL
+";
+        let m = read_text(text, false).unwrap();
+        let a = m.atom(0).unwrap();
+        assert_eq!(
+            (a.name, a.residue_name, a.residue_number, a.insertion_code),
+            ("N", "GLY", Some(1), Some('A')),
+            "ATOM"
+        );
+        assert_eq!(
+            (a.b_factor, a.occupancy, a.hetero, a.model),
+            (Some(43.86), Some(0.5), false, Some(3)),
+            "columns 55-66"
+        );
+        assert_eq!((a.chain, a.file_position), ("D", [42.053, -9.336, 17.867]), "the file's coordinates");
+        let fe = m.atom(1).unwrap();
+        assert_eq!((fe.name, fe.residue_name, fe.residue_number, fe.hetero), ("FE", "HEM", Some(200), true), "HETATM");
+        let short = m.atom(2).unwrap();
+        assert_eq!((short.residue_number, short.b_factor, short.occupancy), (None, None, None), "unreadable or cut");
+        assert_eq!(m.warnings().len(), 1, "the bad residue number is named: {:?}", m.warnings());
+        assert_eq!(m.warnings()[0].to_string(), "t.pdb:4: ATOM resSeq \"x\" is not a number: none kept", "message");
+        assert!(m.atom(3).is_none(), "past the end");
     }
 
     #[test]

@@ -5,6 +5,7 @@
 use crate::element::Element;
 use crate::error::{quote, Error};
 use crate::field::{parse_count, parse_f32};
+use crate::fields::FieldsIn;
 use crate::input::Lines;
 use crate::molecule::{Builder, Molecule};
 use crate::options::{Format, Limits};
@@ -62,7 +63,7 @@ pub(crate) fn read(lines: &mut Lines<'_>, limits: &Limits) -> Result<Molecule, E
             atoms.warn(line, || format!("element {:?} is not an element: unknown (Xx)", quote(symbol)));
             Element::UNKNOWN
         });
-        atoms.push(xyz, element, chain)?;
+        atoms.push(xyz, element, chain, &FieldsIn::NONE, line)?;
     }
     // What follows is nothing, or the next frame's count.
     while let Some((line, text)) = lines.next_line()? {

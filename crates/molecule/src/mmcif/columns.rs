@@ -42,11 +42,17 @@ pub(super) enum AtomColumn {
     Asym,
     AuthAsym,
     Model,
+    Group,
+    AuthSeq,
+    LabelSeq,
+    InsCode,
+    BFactor,
+    Occupancy,
 }
 
 impl AtomColumn {
     pub(super) fn of(item: &[u8]) -> Self {
-        const ITEMS: [(&[u8], AtomColumn); 10] = [
+        const ITEMS: [(&[u8], AtomColumn); 16] = [
             (b"Cartn_x", AtomColumn::X),
             (b"Cartn_y", AtomColumn::Y),
             (b"Cartn_z", AtomColumn::Z),
@@ -57,6 +63,12 @@ impl AtomColumn {
             (b"label_asym_id", AtomColumn::Asym),
             (b"auth_asym_id", AtomColumn::AuthAsym),
             (b"pdbx_PDB_model_num", AtomColumn::Model),
+            (b"group_PDB", AtomColumn::Group),
+            (b"auth_seq_id", AtomColumn::AuthSeq),
+            (b"label_seq_id", AtomColumn::LabelSeq),
+            (b"pdbx_PDB_ins_code", AtomColumn::InsCode),
+            (b"B_iso_or_equiv", AtomColumn::BFactor),
+            (b"occupancy", AtomColumn::Occupancy),
         ];
         ITEMS.iter().find(|(name, _)| name.eq_ignore_ascii_case(item)).map_or(Self::Skip, |&(_, column)| column)
     }

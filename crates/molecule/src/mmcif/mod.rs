@@ -7,7 +7,8 @@
 //!   (element), `label_atom_id` and `label_comp_id` (the element's fallback),
 //!   `label_alt_id`, `label_asym_id` (the chain; `auth_asym_id` when absent) and
 //!   `pdbx_PDB_model_num`; the first model and the first alternate location are kept, as
-//!   for PDB.
+//!   for PDB. Each atom's fields: `label_atom_id`, `label_comp_id`, `auth_seq_id` (else
+//!   `label_seq_id`), `pdbx_PDB_ins_code`, `B_iso_or_equiv`, `occupancy` and `group_PDB`.
 //! - `_pdbx_struct_oper_list`: `id`, `matrix[i][j]`, `vector[i]`.
 //! - `_pdbx_struct_assembly_gen`: `assembly_id`, `oper_expression` (`1`, `1,2,5`, `(1-60)`,
 //!   and products such as `(1-60)(61-88)`, whose left factor applies last), `asym_id_list`.
@@ -24,7 +25,8 @@ use std::collections::HashMap;
 use crate::assembly::Operator;
 use crate::element::{element_from_bare_name, Element};
 use crate::error::{quote, Error};
-use crate::field::parse_f32;
+use crate::field::{finite, optional, parse_count, parse_f32};
+use crate::fields::FieldsIn;
 use crate::input::Lines;
 use crate::molecule::{Builder, Molecule};
 use crate::options::{Format, Limits};
@@ -47,6 +49,12 @@ struct AtomRow {
     asym: Vec<u8>,
     auth_asym: Vec<u8>,
     model: Vec<u8>,
+    group: Vec<u8>,
+    auth_seq: Vec<u8>,
+    label_seq: Vec<u8>,
+    ins_code: Vec<u8>,
+    b_factor: Vec<u8>,
+    occupancy: Vec<u8>,
 }
 
 /// The loop (or the run of `_category.item value` pairs) being read.
@@ -203,6 +211,12 @@ impl Reader<'_> {
                     AtomColumn::Asym => keep(&mut row.asym),
                     AtomColumn::AuthAsym => keep(&mut row.auth_asym),
                     AtomColumn::Model => keep(&mut row.model),
+                    AtomColumn::Group => keep(&mut row.group),
+                    AtomColumn::AuthSeq => keep(&mut row.auth_seq),
+                    AtomColumn::LabelSeq => keep(&mut row.label_seq),
+                    AtomColumn::InsCode => keep(&mut row.ins_code),
+                    AtomColumn::BFactor => keep(&mut row.b_factor),
+                    AtomColumn::Occupancy => keep(&mut row.occupancy),
                     AtomColumn::Skip => {}
                 }
             }
@@ -275,7 +289,18 @@ impl Reader<'_> {
             Category::Other => Ok(()),
         }
     }
+}
 
+/// A value, or nothing for CIF's null values (`.` and `?`).
+fn value(v: &[u8]) -> &[u8] {
+    if is_null(v) {
+        b""
+    } else {
+        v
+    }
+}
+
+impl Reader<'_> {
     fn atom_row(&mut self, line: u64) -> Result<(), Error> {
         let missing = [AtomColumn::X, AtomColumn::Y, AtomColumn::Z].into_iter().zip(self.row.has).find(|(_, has)| !has);
         if let Some((column, _)) = missing {
@@ -284,7 +309,10 @@ impl Reader<'_> {
         let row = &self.row;
         if !row.model.is_empty() && !is_null(&row.model) {
             match &self.first_model {
-                None => self.first_model = Some(row.model.clone()),
+                None => {
+                    self.atoms.set_model_if(true, parse_count(&row.model).ok());
+                    self.first_model = Some(row.model.clone());
+                }
                 Some(first) if *first == row.model => {}
                 Some(_) => {
                     self.other_model_atoms += 1;
@@ -315,7 +343,19 @@ impl Reader<'_> {
         let chain_id = if row.asym.is_empty() || is_null(&row.asym) { &row.auth_asym } else { &row.asym };
         let chain_id: &[u8] = if is_null(chain_id) { b"" } else { chain_id };
         let chain = self.atoms.chain(chain_id, line)?;
-        self.atoms.push(row.xyz, element, chain)?;
+        let number = if value(&row.auth_seq).is_empty() { &row.label_seq } else { &row.auth_seq };
+        let fields = FieldsIn {
+            name: value(&row.name),
+            residue: value(&row.residue),
+            residue_number: optional(&mut self.atoms, ("_atom_site", "auth_seq_id"), value(number), line, |t| {
+                t.parse().ok()
+            }),
+            insertion_code: value(&row.ins_code).first().copied(),
+            b_factor: optional(&mut self.atoms, ("_atom_site", "B_iso_or_equiv"), value(&row.b_factor), line, finite),
+            occupancy: optional(&mut self.atoms, ("_atom_site", "occupancy"), value(&row.occupancy), line, finite),
+            hetero: row.group.eq_ignore_ascii_case(b"HETATM"),
+        };
+        self.atoms.push(row.xyz, element, chain, &fields, line)?;
         let row = &mut self.row;
         row.has = [false; 3];
         for buffer in [
@@ -326,6 +366,12 @@ impl Reader<'_> {
             &mut row.asym,
             &mut row.auth_asym,
             &mut row.model,
+            &mut row.group,
+            &mut row.auth_seq,
+            &mut row.label_seq,
+            &mut row.ins_code,
+            &mut row.b_factor,
+            &mut row.occupancy,
         ] {
             buffer.clear();
         }
@@ -497,6 +543,40 @@ _pdbx_struct_oper_list.vector[3]
         assert_eq!(m.chain_ids(), ["A"], "label_asym_id");
         assert_eq!(m.warnings().len(), 1, "{:?}", m.warnings());
         assert!(m.warnings()[0].message.contains("only the first"), "{:?}", m.warnings());
+    }
+
+    #[test]
+    fn each_atoms_fields_from_atom_site() {
+        let text = "\
+data_1CRN
+loop_
+_atom_site.group_PDB
+_atom_site.type_symbol
+_atom_site.label_atom_id
+_atom_site.label_comp_id
+_atom_site.label_asym_id
+_atom_site.label_seq_id
+_atom_site.auth_seq_id
+_atom_site.pdbx_PDB_ins_code
+_atom_site.Cartn_x
+_atom_site.Cartn_y
+_atom_site.Cartn_z
+_atom_site.occupancy
+_atom_site.B_iso_or_equiv
+_atom_site.pdbx_PDB_model_num
+ATOM   N N   THR A 1 1 ? 17.047 14.099 3.625 1.00 13.79 1
+ATOM   C CA  THR A 1 7 B 16.967 12.784 4.338 0.5 10.80 1
+HETATM O O   HOH B . . ? 1.0 2.0 3.0 . . 1
+";
+        let m = read_text(text, false).unwrap();
+        let a = m.atom(0).unwrap();
+        assert_eq!((a.name, a.residue_name, a.residue_number, a.insertion_code), ("N", "THR", Some(1), None), "first");
+        assert_eq!((a.b_factor, a.occupancy, a.hetero, a.model), (Some(13.79), Some(1.0), false, Some(1)), "numbers");
+        let b = m.atom(1).unwrap();
+        assert_eq!((b.residue_number, b.insertion_code, b.occupancy), (Some(7), Some('B'), Some(0.5)), "auth_seq_id");
+        let w = m.atom(2).unwrap();
+        assert_eq!((w.residue_name, w.residue_number, w.b_factor, w.hetero), ("HOH", None, None, true), "nulls");
+        assert!(m.warnings().is_empty(), "{:?}", m.warnings());
     }
 
     #[test]
