@@ -1,6 +1,7 @@
 //! What the workspace's tests and benches share, so that each is written once: the bundled
-//! scenes by name, one small deterministic generator, and how a test says it skipped. Not part of the crate's API
-//! (hidden from its docs); public so that the other crates' tests and benches reach it.
+//! scenes by name, one small deterministic generator, and how a test says it skipped. Not
+//! part of the crate's API (hidden from its docs); public so that the other crates' tests
+//! and benches reach it.
 
 use std::path::PathBuf;
 

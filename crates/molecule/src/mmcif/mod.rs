@@ -25,37 +25,16 @@ use std::collections::HashMap;
 use crate::assembly::Operator;
 use crate::element::{element_from_bare_name, Element};
 use crate::error::{quote, Error};
-use crate::field::{finite, optional, parse_count, parse_f32};
+use crate::field::{finite, optional, parse_count};
 use crate::fields::FieldsIn;
 use crate::input::Lines;
 use crate::molecule::{Builder, Molecule};
 use crate::options::{Format, Limits};
-use columns::{AtomColumn, Category};
+use columns::{value, AtomColumn, AtomRow, Category};
 use tokens::{is_null, tokens, Token};
 
 /// The most operators an `oper_expression` may expand to.
 const MAX_OPERATORS: usize = 1 << 16;
-
-/// One `_atom_site` row as its values stream past; the buffers are reused row after row.
-#[derive(Default)]
-struct AtomRow {
-    xyz: [f32; 3],
-    /// Which of x, y, z the row has given.
-    has: [bool; 3],
-    symbol: Vec<u8>,
-    name: Vec<u8>,
-    residue: Vec<u8>,
-    alt: Vec<u8>,
-    asym: Vec<u8>,
-    auth_asym: Vec<u8>,
-    model: Vec<u8>,
-    group: Vec<u8>,
-    auth_seq: Vec<u8>,
-    label_seq: Vec<u8>,
-    ins_code: Vec<u8>,
-    b_factor: Vec<u8>,
-    occupancy: Vec<u8>,
-}
 
 /// The loop (or the run of `_category.item value` pairs) being read.
 struct Table {
@@ -182,43 +161,14 @@ impl Reader<'_> {
             Category::Other => {}
             Category::AtomSite => {
                 let kind = table.atom_columns.get(column).copied().unwrap_or(AtomColumn::Skip);
-                let row = &mut self.row;
-                let keep = |buffer: &mut Vec<u8>| {
-                    buffer.clear();
-                    buffer.extend_from_slice(value);
-                };
-                match kind {
-                    AtomColumn::X | AtomColumn::Y | AtomColumn::Z => {
-                        let axis = match kind {
-                            AtomColumn::X => 0,
-                            AtomColumn::Y => 1,
-                            _ => 2,
-                        };
-                        row.has[axis] = true;
-                        row.xyz[axis] = parse_f32(value).map_err(|why| Error::Field {
-                            file: self.file.to_owned(),
-                            line,
-                            record: "_atom_site",
-                            field: kind.field(),
-                            value: quote(value),
-                            why,
-                        })?;
-                    }
-                    AtomColumn::Symbol => keep(&mut row.symbol),
-                    AtomColumn::Name => keep(&mut row.name),
-                    AtomColumn::Residue => keep(&mut row.residue),
-                    AtomColumn::Alt => keep(&mut row.alt),
-                    AtomColumn::Asym => keep(&mut row.asym),
-                    AtomColumn::AuthAsym => keep(&mut row.auth_asym),
-                    AtomColumn::Model => keep(&mut row.model),
-                    AtomColumn::Group => keep(&mut row.group),
-                    AtomColumn::AuthSeq => keep(&mut row.auth_seq),
-                    AtomColumn::LabelSeq => keep(&mut row.label_seq),
-                    AtomColumn::InsCode => keep(&mut row.ins_code),
-                    AtomColumn::BFactor => keep(&mut row.b_factor),
-                    AtomColumn::Occupancy => keep(&mut row.occupancy),
-                    AtomColumn::Skip => {}
-                }
+                self.row.keep(kind, value).map_err(|why| Error::Field {
+                    file: self.file.to_owned(),
+                    line,
+                    record: "_atom_site",
+                    field: kind.field(),
+                    value: quote(value),
+                    why,
+                })?;
             }
             Category::OperList | Category::AssemblyGen => {
                 if let Some(cell) = table.text_row.get_mut(column) {
@@ -289,18 +239,7 @@ impl Reader<'_> {
             Category::Other => Ok(()),
         }
     }
-}
 
-/// A value, or nothing for CIF's null values (`.` and `?`).
-fn value(v: &[u8]) -> &[u8] {
-    if is_null(v) {
-        b""
-    } else {
-        v
-    }
-}
-
-impl Reader<'_> {
     fn atom_row(&mut self, line: u64) -> Result<(), Error> {
         let missing = [AtomColumn::X, AtomColumn::Y, AtomColumn::Z].into_iter().zip(self.row.has).find(|(_, has)| !has);
         if let Some((column, _)) = missing {
@@ -356,25 +295,7 @@ impl Reader<'_> {
             hetero: row.group.eq_ignore_ascii_case(b"HETATM"),
         };
         self.atoms.push(row.xyz, element, chain, &fields, line)?;
-        let row = &mut self.row;
-        row.has = [false; 3];
-        for buffer in [
-            &mut row.symbol,
-            &mut row.name,
-            &mut row.residue,
-            &mut row.alt,
-            &mut row.asym,
-            &mut row.auth_asym,
-            &mut row.model,
-            &mut row.group,
-            &mut row.auth_seq,
-            &mut row.label_seq,
-            &mut row.ins_code,
-            &mut row.b_factor,
-            &mut row.occupancy,
-        ] {
-            buffer.clear();
-        }
+        self.row.clear();
         Ok(())
     }
 }

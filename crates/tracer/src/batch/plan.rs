@@ -192,8 +192,7 @@ mod tests {
     use crate::tracer::Tracer;
 
     fn scene(name: &str) -> Scene {
-        let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-        Scene::load(path).expect("scene loads")
+        crate::testing::scene(name)
     }
 
     /// Row `j` of `second` made by `plan` (sources on `film`) into `rgb`: the sphere tests.

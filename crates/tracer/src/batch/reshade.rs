@@ -53,8 +53,7 @@ mod tests {
     const UNTOUCHED: u32 = 0xFF00_FF00;
 
     fn scene(name: &str) -> Scene {
-        let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-        Scene::load(path).expect("scene loads")
+        crate::testing::scene(name)
     }
 
     #[test]

@@ -35,8 +35,7 @@ mod tests {
     use crate::tracer::Tracer;
 
     fn scene(name: &str) -> Scene {
-        let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-        Scene::load(path).expect("scene loads")
+        crate::testing::scene(name)
     }
 
     #[test]

@@ -302,7 +302,7 @@ mod tests {
     use crate::wavefront::with_wavefront;
 
     fn seed() -> Scene {
-        Scene::from_toml(include_str!("../../../../assets/scenes/seed.toml"), "seed.toml").expect("seed scene")
+        crate::testing::scene("seed.toml")
     }
 
     #[test]
@@ -342,8 +342,7 @@ mod tests {
     #[test]
     fn every_pixel_is_the_plain_paths_and_colour_only_agrees() {
         for (name, t) in [("seed.toml", 0.8), ("many.toml", 0.0)] {
-            let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-            let scene = Scene::load(path).expect("scene loads");
+            let scene = crate::testing::scene(name);
             let tracer = Tracer::new(&scene, t);
             let (w, h) = (83, 45); // not a whole number of tiles
             let view = scene.camera.view(Eye::Right, w, h);
@@ -371,8 +370,7 @@ mod tests {
         // Before packing: a difference of a few ulps in a direction or a highlight would
         // round to the same sRGB byte and pass the test above.
         for (name, t) in [("seed.toml", 0.8), ("many.toml", 0.0), ("window.toml", 0.3)] {
-            let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-            let scene = Scene::load(path).expect("scene loads");
+            let scene = crate::testing::scene(name);
             let tracer = Tracer::new(&scene, t);
             let (w, h) = (83, 45);
             let view = scene.camera.view(Eye::Left, w, h);
@@ -543,8 +541,7 @@ mod tests {
     #[test]
     fn a_depth_pass_is_the_films_depth_bit_for_bit() {
         for (name, t) in [("seed.toml", 0.8), ("many.toml", 0.0), ("window.toml", 0.3)] {
-            let path = format!("{}/../../assets/scenes/{name}", env!("CARGO_MANIFEST_DIR"));
-            let scene = Scene::load(path).expect("scene loads");
+            let scene = crate::testing::scene(name);
             let tracer = Tracer::new(&scene, t);
             let mut renderer = Renderer::new();
             for view in

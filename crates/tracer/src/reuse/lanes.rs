@@ -233,13 +233,8 @@ mod tests {
     fn the_lanes_meet_what_the_scalar_test_meets() {
         let motion = Motion::Orbit { center: Vec3::new(0.0, 1.2, 15.0), radius: 3.6, period_s: 8.0, phase_deg: 0.0 };
         let ring = SweptRing::of(0, 0.45, &motion).expect("an orbit");
-        let mut seed = 12345u32;
-        let mut next = || {
-            seed ^= seed << 13;
-            seed ^= seed >> 17;
-            seed ^= seed << 5;
-            seed as f32 / u32::MAX as f32
-        };
+        let mut rng = crate::testing::XorShift::new(12345);
+        let mut next = || rng.unit();
         let (mut met, mut total) = (0, 0);
         for _ in 0..4000 {
             let o = Vec3::new(12.0 * next() - 6.0, 4.0 * next() - 1.0, 10.0 * next() + 10.0);
