@@ -78,7 +78,7 @@ pub use bounds::{bounding_sphere, bounds, enclosing_sphere, sphere_bounds, Bound
 pub use element::{srgb_to_linear, Element, RadiusSource, FALLBACK_RADIUS, UNKNOWN_SRGB};
 pub use error::{Error, Warning, MAX_VALUE_CHARS};
 pub use fields::AtomFields;
-pub use molecule::Molecule;
+pub use molecule::{AtomRecords, Molecule};
 pub use options::{Format, Limits, ReadOptions};
 pub use origin::Atom;
 

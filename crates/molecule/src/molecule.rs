@@ -144,15 +144,19 @@ impl Molecule {
     /// All the file says of atom `i`, and where an assembly put it; `None` past the end.
     #[must_use]
     pub fn atom(&self, i: usize) -> Option<Atom<'_>> {
+        self.atom_at(i, *self.positions.get(i)?)
+    }
+
+    /// [`Molecule::atom`] for atom `i` at `position` (the crate's space).
+    fn atom_at(&self, i: usize, position: Vec3) -> Option<Atom<'_>> {
         let (file_index, operator) = self.origin.of(i)?;
         let operator = operator.and_then(|(part, op)| {
             self.applied_assembly().and_then(|a| a.parts.get(part)).and_then(|p| p.operators.get(op))
         });
-        let p = *self.positions.get(i)?;
         Some(Atom {
             index: i,
             file_index,
-            element: self.elements[i],
+            element: *self.elements.get(i)?,
             chain: self.chain_ids.get(usize::from(self.chains[i])).map_or("", String::as_str),
             name: self.fields.name(file_index),
             residue_name: self.fields.residue_name(file_index),
@@ -162,9 +166,17 @@ impl Molecule {
             occupancy: self.fields.occupancy(file_index),
             hetero: self.fields.is_hetero(file_index),
             model: self.model,
-            file_position: [p.x, p.y, -p.z],
+            file_position: [position.x, position.y, -position.z],
             operator: operator.map(|o| o.id.as_str()),
         })
+    }
+
+    /// The positions, and the rest without them ([`AtomRecords`]): for a scene, which keeps
+    /// the atoms' positions placed and reads the rest to colour and pick.
+    #[must_use]
+    pub fn into_parts(mut self) -> (Vec<Vec3>, AtomRecords) {
+        let positions = std::mem::take(&mut self.positions);
+        (positions, AtomRecords(self))
     }
 
     /// The box around every atom's sphere, radius = element radius × `radius_scale`; `None`
@@ -289,6 +301,70 @@ impl Molecule {
         if self.warnings.len() < max_warnings {
             self.warnings.push(Warning { file: self.source.clone(), line, message });
         }
+    }
+}
+
+/// What a [`Molecule`] knows of its atoms besides their positions: elements, chains, the
+/// file's fields and where an assembly put each atom ([`Molecule::into_parts`]). It costs 1 +
+/// 2 bytes an atom, plus the file's fields.
+#[derive(Clone, Debug)]
+pub struct AtomRecords(Molecule);
+
+impl AtomRecords {
+    /// The number of atoms.
+    #[must_use]
+    pub fn len(&self) -> usize {
+        self.0.elements.len()
+    }
+
+    /// Whether there are none.
+    #[must_use]
+    pub fn is_empty(&self) -> bool {
+        self.0.elements.is_empty()
+    }
+
+    /// All the file says of atom `i`, which is at `position` (the crate's space, as
+    /// [`Molecule::positions`] had it); `None` past the end.
+    #[must_use]
+    pub fn atom(&self, i: usize, position: Vec3) -> Option<Atom<'_>> {
+        self.0.atom_at(i, position)
+    }
+
+    /// The atoms' elements.
+    #[must_use]
+    pub fn elements(&self) -> &[Element] {
+        &self.0.elements
+    }
+
+    /// Each atom's chain, an index into [`AtomRecords::chain_ids`].
+    #[must_use]
+    pub fn chains(&self) -> &[u16] {
+        &self.0.chains
+    }
+
+    /// The chains' ids ([`Molecule::chain_ids`]).
+    #[must_use]
+    pub fn chain_ids(&self) -> &[String] {
+        &self.0.chain_ids
+    }
+
+    /// Atom `i`'s index among the file's atoms ([`Atom::file_index`]), to read
+    /// [`AtomRecords::fields`] by; `None` past the end.
+    #[must_use]
+    pub fn file_index(&self, i: usize) -> Option<usize> {
+        self.0.origin.of(i).map(|(file, _)| file).filter(|_| i < self.len())
+    }
+
+    /// The per-atom fields of the file's atoms.
+    #[must_use]
+    pub fn fields(&self) -> &AtomFields {
+        &self.0.fields
+    }
+
+    /// The heap bytes held (no positions).
+    #[must_use]
+    pub fn heap_bytes(&self) -> usize {
+        self.0.heap_bytes()
     }
 }
 
@@ -501,6 +577,20 @@ mod tests {
         let (fields, origin) = (big.fields().heap_bytes(), big.origin.heap_bytes());
         assert_eq!(fields, 3 * AtomFields::BYTES_PER_ATOM + 2 * size_of::<Box<str>>(), "the file's fields, not copied");
         assert_eq!(big.heap_bytes() - fields - origin, 5 * 15, "exact allocation");
+    }
+
+    #[test]
+    fn records_without_positions_give_the_same_atoms() {
+        let big = two_chains().expand_assembly(0, &Limits::default()).unwrap();
+        let atoms: Vec<_> = (0..big.len()).map(|i| format!("{:?}", big.atom(i))).collect();
+        let (copy, bytes) = (big.clone(), big.clone().heap_bytes());
+        let (positions, records) = copy.into_parts();
+        assert_eq!(records.len(), 5, "every atom");
+        for (i, want) in atoms.iter().enumerate() {
+            assert_eq!(&format!("{:?}", records.atom(i, positions[i])), want, "atom {i}");
+        }
+        assert_eq!((records.file_index(3), records.file_index(5)), (Some(2), None), "file indices");
+        assert_eq!(records.heap_bytes(), bytes - 5 * size_of::<Vec3>(), "no positions");
     }
 
     #[test]

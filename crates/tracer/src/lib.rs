@@ -108,7 +108,9 @@ pub use film::{Film, Record};
 pub use material::Material;
 pub use ray::{reflect, spawn_ray, Ray};
 pub use render::{BatchRow, PixelBatch, Pixels, Renderer, Target};
-pub use scene::{AtomKind, Light, Motion, RenderSettings, Scene, SceneSphere, Structure, MAX_DEPTH_LIMIT, MAX_LIGHTS};
+pub use scene::{
+    AtomKind, Light, Motion, Records, RenderSettings, Scene, SceneSphere, Structure, MAX_DEPTH_LIMIT, MAX_LIGHTS,
+};
 pub use scene_file::{is_scene_file_name, MAX_SPHERES, MAX_TOML_BYTES};
 pub use shade::Shaded;
 pub use simd::{lane_width, level as simd_level, widest_level as widest_simd_level, LANES_VAR};

@@ -105,6 +105,32 @@ pub struct Structure {
     pub kind_ids: Vec<u8>,
     /// The kinds of atom, in the order their first atom comes (at most 256).
     pub kinds: Vec<AtomKind>,
+    /// What the file says of each atom (chain, residue, names, B-factor…), shared between
+    /// the scene's copies; `None` for atoms made in code.
+    pub records: Option<Records>,
+    /// What was added to every atom's position when it was placed (scene units).
+    pub offset: Vec3,
+}
+
+/// A structure's [`molecule::AtomRecords`], shared: copies of a scene point to one, and two
+/// are equal when they are the same one.
+#[derive(Clone, Debug)]
+pub struct Records(pub std::sync::Arc<molecule::AtomRecords>);
+
+impl PartialEq for Records {
+    fn eq(&self, other: &Self) -> bool {
+        std::sync::Arc::ptr_eq(&self.0, &other.0)
+    }
+}
+
+impl Structure {
+    /// All the file says of atom `k` of this structure, with the file's own coordinates;
+    /// `None` past its atoms, or for atoms made in code.
+    #[must_use]
+    pub fn atom(&self, k: usize) -> Option<molecule::Atom<'_>> {
+        let records = &self.records.as_ref()?.0;
+        records.atom(k, *self.positions.get(k)? - self.offset)
+    }
 }
 
 /// A kind of atom of a [`Structure`]: the sphere's radius and material.

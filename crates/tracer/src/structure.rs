@@ -18,13 +18,14 @@
 //! shadows fall behind.
 
 use std::path::Path;
+use std::sync::Arc;
 
 use glam::Vec3;
 
 use crate::camera::Camera;
 use crate::error::SceneError;
 use crate::material::Material;
-use crate::scene::{AtomKind, Light, RenderSettings, Scene, Structure};
+use crate::scene::{AtomKind, Light, Records, RenderSettings, Scene, Structure};
 
 /// The look of atoms read from a structure file: matte with a soft highlight, no mirror.
 pub const ATOM_MATERIAL: Material =
@@ -67,14 +68,15 @@ pub fn read_structure(path: &Path, options: &StructureOptions) -> Result<Structu
     let read = molecule::ReadOptions { assembly: options.assembly, ..molecule::ReadOptions::default() };
     let molecule = molecule::read(path, &read)?;
     let source = molecule.source().to_owned();
-    let (mut positions, elements) = molecule.into_arrays();
+    let (mut positions, records) = molecule.into_parts();
     if options.offset != Vec3::ZERO {
         for p in &mut positions {
             *p += options.offset;
         }
     }
-    let (kind_ids, kinds) = resolve(&elements, options);
-    Ok(Structure { source, positions, kind_ids, kinds })
+    let (kind_ids, kinds) = resolve(records.elements(), options);
+    let records = Some(Records(Arc::new(records)));
+    Ok(Structure { source, positions, kind_ids, kinds, records, offset: options.offset })
 }
 
 /// Each atom's kind (an index into the kinds), and the kinds: one per element present, in

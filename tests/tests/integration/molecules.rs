@@ -64,6 +64,15 @@ fn tii_opens_framed_in_colour_and_comfortable_in_stereo() {
     assert!(o.x > 0.9 && o.y < 0.05 && o.z < 0.05, "oxygen red: {o}");
     assert!((c6.x - c6.y).abs() < 1e-6 && c6.x > 0.1 && c6.x < 0.4, "carbon grey: {c6}");
     assert!(n.z > 0.9 && n.x < 0.1, "nitrogen blue: {n}");
+    // Each sphere knows its atom: ATOM 1 is N of GLY D 1 at file (42.053, -9.336, 17.867).
+    let first = s.atom(0).expect("the file's fields are kept");
+    assert_eq!(
+        (first.name, first.residue_name, first.residue_number, first.chain),
+        ("N", "GLY", Some(1), "D"),
+        "atom 1"
+    );
+    assert_eq!(first.file_position, [42.053, -9.336, 17.867], "the file's coordinates, not the scene's");
+    assert!(s.atom(5683).is_some_and(|a| a.residue_name == "HOH") && s.atom(5684).is_none(), "the last atom, a water");
 }
 
 #[test]
@@ -106,7 +115,13 @@ fn btv_assembly_loads_and_renders_every_mode_within_the_memory_bound() {
         assert_eq!(stats.left.rays.primary, u64::from(w * h), "{mode}: a primary ray a pixel");
     }
     // What grows with the scene: the atoms, the tracer, the two eyes' screen bins.
-    let atoms = scene.structures.iter().map(|s| s.positions.capacity() * 12 + s.kind_ids.capacity()).sum::<usize>();
+    // The atoms: positions, kinds, and what the file says of each (elements, chains, fields).
+    let records = |s: &tracer::Structure| s.records.as_ref().map_or(0, |r| r.0.heap_bytes());
+    let atoms = scene
+        .structures
+        .iter()
+        .map(|s| s.positions.capacity() * 12 + s.kind_ids.capacity() + records(s))
+        .sum::<usize>();
     let bytes = atoms + tracer.memory().total() + frame.bins_memory();
     assert!(bytes / n <= 200, "{} bytes a sphere", bytes / n);
 }
