@@ -110,6 +110,9 @@ pub struct Structure {
     pub records: Option<Records>,
     /// What was added to every atom's position when it was placed (scene units).
     pub offset: Vec3,
+    /// With atoms hidden ([`Structure::hidden`]), each atom's index into the records;
+    /// `None`: atom k is record k.
+    pub shown: Option<Vec<u32>>,
 }
 
 /// A structure's [`molecule::AtomRecords`], shared: copies of a scene point to one, and two
@@ -129,7 +132,7 @@ impl Structure {
     #[must_use]
     pub fn atom(&self, k: usize) -> Option<molecule::Atom<'_>> {
         let records = &self.records.as_ref()?.0;
-        records.atom(k, *self.positions.get(k)? - self.offset)
+        records.atom(self.record_index(k), *self.positions.get(k)? - self.offset)
     }
 }
 

@@ -73,6 +73,24 @@ impl Snapshot {
         self.background_rgb = pack_rgb(self.settings.background);
     }
 
+    /// Takes the materials of `scene` (the scene of the last update, recoloured): the
+    /// palette, the exponents and the atoms' material ids; nothing moves.
+    pub(crate) fn recolor(&mut self, scene: &Scene) {
+        debug_assert_eq!(self.centers.len(), scene.sphere_count(), "recoloured with another scene");
+        self.palette.truncate(scene.spheres.len());
+        let mut at = scene.spheres.len();
+        for s in &scene.structures {
+            let first = self.palette.len() as u32;
+            self.palette.extend(s.kinds.iter().map(|kind| kind.material));
+            for (id, &kind) in self.material_ids[at..at + s.kind_ids.len()].iter_mut().zip(&s.kind_ids) {
+                *id = first + u32::from(kind);
+            }
+            at += s.kind_ids.len();
+        }
+        self.exponents.clear();
+        self.exponents.extend(self.palette.iter().map(|m| Exponent::of(m.shininess)));
+    }
+
     /// Moves the orbiting spheres of `scene`, the scene this was last updated from, to time
     /// `t`; returns whether any sphere moved (a still scene: none, at no cost).
     pub(crate) fn advance(&mut self, scene: &Scene, t: f32) -> bool {

@@ -76,7 +76,7 @@ pub fn read_structure(path: &Path, options: &StructureOptions) -> Result<Structu
     }
     let (kind_ids, kinds) = resolve(records.elements(), options);
     let records = Some(Records(Arc::new(records)));
-    Ok(Structure { source, positions, kind_ids, kinds, records, offset: options.offset })
+    Ok(Structure { source, positions, kind_ids, kinds, records, offset: options.offset, shown: None })
 }
 
 /// Each atom's kind (an index into the kinds), and the kinds: one per element present, in

@@ -114,6 +114,11 @@ impl Tracer {
         &self.scene.settings
     }
 
+    /// Takes the next generation: the scene changed without a rebuild.
+    pub(crate) fn bump_generation(&mut self) {
+        self.generation = GENERATIONS.fetch_add(1, Ordering::Relaxed) + 1;
+    }
+
     /// Overrides the reflection depth (the viewer's slider); a new depth is a new
     /// [`Tracer::generation`].
     pub fn set_max_depth(&mut self, depth: u32) {

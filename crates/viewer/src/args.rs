@@ -96,6 +96,8 @@ pub struct WindowArgs {
     /// 0.25 balls).
     #[arg(long, value_name = "S", default_value_t = tracer::DEFAULT_RADIUS_SCALE)]
     pub radius_scale: f32,
+    #[command(flatten)]
+    pub look: LookArgs,
 }
 
 /// Camera and render overrides shared by `render` and `bench`.
@@ -131,6 +133,57 @@ pub struct FrameArgs {
     /// Scene time in seconds (positions the revolving spheres).
     #[arg(long, value_name = "T", default_value_t = 0.0, allow_negative_numbers = true)]
     pub time: f32,
+    #[command(flatten)]
+    pub look: LookArgs,
+}
+
+/// How the scene's structures are coloured and which of their atoms are hidden: the
+/// window's and every headless command's.
+#[derive(Debug, Args, Clone, Copy, Default, PartialEq)]
+pub struct LookArgs {
+    /// Colour the structures' atoms by element, chain, residue (RasMol's shapely), bfactor
+    /// (blue–white–red), plddt (AlphaFold's bands), rainbow (N to C terminus) or hetero
+    /// (ligands by element, the polymer grey) [default: element, or the scene's color_by].
+    #[arg(long, value_name = "SCHEME", value_parser = parse_color_by)]
+    pub color: Option<tracer::ColorBy>,
+    /// With --color bfactor: the B-factors blue (A) to red (B), A < B [default: the file's
+    /// range].
+    #[arg(long, value_name = "A,B", value_parser = tracer::parse_color_range, allow_hyphen_values = true)]
+    pub color_range: Option<(f32, f32)>,
+    /// Atoms out of the scene, comma-separated: water (HOH, WAT, H2O, DOD, SOL, TIP3),
+    /// hydrogen, hetero (HETATM records).
+    #[arg(long, value_name = "ITEMS", value_parser = parse_hide)]
+    pub hide: Option<tracer::Hide>,
+}
+
+impl LookArgs {
+    /// The colouring asked for, `None` to keep the scene's own.
+    #[must_use]
+    pub fn coloring(&self) -> Option<tracer::Coloring> {
+        let by = self.color.or(self.color_range.map(|_| tracer::ColorBy::BFactor))?;
+        Some(tracer::Coloring { by, range: self.color_range })
+    }
+
+    /// `scene` with the atoms hidden and the colours asked for (nothing changes without
+    /// the flags).
+    #[must_use]
+    pub fn apply(&self, mut scene: tracer::Scene) -> tracer::Scene {
+        if let Some(hide) = self.hide.filter(|h| !h.is_empty()) {
+            scene = scene.hidden(hide);
+        }
+        if let Some(coloring) = self.coloring() {
+            scene.recolor(&coloring);
+        }
+        scene
+    }
+}
+
+fn parse_color_by(s: &str) -> Result<tracer::ColorBy, String> {
+    s.parse()
+}
+
+fn parse_hide(s: &str) -> Result<tracer::Hide, String> {
+    s.parse()
 }
 
 /// `stereotrace render`.

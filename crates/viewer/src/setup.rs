@@ -73,7 +73,7 @@ impl FrameSetup {
     /// per pixel (`render --supersample`): the checks count the samples.
     pub fn load_supersampled(args: &FrameArgs, frames_in_memory: u64, supersample: u32) -> Result<Self> {
         let path = resolve_scene(&args.scene);
-        let mut scene = Scene::load_with(&path, load_options(args.assembly, args.radius_scale)?)?;
+        let mut scene = args.look.apply(Scene::load_with(&path, load_options(args.assembly, args.radius_scale)?)?);
         if let Some(ipd) = args.ipd {
             if !(ipd.is_finite() && ipd >= 0.0) {
                 return Err(BadInput(format!("--ipd {ipd}: must be a finite number ≥ 0")).into());

@@ -22,6 +22,7 @@ pub mod syslibs;
 pub mod timing;
 
 pub mod fps_log;
+pub mod look;
 pub mod os_window;
 pub mod present;
 pub mod scene_watch;

@@ -8,6 +8,7 @@ use serde::Deserialize;
 use toml::Spanned;
 
 use super::{Checker, MAX_SPHERES};
+use crate::color_by::{ColorBy, Coloring};
 use crate::error::SceneError;
 use crate::scene::Structure;
 use crate::structure::{read_structure, StructureOptions};
@@ -21,6 +22,7 @@ pub(super) struct StructureDef {
     assembly: bool,
     pub(super) offset: Option<[f32; 3]>,
     color: Option<[f32; 3]>,
+    color_by: Option<String>,
     diffuse: Option<f32>,
     specular: Option<f32>,
     shininess: Option<f32>,
@@ -68,6 +70,14 @@ fn structure(ck: &Checker, k: usize, at: usize, s: &StructureDef) -> Result<Stru
         material: ck.shading(at, f, [s.diffuse, s.specular, s.shininess, s.reflectivity], d.material)?,
         color: s.color.map(|c| ck.color(at, &f("color"), c, 1.0)).transpose()?,
     };
+    let by = s.color_by.as_deref().map(str::parse::<ColorBy>).transpose();
+    let by = by.map_err(|why| ck.invalid(at, &f("color_by"), s.color_by.as_deref().unwrap_or(""), &why))?;
     let file = ck.path.parent().unwrap_or_else(|| Path::new("")).join(&s.path);
-    read_structure(&file, &options).map_err(|e| ck.invalid(at, &f("path"), &s.path, &e.to_string()))
+    let mut structure =
+        read_structure(&file, &options).map_err(|e| ck.invalid(at, &f("path"), &s.path, &e.to_string()))?;
+    // `color_by`: the scheme's colours for the kinds (`element` with `color` keeps `color`).
+    if let Some(by) = by.filter(|&by| by != ColorBy::Element || s.color.is_none()) {
+        structure.recolor(&Coloring { by, range: None });
+    }
+    Ok(structure)
 }

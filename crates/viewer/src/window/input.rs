@@ -26,7 +26,7 @@ use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
 const MAX_MOVE_STEP: f32 = 0.1;
 
 /// Every key and what it does, in the order the key overlay and the README list them.
-pub const KEYS: [(&str, &str); 16] = [
+pub const KEYS: [(&str, &str); 17] = [
     ("W / Up, S / Down", "move the head forward, back"),
     ("A / Left, D / Right", "move the head left, right"),
     ("Q, E", "move the head down, up"),
@@ -34,6 +34,7 @@ pub const KEYS: [(&str, &str); 16] = [
     ("R", "reset the head to the scene's camera"),
     ("1, 2, 3", "layout: side by side, cross-eyed, anaglyph"),
     ("X", "swap the eyes"),
+    ("C", "next colour scheme (element, chain, residue, bfactor, plddt, rainbow, hetero)"),
     ("M", "debug mask (over both eyes with the timewarp)"),
     ("T", "timewarp on / off"),
     ("Space", "pause / resume the revolving spheres"),
@@ -62,6 +63,8 @@ pub enum Command {
     SwapEyes,
     /// R: put the head back where the scene has it.
     ResetHead,
+    /// C: colour the structures by the next scheme.
+    CycleColor,
     /// 1, 2, 3: arrange the eyes so.
     Layout(Layout),
     /// Tab: hide or show the whole UI.
@@ -89,6 +92,7 @@ impl Command {
             Key::Character(c) if c.eq_ignore_ascii_case("p") => Some(Self::Save),
             Key::Character(c) if c.eq_ignore_ascii_case("x") => Some(Self::SwapEyes),
             Key::Character(c) if c.eq_ignore_ascii_case("r") => Some(Self::ResetHead),
+            Key::Character(c) if c.eq_ignore_ascii_case("c") => Some(Self::CycleColor),
             Key::Character(c) => {
                 c.parse::<usize>().ok().and_then(|k| Layout::ALL.get(k.wrapping_sub(1))).map(|&l| Self::Layout(l))
             }
@@ -266,6 +270,7 @@ mod tests {
         assert_eq!(Command::of_key(&ch("p")), Some(Command::Save), "P saves");
         assert_eq!(Command::of_key(&ch("P")), Some(Command::Save), "either case");
         assert_eq!(Command::of_key(&ch("x")), Some(Command::SwapEyes), "X swaps");
+        assert_eq!(Command::of_key(&ch("c")), Some(Command::CycleColor), "C cycles the colours");
         assert_eq!(Command::of_key(&ch("r")), Some(Command::ResetHead), "R resets");
         assert_eq!(Command::of_key(&ch("T")), Some(Command::ToggleTimewarp), "T, either case");
         for (k, layout) in Layout::ALL.into_iter().enumerate() {

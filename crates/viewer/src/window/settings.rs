@@ -106,6 +106,8 @@ pub struct Settings {
     /// The timewarp's guard band, a share of the eye traced beyond each side
     /// (0..=[`MAX_GUARD_BAND`]).
     pub guard_band: f32,
+    /// The structures' colours and hidden atoms (the panel's colour section, key C).
+    pub look: crate::window::look::Look,
 }
 
 impl Settings {
@@ -133,6 +135,7 @@ impl Settings {
             scale: scene.head_speed() / HEAD_SPEED,
             timewarp: true,
             guard_band: DEFAULT_GUARD_BAND,
+            look: crate::window::look::Look::default(),
         };
         s.reset_camera(scene);
         s.reset_light(scene);
@@ -293,6 +296,7 @@ impl Settings {
             light: self.light,
             timewarp: self.timewarp,
             guard: if self.timewarp { self.guard(samples) } else { (0, 0) },
+            look: self.look,
         }
     }
 

@@ -38,6 +38,7 @@ use tracer::{Scene, Tracer};
 
 use crate::reference::Reference;
 use crate::setup;
+use crate::window::look::{Change, Looked};
 
 mod eyes;
 pub(crate) mod finished;
@@ -237,6 +238,8 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
     // scene). Otherwise a frame only advances the tracer in time: a still scene, however
     // large, costs nothing there. The tracer just built has the scene's own light.
     let mut built: Option<Option<Vec3>> = Some(scene_light);
+    // The look (colours, hidden atoms) the scene has.
+    let mut looked = Looked::default();
     let mut frame = StereoFrame::new();
     let mut reference = Reference::default();
     let mut back = Finished::default();
@@ -255,7 +258,7 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
                     if let Some(new) = inbox.scene.take() {
                         scene = new;
                         scene_light = scene.lights.first().map(|l| l.position);
-                        (last, built) = (None, None);
+                        (last, built, looked) = (None, None, Looked::default());
                     }
                     break r;
                 }
@@ -277,6 +280,12 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
         }
         if let (Some(light), Some(home)) = (scene.lights.first_mut(), scene_light) {
             light.position = request.light.unwrap_or(home);
+        }
+        match looked.apply(&mut scene, request.look) {
+            Change::None => {}
+            // The BVH and light maps stay: only the materials change.
+            Change::Colors if built.is_some() => tracer.recolor(&scene),
+            Change::Colors | Change::Atoms => built = None,
         }
         let light = scene.lights.first().map(|l| l.position);
         if built == Some(light) {

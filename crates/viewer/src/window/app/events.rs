@@ -85,6 +85,7 @@ impl Viewer {
             Command::ToggleMask => s.show_mask ^= true,
             Command::ToggleTimewarp => s.timewarp ^= true,
             Command::SwapEyes => s.swap_eyes ^= true,
+            Command::CycleColor => s.look.cycle(),
             Command::ResetHead => s.reset_camera(self.watch.scene()),
             Command::Layout(layout) => s.layout = layout,
         }

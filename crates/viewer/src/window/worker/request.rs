@@ -46,6 +46,8 @@ pub struct Request {
     /// The guard band, samples beyond each side of the traced size (horizontally,
     /// vertically): traced, never shown as such, for the timewarp to turn into.
     pub guard: (u32, u32),
+    /// The structures' colours and hidden atoms.
+    pub look: crate::window::look::Look,
 }
 
 /// A builder for the tests, which ask for many requests that differ in a field or two.
@@ -70,6 +72,7 @@ impl Request {
             light: None,
             timewarp: false,
             guard: (0, 0),
+            look: crate::window::look::Look::default(),
         }
     }
 

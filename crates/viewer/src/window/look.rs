@@ -1,0 +1,154 @@
+//! How the window colours its structures and which atoms it hides ([`Look`]: `--color`,
+//! `--hide`, the panel's "colour" section and the C key), and how the render worker takes a
+//! new look ([`Looked`]): a new colouring recolours the tracer's materials without
+//! rebuilding its BVH (`Tracer::recolor`); hidden atoms leave the scene, which is rebuilt.
+
+use tracer::{ColorBy, Coloring, Hide, Scene};
+
+use crate::args::LookArgs;
+
+/// The colouring and the hidden atoms the window asks for.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Look {
+    /// `None`: the scene's own colours (as loaded, TOML `color_by` included).
+    pub coloring: Option<Coloring>,
+    /// The atoms out of the scene.
+    pub hide: Hide,
+}
+
+impl Look {
+    /// The look the command line asks for.
+    #[must_use]
+    pub fn from_args(args: &LookArgs) -> Self {
+        Self { coloring: args.coloring(), hide: args.hide.unwrap_or_default() }
+    }
+
+    /// The scheme shown (element for the scene's own).
+    #[must_use]
+    pub fn scheme(&self) -> ColorBy {
+        self.coloring.map_or(ColorBy::Element, |c| c.by)
+    }
+
+    /// Sets the scheme, keeping the B-factor range.
+    pub fn set_scheme(&mut self, by: ColorBy) {
+        let range = self.coloring.and_then(|c| c.range);
+        self.coloring = Some(Coloring { by, range });
+    }
+
+    /// The C key: the next scheme.
+    pub fn cycle(&mut self) {
+        self.set_scheme(self.scheme().next());
+    }
+}
+
+/// What taking a look changed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Change {
+    /// Nothing.
+    None,
+    /// Only colours: the tracer is recoloured ([`tracer::Tracer::recolor`]).
+    Colors,
+    /// Atoms left or came back: the tracer is rebuilt.
+    Atoms,
+}
+
+/// The render worker's side: the look its scene has, and while atoms are hidden the whole
+/// scene they were hidden from (nothing kept otherwise, so a large structure is not held
+/// twice).
+#[derive(Debug, Default)]
+pub struct Looked {
+    look: Look,
+    whole: Option<Scene>,
+}
+
+impl Looked {
+    /// `scene` (whose look this is) given `want`; says what changed.
+    pub fn apply(&mut self, scene: &mut Scene, want: Look) -> Change {
+        if want == self.look {
+            return Change::None;
+        }
+        let change = if want.hide == self.look.hide {
+            Change::Colors
+        } else {
+            let whole = match self.whole.take() {
+                Some(whole) => whole,
+                None => std::mem::take(scene),
+            };
+            if want.hide.is_empty() {
+                *scene = whole;
+            } else {
+                *scene = whole.hidden(want.hide);
+                self.whole = Some(whole);
+            }
+            Change::Atoms
+        };
+        // The scene's own colours back: element colours (the TOML's `color_by` is not kept).
+        if want.coloring.is_some() || self.look.coloring.is_some() {
+            scene.recolor(&want.coloring.unwrap_or_default());
+        }
+        self.look = want;
+        change
+    }
+}
+
+/// The panel's "colour" section: the scheme's combo box and the hiding ticks. Returns
+/// whether anything changed.
+pub fn look_ui(ui: &mut egui::Ui, look: &mut Look) -> bool {
+    let before = *look;
+    let mut by = look.scheme();
+    egui::ComboBox::from_label("colour (C)").selected_text(by.name()).show_ui(ui, |ui| {
+        for scheme in ColorBy::ALL {
+            ui.selectable_value(&mut by, scheme, scheme.name());
+        }
+    });
+    if by != look.scheme() {
+        look.set_scheme(by);
+    }
+    ui.horizontal(|ui| {
+        ui.label("hide");
+        ui.checkbox(&mut look.hide.water, "water");
+        ui.checkbox(&mut look.hide.hydrogen, "H");
+        ui.checkbox(&mut look.hide.hetero, "hetero");
+    });
+    *look != before
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use tracer::{Tracer, WATER_NAMES};
+
+    fn tii() -> Scene {
+        Scene::load("/usr/share/pymol/data/demo/1tii.pdb").unwrap()
+    }
+
+    #[test]
+    fn a_new_colouring_recolours_and_hiding_rebuilds_and_comes_back() {
+        let mut scene = tii();
+        let atoms = scene.sphere_count();
+        let mut looked = Looked::default();
+        let chain = Look { coloring: Some(Coloring { by: ColorBy::Chain, range: None }), hide: Hide::default() };
+        assert_eq!(looked.apply(&mut scene, chain), Change::Colors);
+        assert_eq!(looked.apply(&mut scene, chain), Change::None);
+        let hide = Hide { hydrogen: true, water: true, hetero: false };
+        assert_eq!(looked.apply(&mut scene, Look { hide, ..chain }), Change::Atoms);
+        assert!(scene.sphere_count() < atoms, "waters hidden");
+        let water = |s: &Scene| {
+            let st = &s.structures[0];
+            (0..st.positions.len()).any(|k| WATER_NAMES.contains(&st.atom(k).unwrap().residue_name))
+        };
+        assert!(!water(&scene));
+        assert_eq!(looked.apply(&mut scene, chain), Change::Atoms);
+        assert_eq!(scene.sphere_count(), atoms, "all back");
+        assert!(water(&scene));
+        // The recolour path gives what a tracer built afresh on the recoloured scene has.
+        let mut tracer = Tracer::new(&scene, 0.0);
+        let rainbow = Look { coloring: Some(Coloring { by: ColorBy::Rainbow, range: None }), ..chain };
+        assert_eq!(looked.apply(&mut scene, rainbow), Change::Colors);
+        tracer.recolor(&scene);
+        let fresh = Tracer::new(&scene, 0.0);
+        for k in (0..atoms).step_by(7) {
+            assert_eq!(tracer.snapshot().material(k), fresh.snapshot().material(k), "atom {k}");
+        }
+    }
+}
