@@ -125,3 +125,19 @@ fn btv_assembly_loads_and_renders_every_mode_within_the_memory_bound() {
     let bytes = atoms + tracer.memory().total() + frame.bins_memory();
     assert!(bytes / n <= 200, "{} bytes a sphere", bytes / n);
 }
+
+/// 1TII coloured by chain and by rainbow (the left eye, full trace): golden images.
+#[test]
+fn tii_by_chain_and_rainbow_golden_images() {
+    let Some(path) = structure(Path::new(TII), true) else { return };
+    let scene = Scene::load(&path).unwrap_or_else(|e| panic!("1TII loads: {e}"));
+    let (w, h) = (200, 150);
+    for (by, name) in [(tracer::ColorBy::Chain, "tii_chain_left"), (tracer::ColorBy::Rainbow, "tii_rainbow_left")] {
+        let mut scene = scene.clone();
+        scene.recolor(&tracer::Coloring { by, range: None });
+        let tracer = Tracer::new(&scene, 0.0);
+        let mut full = StereoFrame::new();
+        full.render(&tracer, &scene.camera, w, h, Options { mode: Mode::Full, retrace_edges: false });
+        assert_golden(name, w, h, &full.left().rgb, 2, 0.0);
+    }
+}

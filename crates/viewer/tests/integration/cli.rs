@@ -388,3 +388,27 @@ fn an_animation_with_and_without_reuse_writes_the_same_files() {
         }
     }
 }
+
+/// `--color` and `--hide` change the picture of a structure; `--color element` and no flag
+/// give the same bytes.
+#[test]
+fn colour_and_hide_flags_change_the_picture() {
+    let tii = "/usr/share/pymol/data/demo/1tii.pdb";
+    if !Path::new(tii).exists() {
+        return;
+    }
+    let render = |name: &str, extra: &[&str]| {
+        let l = tmp(name);
+        let mut args = vec!["render", "--scene", tii, "--width", "96", "--height", "72", "--mode", "full"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--left", l.to_str().unwrap()]);
+        let out = stereotrace(&args);
+        assert!(out.status.success(), "{extra:?}: {}", String::from_utf8_lossy(&out.stderr));
+        std::fs::read(&l).unwrap()
+    };
+    let plain = render("look_plain.png", &[]);
+    assert_eq!(render("look_element.png", &["--color", "element"]), plain, "--color element is the default");
+    assert_ne!(render("look_chain.png", &["--color", "chain"]), plain, "by chain");
+    assert_ne!(render("look_range.png", &["--color-range", "0,40"]), plain, "--color-range alone is bfactor");
+    assert_ne!(render("look_hide.png", &["--hide", "water,hydrogen,hetero"]), plain, "waters hidden");
+}

@@ -170,3 +170,27 @@ fn scene_paths_that_are_not_scene_files_and_broken_structures_exit_2() {
         "--radius-scale 0: must be a finite number > 0",
     );
 }
+
+/// An unknown colour scheme, a bad `--color-range` and an unknown `--hide` item exit 2 and
+/// name the value.
+#[test]
+fn a_bad_colour_scheme_range_or_hide_item_exits_2_naming_it() {
+    let tii = "/usr/share/pymol/data/demo/1tii.pdb";
+    for (flag, value, says) in [
+        ("--color", "chian", "unknown colour scheme `chian`"),
+        ("--color-range", "5,1", "`5,1`: expected two finite numbers A,B with A < B"),
+        ("--color-range", "x", "`x`: expected two finite numbers"),
+        ("--hide", "water,ions", "unknown item `ions` in `water,ions`"),
+    ] {
+        for command in ["render", "bench"] {
+            let out = stereotrace(&[command, "--scene", tii, "--width", "8", "--height", "8", flag, value, "--json"]);
+            assert_eq!(out.status.code(), Some(2), "{command} {flag} {value}");
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(err.contains(flag) && err.contains(says), "{command} {flag} {value}: {err}");
+            assert!(!err.contains("panicked"), "{err}");
+        }
+    }
+    // The window's flags too (refused before any window opens).
+    let out = stereotrace(&["--scene", tii, "--color", "chian"]);
+    assert_eq!(out.status.code(), Some(2), "the window's --color chian");
+}
