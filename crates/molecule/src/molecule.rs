@@ -35,7 +35,7 @@ pub struct Molecule {
     /// numbers its models.
     model: Option<u32>,
     /// Where each atom comes from among the file's.
-    origin: Origin,
+    pub(crate) origin: Origin,
     assemblies: Vec<Assembly>,
     applied: Option<usize>,
     warnings: Vec<Warning>,
@@ -308,7 +308,7 @@ impl Molecule {
 /// file's fields and where an assembly put each atom ([`Molecule::into_parts`]). It costs 1 +
 /// 2 bytes an atom, plus the file's fields.
 #[derive(Clone, Debug)]
-pub struct AtomRecords(Molecule);
+pub struct AtomRecords(pub(crate) Molecule);
 
 impl AtomRecords {
     /// The number of atoms.

@@ -91,6 +91,28 @@ impl Origin {
         }
     }
 
+    /// Calls `f(i, file)` for each atom `i` below `len` with its file index, in order, at a
+    /// step's cost each (an assembly walks its parts; no search per atom).
+    pub(crate) fn for_each(&self, len: usize, mut f: impl FnMut(usize, usize)) {
+        match self {
+            Self::File => (0..len).for_each(|i| f(i, i)),
+            Self::Assembly(parts) => {
+                let mut i = 0;
+                for p in parts {
+                    for _ in 0..p.operators {
+                        for &file in &p.file_indices {
+                            if i == len {
+                                return;
+                            }
+                            f(i, file as usize);
+                            i += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+
     /// The heap bytes it holds.
     pub(crate) fn heap_bytes(&self) -> usize {
         match self {
@@ -100,5 +122,14 @@ impl Origin {
                     + parts.capacity() * size_of::<Part>()
             }
         }
+    }
+}
+
+impl crate::AtomRecords {
+    /// Calls `f(i, file)` for every atom `i` in order with its file index
+    /// ([`crate::AtomRecords::file_index`]), at a step's cost each: what a pass over millions
+    /// of an assembly's atoms uses.
+    pub fn for_each_file_index(&self, f: impl FnMut(usize, usize)) {
+        self.0.origin.for_each(self.len(), f);
     }
 }

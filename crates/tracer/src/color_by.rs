@@ -236,12 +236,22 @@ const SHAPELY_OTHER: [u8; 3] = [255, 0, 255];
 /// Residue `name`'s shapely colour (DNA's DG and DT as G and T).
 #[must_use]
 pub fn residue_colour(name: &str) -> Vec3 {
+    shapely_colour(usize::from(shapely_slot(name)))
+}
+
+/// Residue `name`'s entry in the shapely table; one past its end for residues it lacks.
+pub(crate) fn shapely_slot(name: &str) -> u16 {
     let name = match name {
         "DG" => "G",
         "DT" => "T",
         n => n,
     };
-    linear(SHAPELY.iter().find(|(n, _)| *n == name).map_or(SHAPELY_OTHER, |&(_, c)| c))
+    SHAPELY.iter().position(|(n, _)| *n == name).unwrap_or(SHAPELY.len()) as u16
+}
+
+/// The colour of entry `slot` of the shapely table (past its end: shapely's "other").
+pub(crate) fn shapely_colour(slot: usize) -> Vec3 {
+    linear(SHAPELY.get(slot).map_or(SHAPELY_OTHER, |&(_, c)| c))
 }
 
 /// AlphaFold DB's pLDDT bands: very high (> 90), confident (70–90), low (50–70), very low

@@ -11,8 +11,8 @@ use glam::Vec3;
 use molecule::AtomRecords;
 
 use crate::color_by::{
-    blue_white_red, chain_colour, plddt_band, plddt_colour, polymer_grey, rainbow, residue_colour, step, ColorBy,
-    Coloring, Hide, WATER_NAMES,
+    blue_white_red, chain_colour, plddt_band, plddt_colour, polymer_grey, rainbow, shapely_colour, shapely_slot, step,
+    ColorBy, Coloring, Hide, CHAIN_COLOURS, WATER_NAMES,
 };
 use crate::scene::{AtomKind, Scene, Structure};
 use crate::tracer::Tracer;
@@ -31,39 +31,39 @@ impl Structure {
     pub fn recolor(&mut self, coloring: &Coloring) {
         let Some(records) = self.records.clone() else { return };
         let records = &*records.0;
-        let mut kind_ids = std::mem::take(&mut self.kind_ids);
-        let shown = self.shown.as_deref();
-        let colour_of = colour_fn(records, coloring, kind_ids.len(), move |k| shown.map_or(k, |ids| ids[k] as usize));
+        let scheme = Scheme::new(records, coloring);
+        // Each record's colour slot, then each atom's kind from (its radius, its slot).
+        let mut slots = vec![0u16; records.len()];
+        scheme.slots(records, &mut slots);
+        let mut radii: Vec<f32> = Vec::new();
+        let class: Vec<usize> = self
+            .kinds
+            .iter()
+            .map(|k| {
+                radii.iter().position(|&r| r == k.radius).unwrap_or_else(|| {
+                    radii.push(k.radius);
+                    radii.len() - 1
+                })
+            })
+            .collect();
         let material = self.kinds.first().map_or(crate::structure::ATOM_MATERIAL, |k| k.material);
         let mut kinds: Vec<AtomKind> = Vec::new();
-        // (radius, colour) pair → kind, through the pair's bits.
-        let mut lookup = std::collections::HashMap::<(u32, [u32; 3]), u8>::new();
-        // The colour a kind holds, per (radius kind, colour) pair seen: atoms mostly repeat
-        // the last pair, so that one is checked first.
-        let mut last: Option<((u32, [u32; 3]), u8)> = None;
-        for (k, id) in kind_ids.iter_mut().enumerate() {
-            let radius = self.kinds[usize::from(*id)].radius;
-            let color = colour_of(k);
-            let key = (radius.to_bits(), color.to_array().map(f32::to_bits));
-            if let Some((last_key, last_id)) = last {
-                if last_key == key {
-                    *id = last_id;
-                    continue;
-                }
-            }
-            let new = *lookup.entry(key).or_insert_with(|| {
-                if kinds.len() < 256 {
+        let mut table = vec![u16::MAX; radii.len() * SLOTS];
+        for k in 0..self.kind_ids.len() {
+            let r = class[usize::from(self.kind_ids[k])];
+            let slot = usize::from(slots[self.record_index(k)]);
+            let entry = &mut table[r * SLOTS + slot];
+            if *entry == u16::MAX {
+                let (radius, color) = (radii[r], scheme.colour(slot));
+                *entry = if kinds.len() < 256 {
                     kinds.push(AtomKind { radius, material: crate::Material { color, ..material } });
-                    (kinds.len() - 1) as u8
+                    (kinds.len() - 1) as u16
                 } else {
-                    nearest(&kinds, radius, color)
-                }
-            });
-            last = Some((key, new));
-            *id = new;
+                    u16::from(nearest(&kinds, radius, color))
+                };
+            }
+            self.kind_ids[k] = *entry as u8;
         }
-        drop(colour_of);
-        self.kind_ids = kind_ids;
         self.kinds = kinds;
     }
 
@@ -74,15 +74,15 @@ impl Structure {
         let Some(records) = self.records.as_ref().filter(|_| !hide.is_empty()) else { return self.clone() };
         let records = &*records.0;
         let (fields, elements) = (records.fields(), records.elements());
-        let shown_atom = |i: usize| {
+        let mut shown_record = vec![true; records.len()];
+        records.for_each_file_index(|i, file| {
             let h = elements[i].atomic_number() == 1;
-            let file = records.file_index(i).unwrap_or(i);
             let has = file < fields.len();
             let het = has && fields.is_hetero(file);
             let water = has && WATER_NAMES.contains(&fields.residue_name(file));
-            !(hide.hydrogen && h || hide.hetero && het || hide.water && water)
-        };
-        let keep: Vec<usize> = (0..self.positions.len()).filter(|&k| shown_atom(self.record_index(k))).collect();
+            shown_record[i] = !(hide.hydrogen && h || hide.hetero && het || hide.water && water);
+        });
+        let keep: Vec<usize> = (0..self.positions.len()).filter(|&k| shown_record[self.record_index(k)]).collect();
         Structure {
             source: self.source.clone(),
             positions: keep.iter().map(|&k| self.positions[k]).collect(),
@@ -102,64 +102,94 @@ fn nearest(kinds: &[AtomKind], radius: f32, color: Vec3) -> u8 {
     best.unwrap_or(0) as u8
 }
 
-/// The colour of each of `n` atoms (atom `k` being record `index(k)`) under `coloring`.
-fn colour_fn<'a>(
-    records: &'a AtomRecords,
-    coloring: &Coloring,
-    n: usize,
-    index: impl Fn(usize) -> usize + 'a,
-) -> Box<dyn Fn(usize) -> Vec3 + 'a> {
-    let (fields, elements, chains) = (records.fields(), records.elements(), records.chains());
-    // The file's atom of record i (an assembly's copies share theirs).
-    let file = move |i: usize| records.file_index(i).unwrap_or(i);
-    let has_fields = !fields.is_empty();
-    let element = move |i: usize| elements[i].linear_colour();
-    match coloring.by {
-        ColorBy::Element => Box::new(move |k| element(index(k))),
-        ColorBy::Chain => {
-            let colours: Vec<Vec3> = (0..records.chain_ids().len().max(1)).map(chain_colour).collect();
-            Box::new(move |k| colours[usize::from(chains[index(k)]) % colours.len()])
-        }
-        ColorBy::Residue if has_fields => Box::new(move |k| residue_colour(fields.residue_name(file(index(k))))),
-        ColorBy::BFactor if has_fields => {
-            let range = coloring.range.or_else(|| fields.b_factor_range()).unwrap_or((0.0, 1.0));
-            Box::new(move |k| {
-                fields.b_factor(file(index(k))).map_or(Vec3::splat(0.5), |b| blue_white_red(step(b, range)))
-            })
-        }
-        ColorBy::Plddt if has_fields => {
-            Box::new(move |k| fields.b_factor(file(index(k))).map_or(plddt_colour(3), |b| plddt_colour(plddt_band(b))))
-        }
-        ColorBy::Rainbow if has_fields => {
-            // Each chain's residue-number range, over the atoms shown.
-            let mut ranges = vec![(i32::MAX, i32::MIN); records.chain_ids().len().max(1)];
-            for k in 0..n {
-                let i = index(k);
-                if let Some(r) = fields.residue_number(file(i)) {
-                    let c = &mut ranges[usize::from(chains[i])];
+/// Colour slots a scheme can give: an element's atomic number (0–255) or one more (256).
+const SLOTS: usize = 257;
+/// The slot of "no value" (a B-factor missing) and of `hetero`'s polymer.
+const GREY_SLOT: u16 = 256;
+
+/// A scheme ready to give each atom a colour slot (a small number) and each slot its colour:
+/// the per-atom pass does no colour arithmetic.
+struct Scheme {
+    by: ColorBy,
+    /// `bfactor`'s range.
+    range: (f32, f32),
+    /// `rainbow`'s residue-number range per chain.
+    chains: Vec<(i32, i32)>,
+    /// `rainbow`'s chain of each file atom.
+    file_chains: Vec<u16>,
+    /// Whether the file has per-atom fields (XYZ has none: element colours).
+    fields: bool,
+}
+
+impl Scheme {
+    fn new(records: &AtomRecords, coloring: &Coloring) -> Self {
+        let fields = records.fields();
+        let mut chains = Vec::new();
+        let mut file_chains = Vec::new();
+        if coloring.by == ColorBy::Rainbow && !fields.is_empty() {
+            // Each file atom's chain (an assembly's copies keep their chain), then each
+            // chain's residue-number range over the file's atoms.
+            file_chains = vec![0u16; fields.len()];
+            let chain_of = records.chains();
+            records.for_each_file_index(|i, file| file_chains[file] = chain_of[i]);
+            chains = vec![(i32::MAX, i32::MIN); records.chain_ids().len().max(1)];
+            for (file, &chain) in file_chains.iter().enumerate() {
+                if let Some(r) = fields.residue_number(file) {
+                    let c = &mut chains[usize::from(chain)];
                     *c = (c.0.min(r), c.1.max(r));
                 }
             }
-            Box::new(move |k| {
-                let i = index(k);
-                let (lo, hi) = ranges[usize::from(chains[i])];
-                let r = fields.residue_number(file(i)).unwrap_or(lo);
-                rainbow(step(r as f32, (lo as f32, hi as f32)))
-            })
         }
-        ColorBy::Hetero if has_fields => {
-            let grey = polymer_grey();
-            Box::new(move |k| {
-                let i = index(k);
-                if fields.is_hetero(file(i)) {
-                    element(i)
-                } else {
-                    grey
-                }
-            })
+        let range = coloring.range.or_else(|| fields.b_factor_range()).unwrap_or((0.0, 1.0));
+        Self { by: coloring.by, range, chains, file_chains, fields: !fields.is_empty() }
+    }
+
+    /// Fills each record's slot.
+    fn slots(&self, records: &AtomRecords, slots: &mut [u16]) {
+        let (fields, elements, chains) = (records.fields(), records.elements(), records.chains());
+        let element = |i: usize| u16::from(elements[i].atomic_number());
+        let mut each =
+            |f: &mut dyn FnMut(usize, usize) -> u16| records.for_each_file_index(|i, file| slots[i] = f(i, file));
+        match self.by {
+            ColorBy::Chain => each(&mut |i, _| chains[i] % CHAIN_COLOURS as u16),
+            _ if !self.fields => each(&mut |i, _| element(i)),
+            ColorBy::Element => each(&mut |i, _| element(i)),
+            // A slot the file's atom alone decides: once per file atom (an assembly's
+            // copies share theirs).
+            ColorBy::Residue | ColorBy::BFactor | ColorBy::Plddt | ColorBy::Rainbow => {
+                let of_file: Vec<u16> = (0..fields.len())
+                    .map(|file| match self.by {
+                        ColorBy::Residue => shapely_slot(fields.residue_name(file)),
+                        ColorBy::BFactor => fields.b_factor(file).map_or(GREY_SLOT, |b| u16::from(step(b, self.range))),
+                        ColorBy::Rainbow => {
+                            let (lo, hi) = self.chains[usize::from(self.file_chains[file])];
+                            let r = fields.residue_number(file).unwrap_or(lo);
+                            u16::from(step(r as f32, (lo as f32, hi as f32)))
+                        }
+                        _ => fields.b_factor(file).map_or(3, |b| plddt_band(b) as u16),
+                    })
+                    .collect();
+                each(&mut |_, file| of_file[file]);
+            }
+            ColorBy::Hetero => each(&mut |i, file| if fields.is_hetero(file) { element(i) } else { GREY_SLOT }),
         }
-        // A file without per-atom fields (XYZ): its elements.
-        _ => Box::new(move |k| element(index(k))),
+    }
+
+    /// Slot `slot`'s colour.
+    fn colour(&self, slot: usize) -> Vec3 {
+        let element = |slot: usize| {
+            molecule::Element::from_atomic_number(slot as u8).unwrap_or(molecule::Element::UNKNOWN).linear_colour()
+        };
+        match self.by {
+            _ if slot == usize::from(GREY_SLOT) => polymer_grey(),
+            ColorBy::Chain => chain_colour(slot),
+            _ if !self.fields => element(slot),
+            ColorBy::Element | ColorBy::Hetero => element(slot),
+            ColorBy::Residue => shapely_colour(slot),
+            ColorBy::BFactor => blue_white_red(slot as u8),
+            ColorBy::Plddt => plddt_colour(slot),
+            ColorBy::Rainbow => rainbow(slot as u8),
+        }
     }
 }
 
