@@ -118,7 +118,6 @@ pub fn parse_color_range(s: &str) -> Result<(f32, f32), String> {
 
 /// Which atoms are out of the scene (`--hide water,hydrogen,hetero`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-#[expect(clippy::struct_excessive_bools, reason = "three independent switches")]
 pub struct Hide {
     /// Residues HOH, WAT, H2O, DOD, SOL, TIP3.
     pub water: bool,

@@ -1,5 +1,6 @@
 //! The schemes on real files, and hidden atoms out of every ray.
 
+use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
@@ -34,21 +35,11 @@ fn temp_file(name: &str, text: &str) -> PathBuf {
     path
 }
 
-/// A PDB atom record (columns as the format gives them: B-factor in 61–66).
-fn pdb_line(
-    record: &str,
-    serial: usize,
-    name: &str,
-    residue: &str,
-    chain: char,
-    number: i32,
-    p: [f32; 3],
-    b: f32,
-    element: &str,
-) -> String {
+/// A PDB atom record of chain A, B-factor 10 (columns as the format gives them).
+fn pdb_line(record: &str, name: &str, residue: &str, number: i32, p: [f32; 3], element: &str) -> String {
     format!(
-        "{record:<6}{serial:>5} {name:<4} {residue:>3} {chain}{number:>4}    {:8.3}{:8.3}{:8.3}{:6.2}{b:6.2}          {element:>2}\n",
-        p[0], p[1], p[2], 1.0
+        "{record:<6}{number:>5} {name:<4} {residue:>3} A{number:>4}    {:8.3}{:8.3}{:8.3}{:6.2}{:6.2}          {element:>2}\n",
+        p[0], p[1], p[2], 1.0, 10.0
     )
 }
 
@@ -114,7 +105,7 @@ fn plddt_puts_each_atom_in_its_band() {
     let mut file = String::new();
     for (k, line) in text.lines().filter(|l| l.starts_with("ATOM")).take(40).enumerate() {
         let b = cases[k % cases.len()].0;
-        file.push_str(&format!("{}{b:6.2}{}\n", &line[..60], &line[66..]));
+        writeln!(file, "{}{b:6.2}{}", &line[..60], &line[66..]).unwrap();
     }
     let path = temp_file("plddt.pdb", &file);
     let mut s = read_structure(&path, &StructureOptions::default()).unwrap();
@@ -145,8 +136,8 @@ fn a_hidden_atom_casts_no_shadow_and_stops_no_ray() {
     // A carbon, and a water's oxygen 3 Å above it (both radii < 1.8 Å, so apart), a light
     // straight above both.
     let text = [
-        pdb_line("ATOM", 1, "CA", "GLY", 'A', 1, [0.0, 0.0, 0.0], 10.0, "C"),
-        pdb_line("HETATM", 2, "O", "HOH", 'A', 101, [0.0, 4.0, 0.0], 10.0, "O"),
+        pdb_line("ATOM", "CA", "GLY", 1, [0.0, 0.0, 0.0], "C"),
+        pdb_line("HETATM", "O", "HOH", 101, [0.0, 4.0, 0.0], "O"),
     ]
     .concat();
     let path = temp_file("shadow.pdb", &text);
