@@ -143,7 +143,6 @@ pub fn panel(ctx: &egui::Context, settings: &mut Settings, readout: &Readout<'_>
                 scene(ui, &readout.scene, &mut actions);
                 controls(ui, settings, readout, &mut actions);
                 egui::CollapsingHeader::new("colour and hiding")
-                    .default_open(true)
                     .show(ui, |ui| crate::window::look::look_ui(ui, &mut settings.look));
                 screenshots(ui, readout, folder);
                 egui::CollapsingHeader::new("light").show(ui, |ui| light(ui, settings, readout, &mut actions));

@@ -344,3 +344,22 @@ fn the_tab_hint_says_tab_hides_the_ui() {
     assert!(hint.max.y < 600.0 && hint.min.y > 500.0, "at the bottom: {hint:?}");
     assert!((hint.center().x - 400.0).abs() < 2.0, "centred: {hint:?}");
 }
+
+/// The colour section: its combo box sets the scheme, its ticks hide atoms.
+#[test]
+fn the_colour_section_sets_the_scheme_and_the_hidden_atoms() {
+    let history = FrameTimes::default();
+    let mut harness = harness(&scene(), idle_readout(&history));
+    harness.get_by_label("colour and hiding").click();
+    harness.run();
+    // The scene's list, then the scheme's.
+    harness.get_all_by_role(Role::ComboBox).nth(1).unwrap().click();
+    harness.run();
+    harness.get_by_label("chain").click();
+    harness.run();
+    assert_eq!(harness.state().settings.look.scheme(), tracer::ColorBy::Chain, "by chain");
+    harness.get_by_label("water").click();
+    harness.run();
+    assert!(harness.state().settings.look.hide.water, "waters hidden");
+    assert!(!harness.state().settings.look.hide.hydrogen, "hydrogens not");
+}
