@@ -160,3 +160,22 @@ fn what_is_not_a_scene_file_is_refused_before_it_is_read() {
     let missing = dir.join("missing.toml");
     assert!(e(&missing).contains("missing.toml"), "{}", e(&missing));
 }
+
+#[test]
+fn a_structure_s_color_by_recolours_it_and_a_bad_one_is_named() {
+    let dir = scratch("color-by");
+    let tii = "/usr/share/pymol/data/demo/1tii.pdb";
+    let path = dir.join("s.toml");
+    let write =
+        |by: &str| std::fs::write(&path, format!("[[structures]]\npath = \"{tii}\"\ncolor_by = \"{by}\"\n")).unwrap();
+    write("chain");
+    let scene = Scene::load(&path).unwrap();
+    let s = &scene.structures[0];
+    let chain_a = (0..s.positions.len()).filter(|&k| s.atom(k).unwrap().chain == "A");
+    let colours: Vec<_> = chain_a.map(|k| s.kind(k).material.color).collect();
+    assert!(colours.windows(2).all(|w| w[0] == w[1]), "chain A in one colour");
+    assert_ne!(colours[0], s.kind(0).material.color, "chain D in another");
+    write("chian");
+    let e = Scene::load(&path).unwrap_err().to_string();
+    assert!(e.contains("s.toml:1: structures[0].color_by = chian: unknown colour scheme `chian`"), "{e}");
+}
