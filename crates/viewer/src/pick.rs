@@ -14,8 +14,6 @@
 //! ([`label_positions`]), so it has the atom's disparity e·z/(d+z) (Adelson & Hodges 1993)
 //! and floats at the atom's depth.
 
-#![allow(dead_code, reason = "the window picks with these (next commit)")]
-
 use glam::{Vec2, Vec3};
 use tracer::{intersect_sphere, Camera, Eye, Ray, Scene};
 
