@@ -34,16 +34,35 @@ pub fn atom_of(scene: &Scene, object: usize) -> Option<(usize, usize)> {
 /// The closest sphere `ray` hits in `scene` at time `time`: its object id and the ray
 /// parameter of the hit. Every sphere is tested (no acceleration structure): what the
 /// window asks for one click, where it has no tracer of its own; the same answer as the
-/// tracer's closest-hit query but for exact ties.
+/// tracer's closest-hit query but for exact ties. A sphere the ray's line clearly passes
+/// by (by more than a thousandth of its radius) is skipped before the exact test: a click
+/// on 2BTV's assembly (2.9 million atoms) took 31–44 ms (a shared 2-core machine).
 #[must_use]
 pub fn closest_hit(scene: &Scene, time: f32, ray: &Ray) -> Option<(u32, f32)> {
     let mut best: Option<(u32, f32)> = None;
-    for k in 0..scene.sphere_count() {
-        let s = scene.sphere_at(k, time);
+    let mut test = |k: usize, center: Vec3, radius: f32| {
+        let oc = center - ray.origin;
+        let along = oc.dot(ray.dir);
+        let off = oc.length_squared() - along * along;
+        let reach = radius * 1.001 + 1e-4 * (1.0 + oc.length());
+        if off > reach * reach || along + reach < 0.0 {
+            return;
+        }
         let t_max = best.map_or(f32::INFINITY, |(_, t)| t);
-        if let Some(t) = intersect_sphere(ray, s.center, s.radius, t_max) {
+        if let Some(t) = intersect_sphere(ray, center, radius, t_max) {
             // Object ids are u32 (the film's plane); a scene has fewer spheres than that.
             best = Some((k as u32, t));
+        }
+    };
+    for k in 0..scene.spheres.len() {
+        let s = scene.sphere_at(k, time);
+        test(k, s.center, s.radius);
+    }
+    let mut k = scene.spheres.len();
+    for structure in &scene.structures {
+        for (center, radius) in structure.atom_spheres() {
+            test(k, center, radius);
+            k += 1;
         }
     }
     best
