@@ -325,6 +325,40 @@ mod tests {
         }
     }
 
+    /// The picks window, headless (egui_kittest): each pick's fields, the distance and
+    /// the angle; the labels tick and the clear button.
+    #[test]
+    fn the_picks_window_shows_the_fields_and_the_measures() {
+        use egui_kittest::kittest::Queryable as _;
+        let atom = |k: u32, at: [f32; 3]| Picked {
+            object: k,
+            centre: Vec3::from(at),
+            radius: 1.0,
+            label: format!("A:GLY{k} CA"),
+            lines: vec![format!("B-factor {k}.5  occupancy 1")],
+            measured_at: at,
+        };
+        let picks = Picks {
+            picked: vec![atom(1, [1.0, 0.0, 0.0]), atom(2, [0.0; 3]), atom(3, [0.0, 2.0, 0.0])],
+            ..Picks::default()
+        };
+        let mut harness = egui_kittest::Harness::builder()
+            .with_size(egui::vec2(800.0, 600.0))
+            .build_ui_state(|ui, picks: &mut Picks| picks.panel(ui.ctx()), picks);
+        harness.run();
+        for text in
+            ["1 A:GLY1 CA", "3 A:GLY3 CA", "B-factor 2.5  occupancy 1", "distance 1–2: 1.00 Å", "angle 1–2–3: 90.0°"]
+        {
+            let _ = harness.get_by_label(text);
+        }
+        harness.get_by_label("labels").click();
+        harness.run();
+        assert!(!harness.state().labels, "the tick hides the labels");
+        harness.get_by_label("clear (Esc)").click();
+        harness.run();
+        assert!(harness.state().picked.is_empty(), "the button clears the picks");
+    }
+
     #[test]
     fn a_click_is_a_release_near_its_press_off_the_panel() {
         let mut p = Picks::default();
