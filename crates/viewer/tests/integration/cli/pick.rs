@@ -114,3 +114,17 @@ fn pick_outside_the_image_exits_2_naming_the_value_and_a_miss_exits_3() {
     assert_eq!(r["hit"], false, "the JSON says so too");
     assert!(r["ray"]["direction"].is_array(), "and gives the ray");
 }
+
+/// FRAME counts frames of the orbit animation: scene time --time + FRAME / --fps.
+#[test]
+fn pick_frame_is_a_frame_of_the_animation() {
+    let out = stereotrace(&[
+        "pick", "45", "--fps", "30", "--time", "0.5", "--width", "64", "--height", "48", "--at", "32,24", "--json",
+    ]);
+    let r: Value =
+        serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{e}: {}", String::from_utf8_lossy(&out.stderr)));
+    assert_eq!(r["time"], 2.0, "0.5 s + 45 frames at 30 a second");
+    let out = stereotrace(&["pick", "--width", "64", "--height", "48", "--at", "32,24", "--json"]);
+    let r: Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(r["time"], 0.0, "no FRAME: the scene at --time");
+}
