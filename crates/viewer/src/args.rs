@@ -41,6 +41,9 @@ pub enum Command {
     /// A head moving at constant speed: a frame traced every N display frames, each displayed
     /// frame that traced frame warped to its own pose, scored against a trace there.
     Timewarp(TimewarpArgs),
+    /// The atom (or sphere) a pixel's primary ray hits first in one eye: its fields, the
+    /// ray and the hit point.
+    Pick(PickArgs),
 }
 
 /// Options of the viewer window.
@@ -351,6 +354,38 @@ pub struct TimewarpArgs {
     /// when the name ends in .svg.
     #[arg(long, value_name = "F.png|F.svg")]
     pub plot: Option<PathBuf>,
+}
+
+/// `stereotrace pick`.
+#[derive(Debug, Args)]
+pub struct PickArgs {
+    #[command(flatten)]
+    pub frame: FrameArgs,
+    /// Frame number of the orbit animation (as `render --frames` numbers its files): scene
+    /// time --time + FRAME / --fps [default: 0, the scene at --time].
+    #[arg(value_name = "FRAME")]
+    pub frame_number: Option<u32>,
+    /// Frames per second of the animation FRAME counts in.
+    #[arg(long, value_name = "F", default_value_t = 30.0)]
+    pub fps: f32,
+    /// The eye whose pixel is picked.
+    #[arg(long, value_name = "EYE", value_enum, default_value_t = PickEye::Left)]
+    pub eye: PickEye,
+    /// The pixel: column and row from the eye image's top-left corner, 0-based.
+    #[arg(long, value_name = "X,Y", allow_hyphen_values = true)]
+    pub at: String,
+    /// Print one JSON object (on a miss too) instead of the text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `pick --eye`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum PickEye {
+    /// The left eye.
+    Left,
+    /// The right eye.
+    Right,
 }
 
 /// Largest `timewarp --trace-every` value.

@@ -21,3 +21,5 @@ pub mod sweep;
 
 pub mod age_plot;
 pub mod timewarp;
+
+pub mod pick;

@@ -1,7 +1,8 @@
-//! `stereotrace`: the stereo viewer window, and the headless `render`, `bench`, `sweep` and
-//! `timewarp` commands.
+//! `stereotrace`: the stereo viewer window, and the headless `render`, `bench`, `sweep`,
+//! `timewarp` and `pick` commands.
 //!
-//! Exit codes: 0 success, 2 bad input (scene file, arguments), 1 any other failure.
+//! Exit codes: 0 success, 2 bad input (scene file, arguments), 3 `pick`'s ray hit nothing,
+//! 1 any other failure.
 //!
 //! The sources are laid out by job: `cli/` holds the headless commands and what only they
 //! use, `window/` the viewer window; what both use stays at the top. The modules, in order:
@@ -10,7 +11,8 @@
 //! - shared: `crop` (a rectangle of an eye image, the type of `render --crop`), `motion` (a
 //!   head's constant motion, the type of `timewarp --motion`), `args` (the
 //!   command line, clap), `setup` (a scene with the overrides applied, the memory check, the
-//!   scene path resolved), `reference` (the full trace quality is measured against);
+//!   scene path resolved), `reference` (the full trace quality is measured against), `pick`
+//!   (the atom a pixel's ray hits, distances and angles, where its label goes in each eye);
 //! - `cli`, the headless commands: `report` (the JSON keys), `render` and `bench`; `plot`
 //!   (the sweep's figure) and `sweep`, which measures with `bench`'s loop; `age_plot` and
 //!   `timewarp` (warped frames scored against traces at their poses);
@@ -25,6 +27,7 @@ mod args;
 mod cli;
 mod crop;
 mod motion;
+mod pick;
 mod reference;
 mod setup;
 mod window;
@@ -43,6 +46,7 @@ fn main() -> ExitCode {
         Some(Command::Bench(args)) => cli::bench::run(&args),
         Some(Command::Sweep(args)) => cli::sweep::run(&args),
         Some(Command::Timewarp(args)) => cli::timewarp::run(&args),
+        Some(Command::Pick(args)) => cli::pick::run(&args),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -50,6 +54,8 @@ fn main() -> ExitCode {
             eprintln!("stereotrace: error: {e:#}");
             if e.downcast_ref::<tracer::SceneError>().is_some() || e.downcast_ref::<setup::BadInput>().is_some() {
                 ExitCode::from(2)
+            } else if e.downcast_ref::<cli::pick::Miss>().is_some() {
+                ExitCode::from(3)
             } else {
                 ExitCode::from(1)
             }

@@ -8,7 +8,8 @@
 //!   frame-time history), `input` (keys and drags), `pose_meter` (new poses a second,
 //!   input latency, frame age);
 //! - `worker` (the render thread and its requests), `present` (a frame into the window's
-//!   buffer), `timewarp` (the traced frame warped to the head pose of the present), `settings` (the settings model, head movement, the request), `scene_watch`
+//!   buffer), `picks` (clicked atoms, their rings and stereo labels, distance and angle),
+//!   `timewarp` (the traced frame warped to the head pose of the present), `settings` (the settings model, head movement, the request), `scene_watch`
 //!   (the scene file watched and reloaded, other files opened), `screenshot`, `fps_log`
 //!   (the stderr log), `ui` (the panel, drawing only), `os_window` (the window and
 //!   presenting into it);
@@ -24,6 +25,7 @@ pub mod timing;
 pub mod fps_log;
 pub mod look;
 pub mod os_window;
+pub mod picks;
 pub mod present;
 pub mod scene_watch;
 pub mod screenshot;

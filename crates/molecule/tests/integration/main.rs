@@ -11,6 +11,8 @@ use std::path::{Path, PathBuf};
 
 /// pymol-data's 1TII, which CI installs.
 pub const ONE_TII: &str = "/usr/share/pymol/data/demo/1tii.pdb";
+/// GROMACS's box of 216 SPC waters (Debian's gromacs-data).
+pub const SPC216: &str = "/usr/share/gromacs/top/spc216.gro";
 
 /// The project's shared data, beside the repository: `../shared` from the project's root.
 #[must_use]

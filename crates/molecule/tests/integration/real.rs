@@ -8,7 +8,7 @@ use std::time::Instant;
 use glam::Vec3;
 use molecule::{Element, Format, ReadOptions};
 
-use crate::{loud, real_file, scratch_dir, two_btv, two_btv_required_in_ci, ONE_TII};
+use crate::{loud, real_file, scratch_dir, two_btv, two_btv_required_in_ci, ONE_TII, SPC216};
 
 /// The ATOM and HETATM records of a PDB text, counted as `grep -c` would.
 fn atom_records(text: &str) -> usize {
@@ -99,6 +99,26 @@ fn one_tii_as_gemmi_writes_mmcif_has_the_pdb_files_fields() {
         assert_eq!((b.element, b.file_position, b.model), (a.element, a.file_position, Some(1)), "atom {i}");
     }
     std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn gromacs_spc216_fields_of_the_first_a_middle_and_the_last_atom_are_the_files() {
+    // 216 SPC waters as GROMACS ships them (Debian's gromacs-data; .ci/run installs it).
+    let Some(path) = real_file(SPC216.as_ref(), true) else { return };
+    let m = molecule::read(&path, &ReadOptions::default()).unwrap();
+    let text = std::fs::read_to_string(&path).unwrap();
+    let lines: Vec<&str> = text.lines().skip(2).take(648).collect();
+    assert_eq!(m.len(), 648, "the count line's 648 atoms");
+    for i in [0, 323, 647] {
+        let (line, a) = (lines[i], m.atom(i).unwrap());
+        let field = |range: std::ops::Range<usize>| line.get(range).unwrap_or("").trim();
+        assert_eq!(a.residue_number, field(0..5).parse().ok(), "atom {i}: residue number");
+        assert_eq!((a.residue_name, a.name), (field(5..10), field(10..15)), "atom {i}: residue and atom names");
+        let nm = |range| field(range).parse::<f32>().unwrap() * 10.0;
+        let xyz = [nm(20..28), nm(28..36), nm(36..44)];
+        assert!(a.file_position.iter().zip(xyz).all(|(a, b)| (a - b).abs() < 1e-4), "atom {i}: {:?}", a.file_position);
+    }
+    assert_eq!(m.atom(647).map(|a| (a.residue_number, a.name)), Some((Some(216), "HW2")), "the last atom");
 }
 
 #[test]

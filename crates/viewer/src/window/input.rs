@@ -9,7 +9,8 @@
 //! panel) turns the head; R resets it; 1, 2, 3 choose side-by-side, cross-eyed, anaglyph;
 //! X swaps the eyes; M toggles the debug mask; T the timewarp; Space pauses the revolving spheres; F12 or P
 //! saves screenshots; Tab hides and shows the whole UI; F11 toggles borderless fullscreen;
-//! ? or F1 opens and closes the key overlay; Esc closes the overlay, or else quits.
+//! ? or F1 opens and closes the key overlay; a left click without drag off the panel picks
+//! an atom (`picks.rs`); Esc closes the overlay, or else clears the picks, or else quits.
 //!
 //! Letters and arrows are ignored while egui has keyboard focus (typing a value into a
 //! slider); Tab, F1, F11 and F12 are the viewer's whatever egui wants ([`Command::is_global`]),
@@ -42,14 +43,15 @@ pub const KEYS: [(&str, &str); 17] = [
     ("Tab", "hide / show the whole UI"),
     ("F11", "borderless fullscreen on / off"),
     ("? or F1", "this list on / off"),
-    ("Esc", "close this list, else quit"),
+    ("left click (no drag) on an eye", "pick an atom: 2 show the distance, 3 the angle"),
+    ("Esc", "close this list, else clear the picks, else quit"),
     ("drop a scene file", "open it (.toml or a structure)"),
 ];
 
 /// What a key press asks the viewer to do.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Command {
-    /// Esc: close the key overlay if it is open, else the window.
+    /// Esc: close the key overlay if it is open, else clear the picks, else the window.
     Quit,
     /// Space: pause or resume the revolving spheres.
     TogglePause,

@@ -2,6 +2,7 @@
 //! report; bad input is `bad_input`'s.
 
 mod bad_input;
+mod pick;
 
 use std::path::{Path, PathBuf};
 use std::process::Output;

@@ -1,6 +1,7 @@
 //! The real viewer under Xvfb: it shows the seed scene in both eyes with the egui panel over
 //! the left one, keys move the head, switch the layout and save screenshots, Tab leaves both
-//! eyes clean, and a render scale of 200 % shows the supersampled eyes.
+//! eyes clean, a render scale of 200 % shows the supersampled eyes, and a click picks the
+//! atom `stereotrace pick` reports at that pixel.
 //!
 //! Each test starts its own X server ([`XSession`]) and waits only for conditions — the
 //! window mapped, a line of the viewer's fps log (`STEREOTRACE_LOG_FPS=1`), the `saved`
@@ -305,5 +306,77 @@ fn tab_hides_the_ui_and_leaves_both_eyes_clean() {
         let first = half.chunks_exact(3).zip(eye.chunks_exact(3)).position(|(a, b)| a != b);
         assert_eq!(first.map(|k| (k % 200, k / 200)), None, "the {name} half differs from the {name} eye at (x, y)");
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A click on an atom of 1TII in either eye picks the atom `stereotrace pick` reports at
+/// that pixel (the viewer logs each click on stderr); Esc clears the picks before it quits.
+#[test]
+fn a_click_picks_the_atom_pick_reports_at_that_pixel() {
+    const TII: &str = "/usr/share/pymol/data/demo/1tii.pdb";
+    if missing(&["xvfb-run", "xdotool"]) {
+        return;
+    }
+    if !Path::new(TII).is_file() {
+        tracer::testing::skipped(&format!("{TII} is not installed"));
+        return;
+    }
+    let dir = scratch("pick");
+    let x = XSession::start();
+    let args = ["--scene", TII, "--width", "1200", "--height", "400", "--time", "0"];
+    let args: Vec<&OsStr> = args.iter().map(OsStr::new).collect();
+    let mut viewer = x.viewer(&dir, &args, &[("STEREOTRACE_LOG_FPS", "1")]);
+    let id = x.focus_window(&viewer);
+    viewer.wait_for_line("a rendered frame", has_frame);
+    let geometry = x.xdotool(&viewer, "the window's place", &["getwindowgeometry", "--shell", &id]);
+    let at = |key: &str| -> i64 {
+        geometry.lines().find_map(|l| l.strip_prefix(&format!("{key}="))?.parse().ok()).unwrap_or(0)
+    };
+    let (wx, wy) = (at("X"), at("Y"));
+    // Eyes of 600 × 400; the panel covers the left eye's left 330 columns, the picks window
+    // (once there are picks) the right eye's bottom-right corner.
+    // Pixels over the molecule in each eye, a few apart, so that a pixel off by one in the
+    // window's mapping would pick another atom somewhere.
+    let pixels = (0..6).map(|k| (270 + 11 * k, 170 + 7 * k));
+    let clicks =
+        pixels.clone().map(|p| ("right", p, 600 + p.0)).chain(pixels.map(|p| ("left", (p.0 + 140, p.1), p.0 + 140)));
+    let mut matched = 0;
+    for (eye, (px, py), window_x) in clicks {
+        let (sx, sy) = ((wx + i64::from(window_x)).to_string(), (wy + i64::from(py)).to_string());
+        x.xdotool(&viewer, "click", &["mousemove", "--sync", &sx, &sy, "click", "1"]);
+        let line = viewer.wait_for_line("the click's pick", |l| l.starts_with("pick: "));
+        assert!(line.starts_with(&format!("pick: {eye} eye pixel ({px}, {py}): ")), "{line}");
+        let object: Option<u64> =
+            line.split_once("): sphere ").and_then(|(_, r)| r.split_whitespace().next()?.parse().ok());
+        let out = crate::common::stereotrace(&[
+            "pick",
+            "--scene",
+            TII,
+            "--width",
+            "600",
+            "--height",
+            "400",
+            "--eye",
+            eye,
+            "--at",
+            &format!("{px},{py}"),
+            "--json",
+        ]);
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(report["object"].as_u64(), object, "{eye} ({px}, {py}): window {line}; pick {report}");
+        matched += usize::from(object.is_some());
+    }
+    assert!(matched >= 8, "most clicks are on atoms: {matched} of 12");
+    // Esc clears the picks first: the viewer still runs, and answers the next click.
+    let (sx, sy) = ((wx + 900).to_string(), (wy + 200).to_string());
+    for step in ["a pick before Esc", "a pick after Esc"] {
+        x.xdotool(&viewer, step, &["mousemove", "--sync", &sx, &sy, "click", "1"]);
+        viewer.wait_for_line(step, |l| l.starts_with("pick: right eye pixel (300, 200): sphere "));
+        if step.ends_with("before Esc") {
+            x.xdotool(&viewer, "press Esc", &["key", "Escape"]);
+        }
+    }
+    x.xdotool(&viewer, "press Esc twice", &["key", "Escape", "Escape"]);
+    viewer.wait_exit();
     let _ = std::fs::remove_dir_all(&dir);
 }

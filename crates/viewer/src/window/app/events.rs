@@ -4,7 +4,7 @@
 
 use std::time::Instant;
 
-use winit::event::{ElementState, KeyEvent, WindowEvent};
+use winit::event::{ElementState, KeyEvent, MouseButton, WindowEvent};
 use winit::event_loop::ActiveEventLoop;
 
 use super::viewer::Viewer;
@@ -46,14 +46,21 @@ impl Viewer {
             WindowEvent::MouseInput { state, button, .. } => {
                 let on_panel = self.egui.is_pointer_over_egui() || self.egui.egui_wants_pointer_input();
                 self.input.mouse_button(button, state, on_panel);
+                if button == MouseButton::Left {
+                    self.left_button(window, state == ElementState::Pressed, on_panel);
+                }
             }
             WindowEvent::CursorMoved { position, .. } => {
+                self.cursor = Some((position.x, position.y));
                 if let Some((dx, dy)) = self.input.cursor_moved(position) {
                     self.settings.turn_head(dx, dy);
                     self.meters.pose.input(Instant::now());
                 }
             }
-            WindowEvent::CursorLeft { .. } => self.input.cursor_left(),
+            WindowEvent::CursorLeft { .. } => {
+                self.input.cursor_left();
+                self.cursor = None;
+            }
             WindowEvent::RedrawRequested => {
                 let started = Instant::now();
                 if let Err(e) = self.redraw(window, event_loop) {
@@ -69,8 +76,9 @@ impl Viewer {
     fn apply(&mut self, command: Command, window: &Window, event_loop: &ActiveEventLoop) {
         let s = &mut self.settings;
         match command {
+            // Esc closes the key overlay, else clears the picks, else quits.
             Command::Quit => {
-                if self.chrome.escape_quits() {
+                if self.chrome.escape_quits() && !self.picks.clear() {
                     event_loop.exit();
                 }
             }
@@ -88,6 +96,28 @@ impl Viewer {
             Command::CycleColor => s.look.cycle(),
             Command::ResetHead => s.reset_camera(self.watch.scene()),
             Command::Layout(layout) => s.layout = layout,
+        }
+    }
+}
+
+impl Viewer {
+    /// The left button went down or up: a click (a release near its press, off the panel)
+    /// picks in the picture on screen.
+    fn left_button(&mut self, window: &Window, pressed: bool, on_panel: bool) {
+        let Some(at) = self.picks.button(pressed, on_panel, self.cursor) else { return };
+        let Some((camera, time)) = self.shown else { return };
+        let size = window.inner_size();
+        let look = self.settings.look();
+        let Some((eye, (i, j), object)) =
+            self.picks.click((self.watch.scene(), time, &camera), (size.width, size.height), look, at)
+        else {
+            return;
+        };
+        self.pacing.dirty = true;
+        let eye = if eye == tracer::Eye::Left { "left" } else { "right" };
+        match (object, self.picks.picked.last()) {
+            (Some(object), Some(p)) => eprintln!("pick: {eye} eye pixel ({i}, {j}): sphere {object} {}", p.label),
+            _ => eprintln!("pick: {eye} eye pixel ({i}, {j}): nothing (picks cleared)"),
         }
     }
 }

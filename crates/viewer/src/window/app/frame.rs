@@ -42,6 +42,7 @@ impl Viewer {
         self.settings.walk(direction, seconds);
         let Some(size) = Size::of(window.inner_size()) else { return Ok(()) };
         let frame = self.take_frame(size, now);
+        self.shown = self.shown_pose(frame.as_ref(), now);
         let ui = self.panel(window, frame.as_ref(), now);
         // The redraw's head pose, with what the panel changed: asked of the tracer, and
         // what the timewarp shows (none when the window is too small for an eye).
@@ -76,6 +77,18 @@ impl Viewer {
         info
     }
 
+    /// The pose and scene time of the picture this redraw shows: with the timewarp, the
+    /// head's pose now (the frame is warped to it); without it, the pose the frame was
+    /// traced at. Picks and their labels are projected through it.
+    fn shown_pose(&self, frame: Option<&FrameInfo>, now: Instant) -> Option<(Camera, f32)> {
+        let time = frame.map_or_else(|| self.clock.time(now), |f| f.request.time);
+        if self.settings.timewarp {
+            Some((self.settings.camera(&self.watch.scene().camera), time))
+        } else {
+            frame.map(|f| (f.views.camera, time))
+        }
+    }
+
     /// Runs the egui panel over `frame`'s statistics (and the hint, unless the UI is hidden,
     /// and the key overlay when it is open) and applies what the user changed. Returns the
     /// UI to draw: nothing at all when it is hidden and the overlay closed.
@@ -106,9 +119,16 @@ impl Viewer {
         let chrome = &mut self.chrome;
         let hint = chrome.hint(now);
         let note = super::chrome::progress(w.loading(), self.worker.building(), now);
+        let (picks, shown, look) = (&mut self.picks, self.shown, self.settings.look());
+        let inner = window.inner_size();
         let mut output = self.egui.run_ui(raw_input, |ui| {
             if let Some(note) = &note {
                 ui::progress(ui.ctx(), note);
+            }
+            // The picks' rings and labels belong to the stereo picture: drawn with the UI
+            // hidden too.
+            if let Some((camera, _)) = shown {
+                picks.draw(ui.ctx(), &camera, (inner.width, inner.height), look);
             }
             // Asked for, the key overlay shows even with the UI hidden (until closed).
             if chrome.keys_open {
@@ -118,6 +138,7 @@ impl Viewer {
                 return;
             }
             actions = ui::panel(ui.ctx(), &mut settings, &readout, folder);
+            picks.panel(ui.ctx());
             if hint {
                 ui::tab_hint(ui.ctx());
             }

@@ -18,6 +18,7 @@ use crate::args::WindowArgs;
 use crate::window::fps_log::FpsLog;
 use crate::window::input::Input;
 use crate::window::os_window::{Dump, Window};
+use crate::window::picks::Picks;
 use crate::window::scene_watch::{Change, SceneWatch};
 use crate::window::screenshot::Screenshots;
 use crate::window::settings::Settings;
@@ -66,6 +67,12 @@ pub(super) struct Viewer {
     pub(super) meters: Meters,
     pub(super) fps_log: FpsLog,
     pub(super) screenshots: Screenshots,
+    /// The picked atoms, and the pose and scene time of the picture on screen that the
+    /// next click picks in (set at each redraw).
+    pub(super) picks: Picks,
+    pub(super) shown: Option<(tracer::Camera, f32)>,
+    /// The cursor's last position in the window (physical pixels), while it is in it.
+    pub(super) cursor: Option<(f64, f64)>,
     /// `--dump`: the last presented frame, written on exit.
     pub(super) dump: Option<Dump>,
     /// First error met inside the event loop; `run` returns it.
@@ -114,6 +121,9 @@ impl Viewer {
             meters: Meters::new(now),
             fps_log: FpsLog::from_env(),
             screenshots: Screenshots::default(),
+            picks: Picks::default(),
+            shown: None,
+            cursor: None,
             dump: args.dump.clone().map(Dump::new),
             error: None,
         })
