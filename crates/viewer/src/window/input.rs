@@ -27,7 +27,7 @@ use winit::keyboard::{Key, KeyCode, NamedKey, PhysicalKey};
 const MAX_MOVE_STEP: f32 = 0.1;
 
 /// Every key and what it does, in the order the key overlay and the README list them.
-pub const KEYS: [(&str, &str); 17] = [
+pub const KEYS: [(&str, &str); 18] = [
     ("W / Up, S / Down", "move the head forward, back"),
     ("A / Left, D / Right", "move the head left, right"),
     ("Q, E", "move the head down, up"),

@@ -108,8 +108,12 @@ impl Viewer {
         let Some((camera, time)) = self.shown else { return };
         let size = window.inner_size();
         let look = self.settings.look();
-        let Some((eye, (i, j), object)) =
-            self.picks.click((self.watch.scene(), time, &camera), (size.width, size.height), look, at)
+        // The scene the worker traces: without the hidden atoms, whose object ids the
+        // picture's are (a copy per click while atoms are hidden, none otherwise).
+        let hide = self.settings.look.hide;
+        let hidden = (!hide.is_empty()).then(|| self.watch.scene().hidden(hide));
+        let scene = hidden.as_ref().unwrap_or_else(|| self.watch.scene());
+        let Some((eye, (i, j), object)) = self.picks.click((scene, time, &camera), (size.width, size.height), look, at)
         else {
             return;
         };
