@@ -1,4 +1,4 @@
-//! How the window colours its structures and which atoms it hides ([`Look`]: `--color`,
+//! How the window colours its structures and which atoms it hides ([`AtomLook`]: `--color`,
 //! `--hide`, the panel's "colour" section and the C key), and how the render worker takes a
 //! new look ([`Looked`]): a new colouring recolours the tracer's materials without
 //! rebuilding its BVH (`Tracer::recolor`); hidden atoms leave the scene, which is rebuilt.
@@ -9,14 +9,14 @@ use crate::args::LookArgs;
 
 /// The colouring and the hidden atoms the window asks for.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Look {
+pub struct AtomLook {
     /// `None`: the scene's own colours (as loaded, TOML `color_by` included).
     pub coloring: Option<Coloring>,
     /// The atoms out of the scene.
     pub hide: Hide,
 }
 
-impl Look {
+impl AtomLook {
     /// The look the command line asks for.
     #[must_use]
     pub fn from_args(args: &LookArgs) -> Self {
@@ -57,13 +57,13 @@ pub enum Change {
 /// twice).
 #[derive(Debug, Default)]
 pub struct Looked {
-    look: Look,
+    look: AtomLook,
     whole: Option<Scene>,
 }
 
 impl Looked {
     /// `scene` (whose look this is) given `want`; says what changed.
-    pub fn apply(&mut self, scene: &mut Scene, want: Look) -> Change {
+    pub fn apply(&mut self, scene: &mut Scene, want: AtomLook) -> Change {
         if want == self.look {
             return Change::None;
         }
@@ -93,7 +93,7 @@ impl Looked {
 
 /// The panel's "colour" section: the scheme's combo box and the hiding ticks. Returns
 /// whether anything changed.
-pub fn look_ui(ui: &mut egui::Ui, look: &mut Look) -> bool {
+pub fn look_ui(ui: &mut egui::Ui, look: &mut AtomLook) -> bool {
     let before = *look;
     let mut by = look.scheme();
     egui::ComboBox::from_label("colour (C)").selected_text(by.name()).show_ui(ui, |ui| {
@@ -127,11 +127,11 @@ mod tests {
         let mut scene = tii();
         let atoms = scene.sphere_count();
         let mut looked = Looked::default();
-        let chain = Look { coloring: Some(Coloring { by: ColorBy::Chain, range: None }), hide: Hide::default() };
+        let chain = AtomLook { coloring: Some(Coloring { by: ColorBy::Chain, range: None }), hide: Hide::default() };
         assert_eq!(looked.apply(&mut scene, chain), Change::Colors);
         assert_eq!(looked.apply(&mut scene, chain), Change::None);
         let hide = Hide { hydrogen: true, water: true, hetero: false };
-        assert_eq!(looked.apply(&mut scene, Look { hide, ..chain }), Change::Atoms);
+        assert_eq!(looked.apply(&mut scene, AtomLook { hide, ..chain }), Change::Atoms);
         assert!(scene.sphere_count() < atoms, "waters hidden");
         let water = |s: &Scene| {
             let st = &s.structures[0];
@@ -143,7 +143,7 @@ mod tests {
         assert!(water(&scene));
         // The recolour path gives what a tracer built afresh on the recoloured scene has.
         let mut tracer = Tracer::new(&scene, 0.0);
-        let rainbow = Look { coloring: Some(Coloring { by: ColorBy::Rainbow, range: None }), ..chain };
+        let rainbow = AtomLook { coloring: Some(Coloring { by: ColorBy::Rainbow, range: None }), ..chain };
         assert_eq!(looked.apply(&mut scene, rainbow), Change::Colors);
         tracer.recolor(&scene);
         let fresh = Tracer::new(&scene, 0.0);

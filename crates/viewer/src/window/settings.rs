@@ -107,7 +107,7 @@ pub struct Settings {
     /// (0..=[`MAX_GUARD_BAND`]).
     pub guard_band: f32,
     /// The structures' colours and hidden atoms (the panel's colour section, key C).
-    pub look: crate::window::look::Look,
+    pub atoms: crate::window::look::AtomLook,
 }
 
 impl Settings {
@@ -135,7 +135,7 @@ impl Settings {
             scale: scene.head_speed() / HEAD_SPEED,
             timewarp: true,
             guard_band: DEFAULT_GUARD_BAND,
-            look: crate::window::look::Look::default(),
+            atoms: crate::window::look::AtomLook::default(),
         };
         s.reset_camera(scene);
         s.reset_light(scene);
@@ -296,7 +296,7 @@ impl Settings {
             light: self.light,
             timewarp: self.timewarp,
             guard: if self.timewarp { self.guard(samples) } else { (0, 0) },
-            look: self.look,
+            atoms: self.atoms,
         }
     }
 

@@ -143,7 +143,7 @@ pub fn panel(ctx: &egui::Context, settings: &mut Settings, readout: &Readout<'_>
                 scene(ui, &readout.scene, &mut actions);
                 controls(ui, settings, readout, &mut actions);
                 egui::CollapsingHeader::new("colour and hiding")
-                    .show(ui, |ui| crate::window::look::look_ui(ui, &mut settings.look));
+                    .show(ui, |ui| crate::window::look::look_ui(ui, &mut settings.atoms));
                 screenshots(ui, readout, folder);
                 egui::CollapsingHeader::new("light").show(ui, |ui| light(ui, settings, readout, &mut actions));
                 ui.separator();

@@ -281,7 +281,7 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
         if let (Some(light), Some(home)) = (scene.lights.first_mut(), scene_light) {
             light.position = request.light.unwrap_or(home);
         }
-        match looked.apply(&mut scene, request.look) {
+        match looked.apply(&mut scene, request.atoms) {
             Change::None => {}
             // The BVH and light maps stay: only the materials change.
             Change::Colors if built.is_some() => tracer.recolor(&scene),

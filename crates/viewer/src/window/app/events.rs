@@ -93,7 +93,7 @@ impl Viewer {
             Command::ToggleMask => s.show_mask ^= true,
             Command::ToggleTimewarp => s.timewarp ^= true,
             Command::SwapEyes => s.swap_eyes ^= true,
-            Command::CycleColor => s.look.cycle(),
+            Command::CycleColor => s.atoms.cycle(),
             Command::ResetHead => s.reset_camera(self.watch.scene()),
             Command::Layout(layout) => s.layout = layout,
         }
@@ -110,7 +110,7 @@ impl Viewer {
         let look = self.settings.look();
         // The scene the worker traces: without the hidden atoms, whose object ids the
         // picture's are (a copy per click while atoms are hidden, none otherwise).
-        let hide = self.settings.look.hide;
+        let hide = self.settings.atoms.hide;
         let hidden = (!hide.is_empty()).then(|| self.watch.scene().hidden(hide));
         let scene = hidden.as_ref().unwrap_or_else(|| self.watch.scene());
         let Some((eye, (i, j), object)) = self.picks.click((scene, time, &camera), (size.width, size.height), look, at)

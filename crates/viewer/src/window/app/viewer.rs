@@ -89,7 +89,7 @@ impl Viewer {
         };
         settings.paused = clock.is_paused();
         settings.live_psnr = args.live_psnr;
-        settings.look = crate::window::look::Look::from_args(&args.look);
+        settings.atoms = crate::window::look::AtomLook::from_args(&args.look);
         settings.reuse = !args.no_reuse;
         settings.timewarp = !args.no_timewarp;
         settings.guard_band = args.guard_band as f32 / 100.0;

@@ -357,9 +357,9 @@ fn the_colour_section_sets_the_scheme_and_the_hidden_atoms() {
     harness.run();
     harness.get_by_label("chain").click();
     harness.run();
-    assert_eq!(harness.state().settings.look.scheme(), tracer::ColorBy::Chain, "by chain");
+    assert_eq!(harness.state().settings.atoms.scheme(), tracer::ColorBy::Chain, "by chain");
     harness.get_by_label("water").click();
     harness.run();
-    assert!(harness.state().settings.look.hide.water, "waters hidden");
-    assert!(!harness.state().settings.look.hide.hydrogen, "hydrogens not");
+    assert!(harness.state().settings.atoms.hide.water, "waters hidden");
+    assert!(!harness.state().settings.atoms.hide.hydrogen, "hydrogens not");
 }

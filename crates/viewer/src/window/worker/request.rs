@@ -47,7 +47,7 @@ pub struct Request {
     /// vertically): traced, never shown as such, for the timewarp to turn into.
     pub guard: (u32, u32),
     /// The structures' colours and hidden atoms.
-    pub look: crate::window::look::Look,
+    pub atoms: crate::window::look::AtomLook,
 }
 
 /// A builder for the tests, which ask for many requests that differ in a field or two.
@@ -72,7 +72,7 @@ impl Request {
             light: None,
             timewarp: false,
             guard: (0, 0),
-            look: crate::window::look::Look::default(),
+            atoms: crate::window::look::AtomLook::default(),
         }
     }
 
