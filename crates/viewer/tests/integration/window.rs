@@ -12,6 +12,7 @@
 //! tests pass with a loud SKIPPED message, except when `CI` is set: CI installs them, so
 //! there a missing tool fails.
 
+mod colour;
 mod x_session;
 
 use std::ffi::OsStr;
