@@ -57,6 +57,7 @@
 
 mod assembly;
 mod bounds;
+mod builder;
 mod element;
 mod error;
 mod field;
