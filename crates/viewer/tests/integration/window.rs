@@ -49,6 +49,44 @@ fn scratch(name: &str) -> PathBuf {
     dir
 }
 
+/// Runs the viewer with `frame` and `size` in `dir`, hides the UI with Tab, and quits once a
+/// frame is presented without it (`--dump dump.png`); then renders the same frame headless
+/// (`frame` and `eye_size`, exact mode: the viewer's default) and asserts that each half of
+/// the dump is that eye, pixel for pixel: no UI pixel covers an eye.
+fn clean_dump_is_render(dir: &Path, frame: &[&str], size: &[&str], eye_size: &[&str]) {
+    let x = XSession::start();
+    let args: Vec<&OsStr> = frame.iter().chain(size).chain(&["--dump", "dump.png"]).map(OsStr::new).collect();
+    let mut viewer = x.viewer(dir, &args, &[("STEREOTRACE_LOG_FPS", "1")]);
+    x.focus_window(&viewer);
+    x.xdotool(&viewer, "press Tab", &["key", "Tab"]);
+    // The line is written as a redraw begins, and that redraw presents what it says.
+    viewer.wait_for_line("a rendered frame presented with the UI hidden", |l| {
+        field(l, "ui") == Some("hidden") && has_frame(l)
+    });
+    x.xdotool(&viewer, "press Esc", &["key", "Escape"]);
+    viewer.wait_exit();
+
+    let render = Command::new(env!("CARGO_BIN_EXE_stereotrace"))
+        .arg("render")
+        .args(frame)
+        .args(eye_size)
+        .args(["--mode", "exact", "--left", "left.png", "--right", "right.png"])
+        .current_dir(dir)
+        .output()
+        .unwrap_or_else(|e| panic!("stereotrace render: {e}"));
+    assert!(render.status.success(), "render failed: {}", String::from_utf8_lossy(&render.stderr));
+    let (w, h, dump) = read_rgb_png(&dir.join("dump.png"));
+    assert_eq!((w, h), (400, 200), "the window's size");
+    let (_, _, left) = read_rgb_png(&dir.join("left.png"));
+    let (_, _, right) = read_rgb_png(&dir.join("right.png"));
+    for (name, half, eye) in [("left", columns(&dump, w, 0, 200), left), ("right", columns(&dump, w, 200, 400), right)]
+    {
+        assert_eq!(half.len(), eye.len(), "the {name} half is eye-sized");
+        let first = half.chunks_exact(3).zip(eye.chunks_exact(3)).position(|(a, b)| a != b);
+        assert_eq!(first.map(|k| (k % 200, k / 200)), None, "the {name} half differs from the {name} eye at (x, y)");
+    }
+}
+
 /// Starts the viewer on the seed scene with `args` on `x`, in `dir`, with `env` set.
 fn viewer(x: &XSession, dir: &Path, args: &[&str], env: &[(&str, &str)]) -> Viewer {
     let scene = seed_scene();
@@ -274,39 +312,10 @@ fn tab_hides_the_ui_and_leaves_both_eyes_clean() {
         return;
     }
     let dir = scratch("tab");
-    let x = XSession::start();
-    let args = ["--width", "400", "--height", "200", "--time", "1.0", "--dump", "dump.png"];
-    let mut viewer = viewer(&x, &dir, &args, &[("STEREOTRACE_LOG_FPS", "1")]);
-    x.focus_window(&viewer);
-    x.xdotool(&viewer, "press Tab", &["key", "Tab"]);
-    // The line is written as a redraw begins, and that redraw presents what it says.
-    viewer.wait_for_line("a rendered frame presented with the UI hidden", |l| {
-        field(l, "ui") == Some("hidden") && has_frame(l)
-    });
-    x.xdotool(&viewer, "press Esc", &["key", "Escape"]);
-    viewer.wait_exit();
-
-    // The same frame headless: the viewer's defaults are the scene's camera in exact mode.
-    let render = Command::new(env!("CARGO_BIN_EXE_stereotrace"))
-        .arg("render")
-        .arg("--scene")
-        .arg(seed_scene())
-        .args(["--width", "200", "--height", "200", "--time", "1.0", "--mode", "exact"])
-        .args(["--left", "left.png", "--right", "right.png"])
-        .current_dir(&dir)
-        .output()
-        .unwrap();
-    assert!(render.status.success(), "render failed: {}", String::from_utf8_lossy(&render.stderr));
-    let (w, h, dump) = read_rgb_png(&dir.join("dump.png"));
-    assert_eq!((w, h), (400, 200), "the window's size");
-    let (_, _, left) = read_rgb_png(&dir.join("left.png"));
-    let (_, _, right) = read_rgb_png(&dir.join("right.png"));
-    for (name, half, eye) in [("left", columns(&dump, w, 0, 200), left), ("right", columns(&dump, w, 200, 400), right)]
-    {
-        assert_eq!(half.len(), eye.len(), "the {name} half is eye-sized");
-        let first = half.chunks_exact(3).zip(eye.chunks_exact(3)).position(|(a, b)| a != b);
-        assert_eq!(first.map(|k| (k % 200, k / 200)), None, "the {name} half differs from the {name} eye at (x, y)");
-    }
+    let scene = seed_scene();
+    let scene = scene.to_str().unwrap();
+    let frame = ["--scene", scene, "--time", "1.0"];
+    clean_dump_is_render(&dir, &frame, &["--width", "400", "--height", "200"], &["--width", "200", "--height", "200"]);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
