@@ -297,6 +297,7 @@ impl Settings {
             timewarp: self.timewarp,
             guard: if self.timewarp { self.guard(samples) } else { (0, 0) },
             atoms: self.atoms,
+            progressive: None,
         }
     }
 

@@ -48,7 +48,7 @@ pub(crate) use eyes::filter_eyes;
 pub use eyes::Eyes;
 use finished::Cut;
 pub use finished::Finished;
-pub use request::{FrameInfo, Request};
+pub use request::{FrameInfo, Progressive, Request, Sampling};
 
 #[derive(Default)]
 struct Inbox {
@@ -313,7 +313,8 @@ fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
         seq += 1;
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
         let views = *frame.views();
-        back.info = Some(FrameInfo { seq, request, views, stats, quality, wall_ms, posted });
+        let sampling = Sampling { density: 1, spp: 1, converged: false };
+        back.info = Some(FrameInfo { seq, request, views, stats, quality, wall_ms, posted, sampling });
         last = back.info;
         let mut out = lock(&shared.outbox);
         std::mem::swap(&mut out.frame, &mut back);

@@ -48,6 +48,38 @@ pub struct Request {
     pub guard: (u32, u32),
     /// The structures' colours and hidden atoms.
     pub atoms: crate::window::look::AtomLook,
+    /// Trace progressively (coarse while the head moves, refined while it rests), or, when
+    /// `None`, every frame at `samples` (`--no-progressive`, `replay --policy fixed`).
+    pub progressive: Option<Progressive>,
+}
+
+/// The progressive policy's settings: how old a traced pair may be when presented while
+/// the head moves, and how far a resting view is refined.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Progressive {
+    /// The age a moving head's traced pair aims at when presented, milliseconds
+    /// (`--target-age-ms`).
+    pub target_age_ms: f32,
+    /// A resting view is refined up to S × S samples a pixel (`--max-supersample S`).
+    pub max_supersample: u32,
+}
+
+impl Default for Progressive {
+    /// About three ticks of a 90 Hz display; 4 × 4 samples at rest.
+    fn default() -> Self {
+        Self { target_age_ms: 33.0, max_supersample: 4 }
+    }
+}
+
+/// How a finished frame was sampled: what the panel and the fps log say of it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Sampling {
+    /// One sample per `density` × `density` pixels (1: every pixel).
+    pub density: u32,
+    /// Samples a pixel accumulated so far (1 for a frame traced once, 0 for a coarse one).
+    pub spp: u32,
+    /// The resting refinement is complete: the frame is `render --supersample S`'s.
+    pub converged: bool,
 }
 
 /// A builder for the tests, which ask for many requests that differ in a field or two.
@@ -73,6 +105,7 @@ impl Request {
             timewarp: false,
             guard: (0, 0),
             atoms: crate::window::look::AtomLook::default(),
+            progressive: None,
         }
     }
 
@@ -118,6 +151,8 @@ pub struct FrameInfo {
     pub wall_ms: f64,
     /// When the request was posted: the moment of the head pose the frame shows.
     pub posted: Instant,
+    /// How it was sampled (coarse, full, or refined at rest).
+    pub sampling: Sampling,
 }
 
 impl FrameInfo {
@@ -139,6 +174,7 @@ impl FrameInfo {
             quality: None,
             wall_ms: 0.0,
             posted: Instant::now(),
+            sampling: Sampling { density: 1, spp: 1, converged: false },
         }
     }
 }
