@@ -32,13 +32,18 @@ use crate::stats::PixelClass;
 /// Filters `src`, `src_size` = (width, height) sRGB pixels `0x00RRGGBB` row-major, down to
 /// `dst_size` into `dst` (resized, its allocation reused) with a box filter in linear light
 /// (see the module doc). A `dst_size` equal to `src_size` copies the image; a zero side gives
-/// an empty image.
+/// an empty image. A `dst_size` at least as large on both axes (a coarse frame, traced at
+/// fewer samples than pixels) is reconstructed by [`crate::upsample`] instead.
 ///
 /// # Panics
 ///
 /// If `src` does not hold `src_size`'s pixels, or `dst_size` is larger than `src_size` on
-/// either axis: this filter only shrinks.
+/// one axis and smaller on the other.
 pub fn downsample(src: &[u32], src_size: (u32, u32), dst: &mut Vec<u32>, dst_size: (u32, u32)) {
+    if grows(src_size, dst_size) {
+        crate::upsample::upsample(src, src_size, dst, dst_size);
+        return;
+    }
     check_sizes(src.len(), src_size, dst_size);
     if src_size == dst_size {
         dst.clear();
@@ -88,13 +93,18 @@ pub fn downsample_mask_kept_banded(
 ) {
     let (stride, rows) = (sw as usize + 2 * gx as usize, sh as usize + 2 * gy as usize);
     assert_eq!(mask.len(), stride * rows, "the mask holds {} samples, not {stride}×{rows}", mask.len());
-    check_sizes(sw as usize * sh as usize, (sw, sh), dst_size);
-    let (src_size, (sw, gx, gy)) = ((sw, sh), (sw as usize, gx as usize, gy as usize));
     // The colour of the sample at `k` in the band.
     let colour = |k: usize| match made {
         Some(made) if !made.get_index(k) => KEPT_COLOR,
         _ => mask_color(mask[k]),
     };
+    if grows((sw, sh), dst_size) {
+        let (w, gx, gy) = (sw as usize, gx as usize, gy as usize);
+        crate::upsample::nearest(|i| colour((i / w + gy) * stride + i % w + gx), (sw, sh), dst, dst_size);
+        return;
+    }
+    check_sizes(sw as usize * sh as usize, (sw, sh), dst_size);
+    let (src_size, (sw, gx, gy)) = ((sw, sh), (sw as usize, gx as usize, gy as usize));
     if src_size == dst_size {
         // Row by row: no division per sample.
         dst.clear();
@@ -107,6 +117,12 @@ pub fn downsample_mask_kept_banded(
     } else {
         filter(|i| colour((i / sw + gy) * stride + i % sw + gx), src_size, dst, dst_size);
     }
+}
+
+/// Whether `dst` is larger than `src` (a coarse frame shown at the eye size): on one axis
+/// and at least as large on the other.
+fn grows((sw, sh): (u32, u32), (dw, dh): (u32, u32)) -> bool {
+    dw >= sw && dh >= sh && (dw, dh) != (sw, sh)
 }
 
 fn check_sizes(len: usize, (sw, sh): (u32, u32), (dw, dh): (u32, u32)) {
@@ -299,8 +315,21 @@ mod tests {
 
     #[test]
     #[should_panic(expected = "the filter only shrinks")]
-    fn enlarging_is_refused() {
-        downsample(&[WHITE], (1, 1), &mut Vec::new(), (2, 1));
+    fn growing_one_axis_and_shrinking_the_other_is_refused() {
+        downsample(&[WHITE; 2], (1, 2), &mut Vec::new(), (2, 1));
+    }
+
+    #[test]
+    fn a_larger_size_is_reconstructed_and_the_mask_takes_its_nearest_sample() {
+        let mut out = Vec::new();
+        downsample(&[BLACK, WHITE], (2, 1), &mut out, (4, 2));
+        let mut grown = Vec::new();
+        crate::upsample(&[BLACK, WHITE], (2, 1), &mut grown, (4, 2));
+        assert_eq!(out, grown);
+        let mask = [PixelClass::Reprojected, PixelClass::RetracedGap];
+        downsample_mask(&mask, (2, 1), &mut out, (4, 1));
+        let [a, b] = mask.map(mask_color);
+        assert_eq!(out, [a, a, b, b]);
     }
 
     proptest! {

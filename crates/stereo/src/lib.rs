@@ -87,6 +87,7 @@ mod reproject;
 mod retrace;
 mod reuse;
 mod stats;
+mod upsample;
 mod views;
 mod warp;
 
@@ -99,5 +100,6 @@ pub use metrics::Quality;
 pub use mode::{Mode, Options};
 pub use reproject::{reproject_row, NO_SOURCE};
 pub use stats::{EyeStats, FrameStats, PixelClass, PixelCounts, Reuse, StageTimes};
+pub use upsample::upsample;
 pub use views::StereoViews;
 pub use warp::{Warp, WarpClass, WarpCounts, WarpSource};
