@@ -11,18 +11,16 @@
 
 use rayon::prelude::*;
 
-/// One axis of the reconstruction: for each output pixel, the two samples around its
-/// centre and the second one's weight in 1/256ths.
-fn taps(samples: u32, pixels: u32, out: &mut Vec<(u32, u32, u32)>) {
-    out.clear();
-    let last = samples.saturating_sub(1);
-    out.extend((0..pixels).map(|p| {
-        // The pixel's centre in sample coordinates, less half a sample: 0 at sample 0's centre.
-        let u = ((f64::from(p) + 0.5) * f64::from(samples) / f64::from(pixels) - 0.5).max(0.0);
-        let i = (u.floor() as u32).min(last);
-        let w = ((u - f64::from(i)) * 256.0).round().clamp(0.0, 256.0) as u32;
-        (i, (i + 1).min(last), if i == last { 0 } else { w })
-    }));
+/// One axis of the reconstruction, for output pixel `p` of `pixels` from `samples`
+/// samples: the two samples around its centre and the second one's weight in 1/256ths.
+#[inline]
+fn taps(p: u32, samples: u32, pixels: u32) -> (usize, usize, u32) {
+    let last = samples - 1;
+    // The pixel's centre in sample coordinates, less half a sample: 0 at sample 0's centre.
+    let u = ((f64::from(p) + 0.5) * f64::from(samples) / f64::from(pixels) - 0.5).max(0.0);
+    let i = (u.floor() as u32).min(last);
+    let w = if i == last { 0 } else { ((u - f64::from(i)) * 256.0).round() as u32 };
+    (i as usize, (i + 1).min(last) as usize, w)
 }
 
 /// Reconstructs `src` (`src_size`, sRGB `0x00RRGGBB` row-major) at `dst_size`, at least as
@@ -39,14 +37,12 @@ pub fn upsample(src: &[u32], (sw, sh): (u32, u32), dst: &mut Vec<u32>, (dw, dh):
     if dw == 0 || dh == 0 || sw == 0 || sh == 0 {
         return;
     }
-    let (mut xs, mut ys) = (Vec::new(), Vec::new());
-    taps(sw, dw, &mut xs);
-    taps(sh, dh, &mut ys);
-    let sw = sw as usize;
-    dst.par_chunks_mut(dw as usize).zip(ys.par_iter()).for_each(|(row, &(y0, y1, wy))| {
-        let (top, bottom) = (&src[y0 as usize * sw..][..sw], &src[y1 as usize * sw..][..sw]);
-        for (out, &(x0, x1, wx)) in row.iter_mut().zip(&xs) {
-            let (x0, x1) = (x0 as usize, x1 as usize);
+    let w = sw as usize;
+    dst.par_chunks_mut(dw as usize).enumerate().for_each(|(y, row)| {
+        let (y0, y1, wy) = taps(y as u32, sh, dh);
+        let (top, bottom) = (&src[y0 * w..][..w], &src[y1 * w..][..w]);
+        for (x, out) in row.iter_mut().enumerate() {
+            let (x0, x1, wx) = taps(x as u32, sw, dw);
             *out = lerp(lerp(top[x0], top[x1], wx), lerp(bottom[x0], bottom[x1], wx), wy);
         }
     });

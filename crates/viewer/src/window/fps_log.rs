@@ -77,7 +77,7 @@ fn line(r: &Report<'_>, busy: Duration, redraws: u32) -> String {
     format!(
         "fps={:.1} render_fps={:.1} ui_ms={:.2} window={}x{} left_ms={left_ms:.1} right_ms={right_ms:.1} \
          head={:.3},{:.3},{:.3} yaw={:.1} pitch={:.1} layout={} swap={} psnr={psnr} pose_fps={:.1} \
-         latency_ms={} age_ms={} timewarp={} warp_ms={} holes={} frame={} ui={}",
+         latency_ms={} age_ms={} timewarp={} warp_ms={} holes={} density={} spp={} converged={} frame={} ui={}",
         r.ui_fps,
         r.render_fps,
         busy.as_secs_f64() * 1e3 / f64::from(redraws.max(1)),
@@ -96,6 +96,9 @@ fn line(r: &Report<'_>, busy: Duration, redraws: u32) -> String {
         if s.timewarp { "on" } else { "off" },
         optional(r.warp.map(|w| w.ms), 2),
         optional(r.warp.map(|w| 100.0 * w.hole_share()), 3),
+        r.frame.map_or(0, |f| f.sampling.density),
+        r.frame.map_or(0, |f| f.sampling.spp),
+        r.frame.is_some_and(|f| f.sampling.converged),
         r.frame.map_or(0, |f| f.seq),
         if r.ui_hidden { "hidden" } else { "shown" },
     )
@@ -108,6 +111,7 @@ fn optional(value: Option<f64>, decimals: usize) -> String {
 
 #[cfg(test)]
 mod tests {
+    use crate::window::worker::Sampling;
     use glam::Vec3;
     use stereo::{FrameStats, Layout, Quality};
 
@@ -135,14 +139,15 @@ mod tests {
             line(&report, Duration::from_millis(9), 3),
             "fps=60.0 render_fps=12.5 ui_ms=3.00 window=800x300 left_ms=0.0 right_ms=0.0 \
              head=0.500,0.000,-1.250 yaw=30.0 pitch=0.0 layout=anaglyph swap=true psnr=- pose_fps=0.0 \
-             latency_ms=- age_ms=- timewarp=on warp_ms=- holes=- frame=0 ui=shown",
+             latency_ms=- age_ms=- timewarp=on warp_ms=- holes=- density=0 spp=0 converged=false frame=0 ui=shown",
             "before the first frame"
         );
         let mut stats = FrameStats::default();
         (stats.left.ms, stats.right.ms) = (20.0, 5.5);
         let request = settings.request(&scene, 0.0, 8, 8);
         let quality = Some(Quality { psnr_db: f64::INFINITY, ..Quality::default() });
-        let frame = FrameInfo { stats, quality, wall_ms: 30.0, ..FrameInfo::answering(7, request) };
+        let sampling = Sampling { density: 1, spp: 16, converged: true };
+        let frame = FrameInfo { stats, quality, wall_ms: 30.0, sampling, ..FrameInfo::answering(7, request) };
         (report.frame, report.ui_hidden, report.pose_fps) = (Some(&frame), true, 90.04);
         report.medians = Medians { latency_ms: Some(7.25), age_ms: Some(80.0) };
         let mut warp = Warped { ms: 2.5, ..Warped::default() };
@@ -154,7 +159,8 @@ mod tests {
         assert!(l.contains(" left_ms=20.0 right_ms=5.5 "), "{l}");
         assert!(
             l.ends_with(
-                " psnr=inf pose_fps=90.0 latency_ms=7.2 age_ms=80.0 timewarp=on warp_ms=2.50 holes=2.500 frame=7 ui=hidden"
+                " psnr=inf pose_fps=90.0 latency_ms=7.2 age_ms=80.0 timewarp=on warp_ms=2.50 holes=2.500 density=1 spp=16 \
+                 converged=true frame=7 ui=hidden"
             ),
             "{l}"
         );

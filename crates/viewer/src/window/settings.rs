@@ -10,7 +10,7 @@ use stereo::{Layout, Mode};
 use tracer::{Camera, Scene};
 
 use crate::window::present::Look;
-use crate::window::worker::Request;
+use crate::window::worker::{Progressive, Request};
 
 /// Largest interpupillary distance the slider offers, scene units.
 pub const MAX_IPD: f32 = 2.0;
@@ -108,6 +108,8 @@ pub struct Settings {
     pub guard_band: f32,
     /// The structures' colours and hidden atoms (the panel's colour section, key C).
     pub atoms: crate::window::look::AtomLook,
+    /// The progressive policy, on by default (`--no-progressive`: `None`).
+    pub progressive: Option<Progressive>,
 }
 
 impl Settings {
@@ -136,6 +138,7 @@ impl Settings {
             timewarp: true,
             guard_band: DEFAULT_GUARD_BAND,
             atoms: crate::window::look::AtomLook::default(),
+            progressive: Some(Progressive::default()),
         };
         s.reset_camera(scene);
         s.reset_light(scene);
@@ -297,7 +300,8 @@ impl Settings {
             timewarp: self.timewarp,
             guard: if self.timewarp { self.guard(samples) } else { (0, 0) },
             atoms: self.atoms,
-            progressive: None,
+            progressive: self.progressive,
+            moving: false,
         }
     }
 

@@ -32,22 +32,22 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard, PoisonError};
 use std::thread::JoinHandle;
 use std::time::Instant;
 
-use glam::Vec3;
-use stereo::StereoFrame;
-use tracer::{Scene, Tracer};
+use tracer::Scene;
 
-use crate::reference::Reference;
 use crate::setup;
-use crate::window::look::{Change, Looked};
 
+mod budget;
 mod eyes;
 pub(crate) mod finished;
+mod job;
+mod progress;
+mod refine;
 mod request;
 
 pub(crate) use eyes::filter_eyes;
 pub use eyes::Eyes;
-use finished::Cut;
 pub use finished::Finished;
+use job::Job;
 pub use request::{FrameInfo, Progressive, Request, Sampling};
 
 #[derive(Default)]
@@ -65,6 +65,8 @@ struct Outbox {
     fresh: bool,
     /// The tracer being built, while it is.
     building: Option<Building>,
+    /// Bytes of the resting refinement's buffers.
+    refine_bytes: usize,
 }
 
 /// The worker is building its tracer for a scene (the BVH, the light maps): what a large
@@ -227,98 +229,47 @@ pub fn lower_the_tracer_pool() {
         .build_global();
 }
 
+/// What the worker does next.
+enum Step {
+    /// Trace a new request, posted at that instant.
+    Trace(Request, Instant),
+    /// Refine the resting request: nothing newer has come.
+    Refine,
+}
+
 /// The worker thread's state: scene, tracer and all buffers, reused frame after frame. The
 /// scene is a working copy whose first light the requests move; `memory` bounds the
 /// supersampled frames.
-fn render_loop(mut scene: Scene, memory: Option<u64>, shared: &Shared) {
+fn render_loop(scene: Scene, memory: Option<u64>, shared: &Shared) {
     lower_this_thread();
-    let mut tracer = build(shared, &scene, || Tracer::new(&scene, 0.0));
-    let mut scene_light = scene.lights.first().map(|l| l.position);
-    // The first light's position the tracer was built with; `None`: build it afresh (a new
-    // scene). Otherwise a frame only advances the tracer in time: a still scene, however
-    // large, costs nothing there. The tracer just built has the scene's own light.
-    let mut built: Option<Option<Vec3>> = Some(scene_light);
-    // The look (colours, hidden atoms) the scene has.
-    let mut looked = Looked::default();
-    let mut frame = StereoFrame::new();
-    let mut reference = Reference::default();
-    let mut back = Finished::default();
-    let mut cut = Cut::default();
-    let mut seq = 0u64;
-    // The last frame rendered, for a request that differs from it only in the overlay.
-    let mut last: Option<FrameInfo> = None;
+    let mut job = Job::new(shared, scene, memory);
     loop {
-        let (request, posted) = {
+        let step = {
             let mut inbox = lock(&shared.inbox);
             loop {
                 if inbox.quit {
                     return;
                 }
-                if let Some(r) = inbox.request.take() {
+                if let Some((request, posted)) = inbox.request.take() {
                     if let Some(new) = inbox.scene.take() {
-                        scene = new;
-                        scene_light = scene.lights.first().map(|l| l.position);
-                        (last, built, looked) = (None, None, Looked::default());
+                        job.set_scene(new);
                     }
-                    break r;
+                    break Step::Trace(request, posted);
+                }
+                if job.progress.pending() {
+                    break Step::Refine;
                 }
                 inbox = shared.wake.wait(inbox).unwrap_or_else(PoisonError::into_inner);
             }
         };
-        let started = Instant::now();
-        if let Some(info) = last.filter(|info| Request { overlay: request.overlay, ..info.request } == request) {
-            // The mask switched on or off: the same frame, its overlay made or dropped.
-            back.fill_from(&frame, &request, &mut cut);
-            seq += 1;
-            let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-            back.info = Some(FrameInfo { seq, request, wall_ms, ..info });
-            last = back.info;
-            let mut out = lock(&shared.outbox);
-            std::mem::swap(&mut out.frame, &mut back);
-            out.fresh = true;
-            continue;
+        match step {
+            Step::Trace(request, posted) => job.trace(shared, request, posted),
+            Step::Refine => job.refine(shared),
         }
-        if let (Some(light), Some(home)) = (scene.lights.first_mut(), scene_light) {
-            light.position = request.light.unwrap_or(home);
-        }
-        match looked.apply(&mut scene, request.atoms) {
-            Change::None => {}
-            // The BVH and light maps stay: only the materials change.
-            Change::Colors if built.is_some() => tracer.recolor(&scene),
-            Change::Colors | Change::Atoms => built = None,
-        }
-        let light = scene.lights.first().map(|l| l.position);
-        if built == Some(light) {
-            tracer.advance(&scene, request.time);
-        } else {
-            build(shared, &scene, || tracer.update(&scene, request.time));
-            built = Some(light);
-        }
-        tracer.set_max_depth(request.depth);
-        let eye = (request.width, request.height);
-        let samples = if request.samples == eye || setup::viewer_frame_fits(request.samples, eye, memory) {
-            request.samples
-        } else {
-            eye
-        };
-        frame.set_reuse(request.reuse.then_some(&scene));
-        frame.set_depths(request.timewarp);
-        let guard = if request.timewarp { request.guard } else { (0, 0) };
-        let stats = frame.render_banded(&tracer, &request.camera, samples, guard, request.opts);
-        back.fill_from(&frame, &request, &mut cut);
-        let quality = request.psnr.then(|| {
-            reference.trace(&tracer, &request.camera, samples.0, samples.1);
-            reference.compare_filtered(&back.eyes.right, samples, eye)
-        });
-        seq += 1;
-        let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-        let views = *frame.views();
-        let sampling = Sampling { density: 1, spp: 1, converged: false };
-        back.info = Some(FrameInfo { seq, request, views, stats, quality, wall_ms, posted, sampling });
-        last = back.info;
         let mut out = lock(&shared.outbox);
-        std::mem::swap(&mut out.frame, &mut back);
+        std::mem::swap(&mut out.frame, &mut job.back);
         out.fresh = true;
+        out.refine_bytes = job.progress.refine.bytes();
     }
 }
 
@@ -333,9 +284,13 @@ fn build<T>(shared: &Shared, scene: &Scene, work: impl FnOnce() -> T) -> T {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::reference::Reference;
+    use glam::Vec3;
     use std::time::Duration;
     use stereo::Options;
+    use stereo::StereoFrame;
     use tracer::Camera;
+    use tracer::Tracer;
 
     fn scene() -> Scene {
         Scene::from_toml(

@@ -173,6 +173,7 @@ impl Viewer {
         let (eye_w, eye_h) = present::eye_size(width, height);
         (eye_w > 0).then(|| {
             let request = self.settings.request(self.watch.scene(), self.clock.time(now), eye_w, eye_h);
+            let request = Request { moving: self.input.is_moving(), ..request };
             self.worker.post(request);
             request
         })

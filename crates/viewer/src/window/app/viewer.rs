@@ -25,7 +25,7 @@ use crate::window::settings::Settings;
 use crate::window::timewarp::Timewarp;
 use crate::window::timing::SceneClock;
 use crate::window::ui;
-use crate::window::worker::Worker;
+use crate::window::worker::{Progressive, Worker};
 
 /// The window title for a scene file's name.
 pub(super) fn title(name: &str) -> String {
@@ -93,6 +93,8 @@ impl Viewer {
         settings.reuse = !args.no_reuse;
         settings.timewarp = !args.no_timewarp;
         settings.guard_band = args.guard_band as f32 / 100.0;
+        settings.progressive = (!args.no_progressive)
+            .then_some(Progressive { target_age_ms: args.target_age_ms as f32, max_supersample: args.max_supersample });
         if let Some(percent) = args.render_scale {
             settings.render_scale = percent as f32 / 100.0;
         }

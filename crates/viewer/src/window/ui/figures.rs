@@ -34,6 +34,9 @@ pub(super) fn statistics(ui: &mut egui::Ui, s: &Settings, r: &Readout<'_>) {
         };
         let st = &f.stats;
         row("eye", format!("{} × {} · t {:.2} s", f.request.width, f.request.height, r.time));
+        if f.request.progressive.is_some() {
+            row("sampling", sampling(f.sampling, m.medians.age_ms));
+        }
         if f.request.samples != (f.request.width, f.request.height) {
             let (w, h) = f.samples();
             let note = if f.samples() == f.request.samples { "" } else { " (no memory for more)" };
@@ -65,6 +68,22 @@ pub(super) fn statistics(ui: &mut egui::Ui, s: &Settings, r: &Readout<'_>) {
 }
 
 /// Recent frame times as lines, one per series, with the scale in the label and a legend.
+/// The progressive policy's readout: "1/16 · 31 ms old" for a coarse frame (one sample per
+/// 4 × 4 pixels), "4×4 · converged" at rest, "5 of 16 samples" while refining.
+pub(crate) fn sampling(s: crate::window::worker::Sampling, age_ms: Option<f64>) -> String {
+    let old = age_ms.map_or_else(String::new, |a| format!(" · {a:.0} ms old"));
+    if s.density > 1 {
+        format!("1/{}{old}", s.density * s.density)
+    } else if s.converged {
+        let side = f64::from(s.spp).sqrt().round();
+        format!("{side}×{side} · converged")
+    } else if s.spp > 1 {
+        format!("{} samples a pixel", s.spp)
+    } else {
+        format!("every pixel{old}")
+    }
+}
+
 fn frame_time_plot(ui: &mut egui::Ui, history: &FrameTimes) {
     let max = history.iter().flatten().fold(1.0_f32, |a, &b| a.max(b));
     ui.label(RichText::new(format!("ms per frame, last {} frames (top {max:.0} ms)", FrameTimes::LEN)).small());

@@ -51,6 +51,9 @@ pub struct Request {
     /// Trace progressively (coarse while the head moves, refined while it rests), or, when
     /// `None`, every frame at `samples` (`--no-progressive`, `replay --policy fixed`).
     pub progressive: Option<Progressive>,
+    /// The head is moving (a key held): the progressive policy spends its time budget on
+    /// this request; a still head's request is traced in full and refined.
+    pub moving: bool,
 }
 
 /// The progressive policy's settings: how old a traced pair may be when presented while
@@ -106,6 +109,7 @@ impl Request {
             guard: (0, 0),
             atoms: crate::window::look::AtomLook::default(),
             progressive: None,
+            moving: false,
         }
     }
 

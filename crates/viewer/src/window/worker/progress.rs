@@ -1,0 +1,253 @@
+//! The progressive policy (`Request::progressive`): young, coarse pairs while the head
+//! moves, then the resting pose in full and refined pass by pass.
+//!
+//! - A request posted while the head moves is traced at the density the time budget picks
+//!   (`budget.rs`): one sample per k × k pixels, reconstructed at the eye size
+//!   ([`stereo::upsample`]) and warped by depth like a full pair.
+//! - A request the head rests on (posted with the head still, or the last one of a move,
+//!   when nothing newer comes) is traced in full, then refined to S × S samples a pixel
+//!   (`refine.rs`), converging to `render --supersample S` byte for byte.
+//! - Any new request (the head, a slider, the mode, a reload) restarts: the refinement
+//!   stops and the new request is traced from scratch.
+//!
+//! Without the policy (`--no-progressive`, `replay --policy fixed`), every request is traced
+//! at its samples, as before it existed.
+
+use std::time::Instant;
+
+use super::budget::{self, Budget};
+use super::refine::Refine;
+use super::{Eyes, Request, Sampling};
+
+/// The policy's state between frames.
+#[derive(Debug, Default)]
+pub struct Progress {
+    /// What pairs cost, by density.
+    budget: Budget,
+    /// The resting pose's refinement.
+    pub refine: Refine,
+    /// The request the worker rests on while no newer one comes, with when it was posted.
+    pub resting: Option<(Request, Instant)>,
+    /// The resting request was last traced coarse: its full pair comes next.
+    pub coarse: bool,
+}
+
+impl Progress {
+    /// Whether there is work for the resting request.
+    #[must_use]
+    pub fn pending(&self) -> bool {
+        self.resting.is_some() && (self.coarse || self.refine.pending())
+    }
+
+    /// Forgets the measured costs and the resting request (another scene).
+    pub fn forget(&mut self) {
+        self.budget.forget();
+        self.refine.stop();
+        (self.resting, self.coarse) = (None, false);
+    }
+
+    /// The density to trace `request` at: the budget's while the head moves (a pose not
+    /// only a scene time away from the last), else every sample. A new trace stops the
+    /// refinement of the last pose.
+    pub fn density(&mut self, request: &Request, only_time: bool) -> u32 {
+        self.refine.stop();
+        match request.progressive {
+            Some(p) if request.moving && !only_time && refinable(request) => {
+                self.budget.choose((request.width, request.height), f64::from(p.target_age_ms))
+            }
+            _ => 1,
+        }
+    }
+
+    /// Remembers that `request`'s pair at `density` took `ms`.
+    pub fn measured(&mut self, request: &Request, density: u32, ms: f64) {
+        if request.progressive.is_some() && refinable(request) {
+            self.budget.record((request.width, request.height), density, ms);
+        }
+    }
+
+    /// `request`, posted at `posted`, was traced at `density`: what comes next for it if
+    /// no newer request comes. The refinement's buffers fit in `memory` (`None`: no limit).
+    pub fn traced(&mut self, request: Request, posted: Instant, density: u32, memory: Option<u64>) {
+        self.refine.stop();
+        (self.resting, self.coarse) = (None, false);
+        let Some(p) = request.progressive.filter(|_| refinable(&request)) else { return };
+        (self.resting, self.coarse) = (Some((request, posted)), density > 1);
+        if density == 1 {
+            let eye = (request.width, request.height);
+            let pixels = u64::from(eye.0) * u64::from(eye.1);
+            // Two eyes of S² samples at four bytes.
+            let fits = |s: u32| memory.is_none_or(|m| 8 * u64::from(s * s) * pixels <= m);
+            let s = (1..=p.max_supersample).rev().find(|&s| fits(s)).unwrap_or(1);
+            if s > 1 {
+                self.refine.start(&request.camera, eye, s);
+            }
+        }
+    }
+
+    /// How the frame made now is sampled: at `density` for a new trace, or the
+    /// refinement's samples so far.
+    #[must_use]
+    pub fn sampling(&self, request: &Request, density: u32) -> Sampling {
+        if density > 1 {
+            return Sampling { density, spp: 0, converged: false };
+        }
+        let spp = self.refine.spp();
+        if spp > 0 {
+            return Sampling { density: 1, spp, converged: self.refine.converged() };
+        }
+        let converged = request.progressive.is_some_and(|p| p.max_supersample <= 1);
+        Sampling { density: 1, spp: 1, converged }
+    }
+
+    /// Over `eyes`, the refined pair, when a pass is done (and the anaglyph made again).
+    pub fn paint(&self, eyes: &mut Eyes, anaglyph: bool, swap: bool) {
+        if self.refine.spp() > 0 {
+            self.refine.eyes([&mut eyes.left, &mut eyes.right]);
+            eyes.finish_anaglyph(anaglyph, swap);
+        }
+    }
+}
+
+/// Whether the policy applies to `request`: traced at the eye size (a render scale of
+/// 100 %; other scales keep their own sampling).
+fn refinable(request: &Request) -> bool {
+    request.samples == (request.width, request.height)
+}
+
+/// The density's sample size, re-exported for the worker.
+pub use budget::samples_at;
+
+#[cfg(test)]
+mod tests {
+    use std::time::Duration;
+
+    use stereo::{Mode, StereoFrame};
+    use tracer::testing::scene;
+    use tracer::{Scene, Tracer};
+
+    use super::super::{Finished, Progressive, Request, Worker};
+    use super::*;
+    use crate::window::settings::Settings;
+
+    const EYE: (u32, u32) = (40, 30);
+
+    /// The viewer's request for `scene` at `EYE` in `mode`, refined to `s` × `s`.
+    fn request(scene: &Scene, mode: Mode, s: u32, timewarp: bool) -> Request {
+        let mut settings = Settings::from_scene(scene);
+        (settings.mode, settings.timewarp, settings.depth) = (mode, timewarp, 2);
+        settings.ipd = settings.ipd.max(0.3);
+        settings.progressive = Some(Progressive { target_age_ms: 33.0, max_supersample: s });
+        settings.request(scene, 0.0, EYE.0, EYE.1)
+    }
+
+    /// Waits for the first frame after `seq` that `done` accepts.
+    fn wait<'w>(worker: &'w mut Worker, seq: u64, done: impl Fn(&Finished) -> bool) -> &'w Finished {
+        let deadline = Instant::now() + Duration::from_secs(60);
+        loop {
+            let f = worker.latest();
+            if f.info.is_some_and(|i| i.seq > seq) && done(f) {
+                return worker.current();
+            }
+            assert!(Instant::now() < deadline, "no such frame");
+            std::thread::sleep(Duration::from_millis(2));
+        }
+    }
+
+    /// `request`'s pair as `render --supersample s` makes it: traced at s × s samples a
+    /// pixel in its mode, each eye filtered down.
+    fn supersampled(scene: &Scene, request: &Request, s: u32) -> [Vec<u32>; 2] {
+        let mut tracer = Tracer::new(scene, request.time);
+        tracer.set_max_depth(request.depth);
+        let mut frame = StereoFrame::new();
+        frame.render(&tracer, &request.camera, EYE.0 * s, EYE.1 * s, request.opts);
+        let size = (EYE.0 * s, EYE.1 * s);
+        let (mut left, mut right) = (Vec::new(), Vec::new());
+        stereo::downsample(&frame.left().rgb, size, &mut left, EYE);
+        stereo::downsample(&frame.right().rgb, size, &mut right, EYE);
+        [left, right]
+    }
+
+    fn eyes(f: &Finished) -> [Vec<u32>; 2] {
+        [f.eyes.left.clone(), f.eyes.right.clone()]
+    }
+
+    #[test]
+    fn a_resting_view_converges_to_the_supersampled_render_byte_for_byte() {
+        let scene = scene("seed.toml");
+        for (mode, timewarp) in [(Mode::Full, false), (Mode::Exact, false), (Mode::Exact, true)] {
+            let mut worker = Worker::spawn_with_memory(scene.clone(), None).unwrap();
+            let request = request(&scene, mode, 3, timewarp);
+            worker.post(request);
+            let f = wait(&mut worker, 0, |f| f.info.is_some_and(|i| i.sampling.converged));
+            let info = f.info.unwrap();
+            assert_eq!(info.sampling, Sampling { density: 1, spp: 9, converged: true }, "{mode}");
+            assert_eq!(f.size(), EYE);
+            let want = supersampled(&scene, &request, 3);
+            assert_eq!(eyes(f), want, "{mode}, timewarp {timewarp}: render --supersample 3's pair");
+            assert_ne!(want[0], want[1], "the eyes differ, so a swap would show");
+            assert_eq!(info.views.camera, request.camera, "shown as traced at the resting pose");
+        }
+    }
+
+    #[test]
+    fn the_refined_frames_count_their_samples_and_a_change_restarts() {
+        let scene = scene("seed.toml");
+        let mut worker = Worker::spawn_with_memory(scene.clone(), None).unwrap();
+        let first = request(&scene, Mode::Full, 2, true);
+        worker.post(first);
+        // Frame 1 is the pose in full, frames 2 to 5 its four passes (the mailbox keeps
+        // only the newest, so the frames between may go unseen).
+        let f = wait(&mut worker, 0, |f| f.info.is_some_and(|i| i.sampling.converged));
+        assert_eq!(
+            (f.info.unwrap().seq, f.info.unwrap().sampling.spp),
+            (5, 4),
+            "one full frame, then a pass at a time"
+        );
+        let seq = f.info.unwrap().seq;
+        // A slider moved: the new request starts again from a full frame of its own.
+        let mut moved = first;
+        moved.camera.ipd *= 1.5;
+        worker.post(moved);
+        let f = wait(&mut worker, seq, |f| f.info.is_some_and(|i| i.request == moved && i.sampling.converged));
+        assert_eq!(f.info.unwrap().seq, seq + 5, "from scratch: a full frame and four passes");
+        assert_eq!(eyes(f), supersampled(&scene, &moved, 2), "converged again, to the new request");
+    }
+
+    #[test]
+    fn a_moving_head_gets_coarse_pairs_at_the_eye_size_then_the_full_one() {
+        let scene = scene("seed.toml");
+        let mut worker = Worker::spawn_with_memory(scene.clone(), None).unwrap();
+        let mut moving = Request { moving: true, ..request(&scene, Mode::Exact, 2, true) };
+        // A budget nothing fits: every moving pair at the coarsest density.
+        moving.progressive = Some(Progressive { target_age_ms: 1e-6, max_supersample: 2 });
+        // The head turns a little at every post, as while a key is held: each request is
+        // new, so the worker never rests on one.
+        let deadline = Instant::now() + Duration::from_secs(60);
+        let info = loop {
+            moving.camera.yaw_deg += 0.01;
+            worker.post(moving);
+            // (A worker done before the next post has time for the full pair too.)
+            if let Some(info) = worker.latest().info.filter(|i| i.request.moving && i.sampling.density > 1) {
+                break info;
+            }
+            assert!(Instant::now() < deadline, "no coarse frame");
+            std::thread::sleep(Duration::from_micros(200));
+        };
+        let f = worker.current();
+        let k = info.sampling.density;
+        // The first pair at the first guess (4), the later ones at the coarsest (16).
+        assert!([4, 16].contains(&k) && info.sampling.spp == 0, "a coarse pair: {:?}", info.sampling);
+        assert_eq!((info.samples(), f.size()), (samples_at(EYE, k), EYE), "traced coarse, shown at the eye size");
+        let n = |(w, h): (u32, u32)| w as usize * h as usize;
+        assert_eq!((f.eyes.left.len(), f.mask.len()), (n(EYE), n(info.samples())), "the mask per sample");
+        let sources = f.warp_sources().expect("a coarse pair is warped like a full one");
+        let guard = info.request.guard;
+        let banded = (info.samples().0 + 2 * guard.0.div_ceil(k), info.samples().1 + 2 * guard.1.div_ceil(k));
+        assert_eq!((sources[0].view.width, sources[0].view.height), banded, "its guard band scaled too");
+        // The head stops: its last request is traced in full next, then refined.
+        let f = wait(&mut worker, 0, |f| f.info.is_some_and(|i| i.request == moving && i.sampling.converged));
+        assert_eq!(f.info.unwrap().samples(), EYE);
+        assert_eq!(eyes(f), supersampled(&scene, &moving, 2), "a moving request converges too once it is the last");
+    }
+}
