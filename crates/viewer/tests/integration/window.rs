@@ -50,9 +50,10 @@ fn scratch(name: &str) -> PathBuf {
 }
 
 /// Runs the viewer with `frame` and `size` in `dir`, hides the UI with Tab, and quits once a
-/// frame is presented without it (`--dump dump.png`); then renders the same frame headless
-/// (`frame` and `eye_size`, exact mode: the viewer's default) and asserts that each half of
-/// the dump is that eye, pixel for pixel: no UI pixel covers an eye.
+/// converged frame is presented without it (`--dump dump.png`); then renders the same frame
+/// headless (`frame` and `eye_size`, exact mode and 4 × 4 samples a pixel: the viewer's
+/// defaults at rest) and asserts that each half of the dump is that eye, pixel for pixel:
+/// the resting view converged to the render byte for byte, and no UI pixel covers an eye.
 fn clean_dump_is_render(dir: &Path, frame: &[&str], size: &[&str], eye_size: &[&str]) {
     let x = XSession::start();
     let args: Vec<&OsStr> = frame.iter().chain(size).chain(&["--dump", "dump.png"]).map(OsStr::new).collect();
@@ -60,8 +61,10 @@ fn clean_dump_is_render(dir: &Path, frame: &[&str], size: &[&str], eye_size: &[&
     x.focus_window(&viewer);
     x.xdotool(&viewer, "press Tab", &["key", "Tab"]);
     // The line is written as a redraw begins, and that redraw presents what it says.
-    viewer.wait_for_line("a rendered frame presented with the UI hidden", |l| {
-        field(l, "ui") == Some("hidden") && has_frame(l)
+    // At rest the viewer refines the pose to 4 × 4 samples a pixel (the progressive policy's
+    // default): converged, it is `render --supersample 4`'s pair.
+    viewer.wait_for_line("a converged frame presented with the UI hidden", |l| {
+        field(l, "ui") == Some("hidden") && has_frame(l) && field(l, "converged") == Some("true")
     });
     x.xdotool(&viewer, "press Esc", &["key", "Escape"]);
     viewer.wait_exit();
@@ -70,7 +73,7 @@ fn clean_dump_is_render(dir: &Path, frame: &[&str], size: &[&str], eye_size: &[&
         .arg("render")
         .args(frame)
         .args(eye_size)
-        .args(["--mode", "exact", "--left", "left.png", "--right", "right.png"])
+        .args(["--mode", "exact", "--supersample", "4", "--left", "left.png", "--right", "right.png"])
         .current_dir(dir)
         .output()
         .unwrap_or_else(|e| panic!("stereotrace render: {e}"));

@@ -105,7 +105,8 @@ impl Job {
         self.back.fill_from(&self.frame, &request, &mut self.cut);
         self.progress.paint(&mut self.back.eyes, request.anaglyph, request.swap);
         let sampling = self.progress.sampling(&request, 1);
-        self.publish(FrameInfo { sampling, quality: None, ..last }, started);
+        // The live PSNR stays the full pair's: the refinement traces both eyes in full.
+        self.publish(FrameInfo { sampling, ..last }, started);
     }
 
     /// The scene and tracer as `request` asks: its light, its look, its time and depth.
