@@ -150,6 +150,55 @@ fn a_warm_frame_allocates_nothing() {
     }
 }
 
+/// The progressive viewer's frames (`viewer/src/window/worker/`): while the head moves,
+/// pairs at densities that change from frame to frame (one sample per k × k pixels, traced
+/// with a guard band and depths) reconstructed at the eye size; at rest, refinement passes
+/// (one sample of every pixel of the supersampled view, `Pixels::Only` into a colour image)
+/// and the box filter of the converged samples.
+#[test]
+fn warm_coarse_frames_and_refinement_passes_allocate_nothing() {
+    let pool = CountingPool::new();
+    let scene = scene("many.toml");
+    let (eye, s) = ((160u32, 90u32), 3u32);
+    let mut tracer = Tracer::new(&scene, 0.0);
+    let mut frame = StereoFrame::new();
+    frame.set_depths(true);
+    let opts = Options { mode: Mode::Exact, retrace_edges: false };
+    let (mut shown, mut mask) = (Vec::new(), Vec::new());
+    let views = stereo::StereoViews::new(&scene.camera, (eye.0 * s, eye.1 * s), (0, 0));
+    let mut samples = [Vec::new(), Vec::new()];
+    let mut renderers = [Renderer::default(), Renderer::default()];
+    let mut bits = tracer::PixelBits::new(eye.0 * s, eye.1 * s);
+    let mut frames_at = |times: std::ops::Range<u32>| {
+        for k in times {
+            tracer.advance(&scene, k as f32 / 30.0);
+            for density in [4, 2, 3, 1] {
+                let size = (eye.0.div_ceil(density), eye.1.div_ceil(density));
+                frame.render_banded(&tracer, &scene.camera, size, (2, 2), opts);
+                stereo::downsample(&frame.left().rgb[..size.0 as usize * size.1 as usize], size, &mut shown, eye);
+                stereo::downsample_mask_kept_banded(frame.mask(), None, (size, (2, 2)), &mut mask, eye);
+            }
+            for pass in 0..s * s {
+                bits.clear();
+                for j in (pass / s..eye.1 * s).step_by(s as usize) {
+                    for i in (pass % s..eye.0 * s).step_by(s as usize) {
+                        bits.set(i, j, true);
+                    }
+                }
+                for ((renderer, out), view) in renderers.iter_mut().zip(&mut samples).zip(&views.eyes) {
+                    renderer.render(&tracer, view, Pixels::Only(&bits), Target::colour(out));
+                }
+            }
+            stereo::downsample(&samples[0], (eye.0 * s, eye.1 * s), &mut shown, eye);
+        }
+    };
+    pool.run(|| frames_at(0..3));
+    let frames = 3 * (4 + s * s);
+    let rounds: Vec<u64> = (1..4).map(|round| pool.allocations(|| frames_at(3 * round..3 * round + 3))).collect();
+    let fewest = rounds.iter().copied().min().unwrap_or(0);
+    assert!(fewest <= u64::from(frames) / 8, "rounds of {frames} warm frames and passes allocated {rounds:?} times");
+}
+
 #[test]
 fn a_warm_reused_frame_allocates_nothing() {
     let pool = CountingPool::new();
