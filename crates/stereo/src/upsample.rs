@@ -13,13 +13,15 @@ use rayon::prelude::*;
 
 /// One axis of the reconstruction, for output pixel `p` of `pixels` from `samples`
 /// samples: the two samples around its centre and the second one's weight in 1/256ths.
+/// The centre is at u = (p + ½)·samples/pixels − ½ in samples (0 at sample 0's centre),
+/// in whole 1/256ths: ((2p + 1)·samples − pixels)·128 / pixels, rounded down.
 #[inline]
-fn taps(p: u32, samples: u32, pixels: u32) -> (usize, usize, u32) {
-    let last = samples - 1;
-    // The pixel's centre in sample coordinates, less half a sample: 0 at sample 0's centre.
-    let u = ((f64::from(p) + 0.5) * f64::from(samples) / f64::from(pixels) - 0.5).max(0.0);
-    let i = (u.floor() as u32).min(last);
-    let w = if i == last { 0 } else { ((u - f64::from(i)) * 256.0).round() as u32 };
+fn taps(p: u32, samples: u32, pixels: u32) -> (usize, usize, u64) {
+    let last = u64::from(samples - 1);
+    let num = (2 * i64::from(p) + 1) * i64::from(samples) - i64::from(pixels);
+    let u = (num * 128 / i64::from(pixels)).max(0) as u64;
+    let i = (u >> 8).min(last);
+    let w = if i == last { 0 } else { u & 0xFF };
     (i as usize, (i + 1).min(last) as usize, w)
 }
 
@@ -41,23 +43,62 @@ pub fn upsample(src: &[u32], (sw, sh): (u32, u32), dst: &mut Vec<u32>, (dw, dh):
     dst.par_chunks_mut(dw as usize).enumerate().for_each(|(y, row)| {
         let (y0, y1, wy) = taps(y as u32, sh, dh);
         let (top, bottom) = (&src[y0 * w..][..w], &src[y1 * w..][..w]);
-        for (x, out) in row.iter_mut().enumerate() {
-            let (x0, x1, wx) = taps(x as u32, sw, dw);
+        let mut x_taps = Taps::new(sw, dw);
+        for out in row.iter_mut() {
+            let (x0, x1, wx) = x_taps.next_pixel();
             *out = lerp(lerp(top[x0], top[x1], wx), lerp(bottom[x0], bottom[x1], wx), wy);
         }
     });
 }
 
-/// `a` + (`b` − `a`)·`w`/256 per 8-bit channel, rounded.
-#[inline]
-fn lerp(a: u32, b: u32, w: u32) -> u32 {
-    let mut out = 0;
-    for shift in [0, 8, 16] {
-        let (ca, cb) = ((a >> shift) & 0xFF, (b >> shift) & 0xFF);
-        let c = (ca * (256 - w) + cb * w + 128) >> 8;
-        out |= c << shift;
+/// [`taps`] for pixels 0, 1, 2, … in turn, without a division per pixel: the numerator
+/// steps by 2·samples·128 a pixel, its quotient by pixels and remainder carried.
+struct Taps {
+    last: u64,
+    pixels: i64,
+    /// ⌊numerator / pixels⌋ and the remainder (floor division: the remainder ≥ 0).
+    quotient: i64,
+    remainder: i64,
+    step: (i64, i64),
+}
+
+impl Taps {
+    fn new(samples: u32, pixels: u32) -> Self {
+        let p = i64::from(pixels);
+        let num = (i64::from(samples) - p) * 128;
+        let step = 2 * i64::from(samples) * 128;
+        Self {
+            last: u64::from(samples - 1),
+            pixels: p,
+            quotient: num.div_euclid(p),
+            remainder: num.rem_euclid(p),
+            step: (step / p, step % p),
+        }
     }
-    out
+
+    #[inline]
+    fn next_pixel(&mut self) -> (usize, usize, u64) {
+        let u = self.quotient.max(0) as u64;
+        self.quotient += self.step.0;
+        self.remainder += self.step.1;
+        if self.remainder >= self.pixels {
+            self.quotient += 1;
+            self.remainder -= self.pixels;
+        }
+        let i = (u >> 8).min(self.last);
+        let w = if i == self.last { 0 } else { u & 0xFF };
+        (i as usize, (i + 1).min(self.last) as usize, w)
+    }
+}
+
+/// `a` + (`b` − `a`)·`w`/256 per 8-bit channel, rounded: the three channels at once, each
+/// in a 16-bit field of a `u64` (red and blue where they are, green moved up past them).
+#[inline]
+fn lerp(a: u32, b: u32, w: u64) -> u32 {
+    const ROUND: u64 = 0x80 | 0x80 << 16 | 0x80 << 32;
+    let spread = |c: u32| u64::from(c & 0x00FF_00FF) | u64::from(c & 0x0000_FF00) << 24;
+    let m = (spread(a) * (256 - w) + spread(b) * w + ROUND) >> 8;
+    (m & 0x00FF_00FF) as u32 | ((m >> 24) & 0xFF00) as u32
 }
 
 /// Each `dst_size` pixel's nearest sample, `colour(k)` of sample k of a `src_size` grid.
@@ -104,6 +145,16 @@ mod tests {
         // Channels stay apart: no carry from blue into green.
         upsample(&[0x0000_00FF, 0x00FF_0000], (2, 1), &mut out, (4, 1));
         assert_eq!(out, [0x0000_00FF, 0x0040_00BF, 0x00BF_0040, 0x00FF_0000]);
+    }
+
+    #[test]
+    fn the_stepped_taps_are_the_closed_form_ones() {
+        for (samples, pixels) in [(1, 7), (2, 4), (100, 800), (267, 800), (3, 1000), (50, 51), (7, 7)] {
+            let mut stepped = Taps::new(samples, pixels);
+            for p in 0..pixels {
+                assert_eq!(stepped.next_pixel(), taps(p, samples, pixels), "{samples} → {pixels}, pixel {p}");
+            }
+        }
     }
 
     #[test]
