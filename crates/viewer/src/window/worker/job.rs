@@ -25,6 +25,7 @@ pub(super) struct Job {
     /// The first light's position the tracer was built with; `None`: build it afresh (a
     /// new scene). Otherwise a frame only advances the tracer in time: a still scene,
     /// however large, costs nothing there. The tracer just built has the scene's own light.
+    #[expect(clippy::option_option, reason = "not built, or built with the scene's light or none")]
     built: Option<Option<Vec3>>,
     /// The look (colours, hidden atoms) the scene has.
     looked: Looked,
@@ -75,7 +76,7 @@ impl Job {
             // The mask switched on or off: the same frame, its overlay made or dropped.
             self.back.fill_from(&self.frame, &request, &mut self.cut);
             self.progress.paint(&mut self.back.eyes, request.anaglyph, request.swap);
-            self.publish(FrameInfo { request, wall_ms: 0.0, ..info }, started);
+            self.publish(&FrameInfo { request, wall_ms: 0.0, ..info }, started);
             return;
         }
         let only_time = self.last.is_some_and(|l| Request { time: request.time, ..l.request } == request);
@@ -106,7 +107,7 @@ impl Job {
         self.progress.paint(&mut self.back.eyes, request.anaglyph, request.swap);
         let sampling = self.progress.sampling(&request, 1);
         // The live PSNR stays the full pair's: the refinement traces both eyes in full.
-        self.publish(FrameInfo { sampling, ..last }, started);
+        self.publish(&FrameInfo { sampling, ..last }, started);
     }
 
     /// The scene and tracer as `request` asks: its light, its look, its time and depth.
@@ -158,14 +159,14 @@ impl Job {
         let views = *self.frame.views();
         let sampling = self.progress.sampling(&request, density);
         let info = FrameInfo { seq: 0, request, views, stats, quality, wall_ms: 0.0, posted, sampling };
-        self.publish(info, started)
+        self.publish(&info, started)
     }
 
     /// Numbers the back frame's `info`, times it from `started`, and keeps it as the last.
-    fn publish(&mut self, info: FrameInfo, started: Instant) -> FrameInfo {
+    fn publish(&mut self, info: &FrameInfo, started: Instant) -> FrameInfo {
         self.seq += 1;
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-        let info = FrameInfo { seq: self.seq, wall_ms, ..info };
+        let info = FrameInfo { seq: self.seq, wall_ms, ..*info };
         self.back.info = Some(info);
         self.last = Some(info);
         info

@@ -76,8 +76,8 @@ impl Progress {
         if density == 1 {
             let eye = (request.width, request.height);
             let pixels = u64::from(eye.0) * u64::from(eye.1);
-            // Two eyes of S² samples at four bytes.
-            let fits = |s: u32| memory.is_none_or(|m| 8 * u64::from(s * s) * pixels <= m);
+            // Two eyes of S² samples at four bytes, and their sums.
+            let fits = |s: u32| memory.is_none_or(|m| (8 * u64::from(s * s) + 24) * pixels <= m);
             let s = (1..=p.max_supersample).rev().find(|&s| fits(s)).unwrap_or(1);
             if s > 1 {
                 self.refine.start(&request.camera, eye, s);
@@ -101,7 +101,7 @@ impl Progress {
     }
 
     /// Over `eyes`, the refined pair, when a pass is done (and the anaglyph made again).
-    pub fn paint(&self, eyes: &mut Eyes, anaglyph: bool, swap: bool) {
+    pub fn paint(&mut self, eyes: &mut Eyes, anaglyph: bool, swap: bool) {
         if self.refine.spp() > 0 {
             self.refine.eyes([&mut eyes.left, &mut eyes.right]);
             eyes.finish_anaglyph(anaglyph, swap);
@@ -142,7 +142,7 @@ mod tests {
     }
 
     /// Waits for the first frame after `seq` that `done` accepts.
-    fn wait<'w>(worker: &'w mut Worker, seq: u64, done: impl Fn(&Finished) -> bool) -> &'w Finished {
+    fn wait(worker: &mut Worker, seq: u64, done: impl Fn(&Finished) -> bool) -> &Finished {
         let deadline = Instant::now() + Duration::from_secs(60);
         loop {
             let f = worker.latest();

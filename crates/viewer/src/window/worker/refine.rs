@@ -17,9 +17,11 @@
 //! spread of the rows otherwise), the jittered supersampling of interactive tracers,
 //! converging to the regular grid the filter expects.
 //!
-//! Memory: the sample images, 4 · S² bytes per eye pixel and eye (128 bytes a pixel of both
-//! eyes at S = 4), and one bit per sample for the pass's selection.
+//! Memory: the sample images, 4 · S² bytes per eye pixel and eye, the running sums, 12
+//! bytes per eye pixel and eye, and one bit per sample for the pass's selection: 152 bytes
+//! a pixel of both eyes at S = 4.
 
+use rayon::prelude::*;
 use stereo::StereoViews;
 use tracer::{Camera, PixelBits, Pixels, RayCounts, Renderer, Target, Tracer};
 
@@ -44,6 +46,10 @@ pub struct Refine {
     order: Vec<(u32, u32)>,
     /// Passes done.
     done: usize,
+    /// Each eye's per-pixel sums in linear light of the samples of the first `summed`
+    /// passes.
+    sums: [Vec<[f32; 3]>; 2],
+    summed: usize,
 }
 
 impl Refine {
@@ -52,7 +58,7 @@ impl Refine {
         let s = s.clamp(1, MAX_SUPERSAMPLE);
         let size = (eye.0 * s, eye.1 * s);
         self.views = Some(StereoViews::new(camera, size, (0, 0)));
-        (self.s, self.eye, self.done) = (s, eye, 0);
+        (self.s, self.eye, self.done, self.summed) = (s, eye, 0, 0);
         self.order.clear();
         self.order.extend((0..s).flat_map(|y| (0..s).map(move |x| (x, y))));
         self.order.sort_unstable_by_key(|&(x, y)| rank(x, y, s));
@@ -89,7 +95,8 @@ impl Refine {
     /// Bytes of the buffers kept: the sample images and the selection.
     #[must_use]
     pub fn bytes(&self) -> usize {
-        self.samples.iter().map(|e| e.capacity() * 4).sum::<usize>() + self.bits.words().len() * 8
+        let sums: usize = self.sums.iter().map(|e| e.capacity() * 12).sum();
+        self.samples.iter().map(|e| e.capacity() * 4).sum::<usize>() + sums + self.bits.words().len() * 8
     }
 
     /// Traces the next pass, both eyes; returns the rays of each.
@@ -97,11 +104,18 @@ impl Refine {
         let Some(views) = self.views.filter(|_| self.pending()) else { return Default::default() };
         let (sx, sy) = self.order[self.done];
         let s = self.s;
+        // Sample sx of every pixel in row sy, then that row's words copied to the rows
+        // sy + S, sy + 2S, …
         self.bits.clear();
-        for j in (sy..self.bits.height()).step_by(s as usize) {
-            for i in (sx..self.bits.width()).step_by(s as usize) {
-                self.bits.set(i, j, true);
-            }
+        for i in (sx..self.bits.width()).step_by(s as usize) {
+            self.bits.set(i, sy, true);
+        }
+        let stride = self.bits.stride();
+        let words = self.bits.words_mut();
+        let (first, rest) = words.split_at_mut((sy as usize + 1) * stride);
+        let pattern = &first[sy as usize * stride..];
+        for row in rest.chunks_exact_mut(stride).skip(s as usize - 1).step_by(s as usize) {
+            row.copy_from_slice(pattern);
         }
         let Self { samples: [left, right], renderers: [lr, rr], bits, .. } = self;
         let [lv, rv] = &views.eyes;
@@ -114,40 +128,39 @@ impl Refine {
     }
 
     /// Each eye as shown after the passes so far, at the eye size, into `out`: the mean in
-    /// linear light of each pixel's samples traced so far, or when converged the box filter
-    /// `render --supersample` applies.
-    pub fn eyes(&self, out: [&mut Vec<u32>; 2]) {
+    /// linear light of each pixel's samples traced so far (kept as running sums, which this
+    /// call brings up to date), or when converged the box filter `render --supersample`
+    /// applies.
+    pub fn eyes(&mut self, out: [&mut Vec<u32>; 2]) {
         let Some(views) = self.views else { return };
-        for (samples, out) in self.samples.iter().zip(out) {
-            if self.converged() {
-                stereo::downsample(samples, views.shown, out, self.eye);
-            } else {
-                self.mean(samples, out);
-            }
-        }
-    }
-
-    /// The mean of the traced samples of each pixel of one eye.
-    fn mean(&self, samples: &[u32], out: &mut Vec<u32>) {
-        use rayon::prelude::*;
+        let converged = self.converged();
         let (w, h, s) = (self.eye.0 as usize, self.eye.1 as usize, self.s as usize);
-        let done = &self.order[..self.done];
-        let scale = 1.0 / done.len().max(1) as f32;
-        out.resize(w * h, 0);
-        out.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-            for (x, px) in row.iter_mut().enumerate() {
-                let mut sum = [0.0f32; 3];
-                for &(sx, sy) in done {
-                    let k = (y * s + sy as usize) * w * s + x * s + sx as usize;
-                    let rgb = tracer::unpack_rgb(samples[k]);
-                    for (c, v) in sum.iter_mut().zip(rgb) {
-                        *c += tracer::srgb8_to_linear(v);
-                    }
-                }
-                let [r, g, b] = sum.map(|c| u32::from(tracer::linear_to_srgb8(c * scale)));
-                *px = (r << 16) | (g << 8) | b;
+        let new = &self.order[self.summed..self.done];
+        let scale = 1.0 / self.done.max(1) as f32;
+        for ((samples, sums), out) in self.samples.iter().zip(&mut self.sums).zip(out) {
+            if converged {
+                stereo::downsample(samples, views.shown, out, self.eye);
+                continue;
             }
-        });
+            sums.resize(w * h, [0.0; 3]);
+            if self.summed == 0 {
+                sums.fill([0.0; 3]);
+            }
+            out.resize(w * h, 0);
+            out.par_chunks_mut(w).zip(sums.par_chunks_mut(w)).enumerate().for_each(|(y, (row, sums))| {
+                for (x, (px, sum)) in row.iter_mut().zip(sums).enumerate() {
+                    for &(sx, sy) in new {
+                        let k = (y * s + sy as usize) * w * s + x * s + sx as usize;
+                        for (c, v) in sum.iter_mut().zip(tracer::unpack_rgb(samples[k])) {
+                            *c += tracer::srgb8_to_linear(v);
+                        }
+                    }
+                    let [r, g, b] = sum.map(|c| u32::from(tracer::linear_to_srgb8(c * scale)));
+                    *px = (r << 16) | (g << 8) | b;
+                }
+            });
+        }
+        self.summed = self.done;
     }
 }
 
