@@ -215,4 +215,37 @@ mod tests {
         let quadrants: std::collections::HashSet<_> = first.iter().map(|&(x, y)| (x / 2, y / 2)).collect();
         assert_eq!(quadrants.len(), 4, "one sample in each quarter of the pixel first: {first:?}");
     }
+
+    /// Before it converges, a pixel shows the mean in linear light of its samples so far:
+    /// after one pass, its one sample exactly (sRGB round-trips every level); after two,
+    /// the mean of the two, as the box filter would weigh them.
+    #[test]
+    fn a_pixel_shows_the_mean_of_its_samples_so_far() {
+        let scene = tracer::testing::scene("seed.toml");
+        let tracer = Tracer::new(&scene, 0.0);
+        let eye = (24, 18);
+        let mut refine = Refine::default();
+        refine.start(&scene.camera, eye, 2);
+        let (mut left, mut right) = (Vec::new(), Vec::new());
+        refine.pass(&tracer);
+        refine.eyes([&mut left, &mut right]);
+        let (sx, sy) = refine.order[0];
+        let sample = |samples: &[u32], x: usize, y: usize, (sx, sy): (u32, u32)| {
+            samples[(2 * y + sy as usize) * 48 + 2 * x + sx as usize]
+        };
+        for (k, px) in left.iter().enumerate() {
+            assert_eq!(*px, sample(&refine.samples[0], k % 24, k / 24, (sx, sy)), "pixel {k}");
+        }
+        refine.pass(&tracer);
+        refine.eyes([&mut left, &mut right]);
+        let second = refine.order[1];
+        for (k, px) in right.iter().enumerate() {
+            let (x, y) = (k % 24, k / 24);
+            let two = [sample(&refine.samples[1], x, y, (sx, sy)), sample(&refine.samples[1], x, y, second)];
+            let mut mean = Vec::new();
+            stereo::downsample(&two, (2, 1), &mut mean, (1, 1));
+            assert_eq!(*px, mean[0], "pixel {k}");
+        }
+        assert!(!refine.converged() && refine.spp() == 2);
+    }
 }
