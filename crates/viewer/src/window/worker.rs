@@ -157,6 +157,12 @@ impl Worker {
         lock(&self.shared.outbox).building
     }
 
+    /// Bytes of the resting refinement's buffers (the progressive policy's accumulation:
+    /// `worker/refine.rs`), as of the last frame finished.
+    pub fn refine_bytes(&self) -> usize {
+        lock(&self.shared.outbox).refine_bytes
+    }
+
     /// The frame returned by the last [`Worker::latest`].
     pub fn current(&self) -> &Finished {
         &self.front
