@@ -41,7 +41,9 @@ pub struct Refine {
     samples: [Vec<u32>; 2],
     /// The pass's selection of samples.
     bits: PixelBits,
-    renderers: [Renderer; 2],
+    /// One renderer for both eyes: its screen bins are built for each pass's view anyway,
+    /// and one set of them is what a 2.9-million-sphere scene can spare.
+    renderer: Renderer,
     /// The sub-pixel positions in the order they are traced.
     order: Vec<(u32, u32)>,
     /// Passes done.
@@ -117,11 +119,11 @@ impl Refine {
         for row in rest.chunks_exact_mut(stride).skip(s as usize - 1).step_by(s as usize) {
             row.copy_from_slice(pattern);
         }
-        let Self { samples: [left, right], renderers: [lr, rr], bits, .. } = self;
+        let Self { samples: [left, right], renderer, bits, .. } = self;
         let [lv, rv] = &views.eyes;
         let counts = [
-            lr.render(tracer, lv, Pixels::Only(bits), Target::colour(left)),
-            rr.render(tracer, rv, Pixels::Only(bits), Target::colour(right)),
+            renderer.render(tracer, lv, Pixels::Only(bits), Target::colour(left)),
+            renderer.render(tracer, rv, Pixels::Only(bits), Target::colour(right)),
         ];
         self.done += 1;
         counts
