@@ -94,11 +94,13 @@ impl Refine {
         self.views.is_some() && self.done == self.order.len()
     }
 
-    /// Bytes of the buffers kept: the sample images and the selection.
+    /// Bytes of the buffers kept: the sample images, the sums, the selection and the
+    /// renderer's screen bins.
     #[must_use]
     pub fn bytes(&self) -> usize {
         let sums: usize = self.sums.iter().map(|e| e.capacity() * 12).sum();
-        self.samples.iter().map(|e| e.capacity() * 4).sum::<usize>() + sums + self.bits.words().len() * 8
+        let samples: usize = self.samples.iter().map(|e| e.capacity() * 4).sum();
+        samples + sums + self.bits.words().len() * 8 + self.renderer.memory()
     }
 
     /// Traces the next pass, both eyes; returns the rays of each.
