@@ -413,3 +413,23 @@ fn colour_and_hide_flags_change_the_picture() {
     assert_ne!(render("look_range.png", &["--color-range", "0,40"]), plain, "--color-range alone is bfactor");
     assert_ne!(render("look_hide.png", &["--hide", "water,hydrogen,hetero"]), plain, "waters hidden");
 }
+
+/// The progressive policy's flags are checked before a window opens: out of range, exit 2
+/// with clap's message naming the flag and the range.
+#[test]
+fn the_progressive_flags_out_of_range_exit_2() {
+    for (flag, value, range) in [
+        ("--target-age-ms", "4", "5..=1000"),
+        ("--target-age-ms", "2000", "5..=1000"),
+        ("--max-supersample", "0", "1..=8"),
+        ("--max-supersample", "9", "1..=8"),
+    ] {
+        let out = stereotrace(&[flag, value]);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{flag} {value}: {err}");
+        assert!(
+            err.contains(&format!("invalid value '{value}' for '{flag}")) && err.contains(range),
+            "{flag} {value}: {err}"
+        );
+    }
+}
