@@ -253,6 +253,36 @@ mod tests {
         assert!(!last.fresh && last.hole_share() > 0.0, "{last:?}");
     }
 
+    /// A coarse pair (the progressive policy's, while the head moves: traced at fewer
+    /// samples than the eye has pixels) is warped at its samples and reconstructed at the
+    /// eye size, its mask too: what is shown is `stereo::upsample` of the warp.
+    #[test]
+    fn a_coarse_pair_is_warped_at_its_samples_and_shown_at_the_eye_size() {
+        let camera = Camera { ipd: 1.0, ..Camera::default() };
+        let (coarse, eye) = ((12, 8), (48, 32));
+        let mut frame = traced(camera, coarse, (1, 1));
+        let mut info = frame.info.unwrap();
+        (info.request.width, info.request.height) = eye;
+        frame.info = Some(info);
+        let turned = Camera { yaw_deg: 3.0, ..camera };
+        let mut timewarp = Timewarp::new().unwrap();
+        let shown = timewarp.show(&frame, &turned, MASK).unwrap();
+        assert_eq!((shown.size, shown.left.len(), shown.left_overlay.len()), (eye, 48 * 32, 48 * 32));
+        let shown = shown.left.clone();
+        let counts = timewarp.last().counts;
+        assert_eq!(counts[0].total(), 12 * 8, "warped at the samples");
+        // The same warp at the samples, reconstructed.
+        let mut warp = Warp::new();
+        let [l, r] = frame.info.unwrap().views.warped_to(&turned);
+        let (mut planes, mut classes) = ([Vec::new(), Vec::new()], [Vec::new(), Vec::new()]);
+        let [pl, pr] = &mut planes;
+        let [cl, cr] = &mut classes;
+        warp.warp(frame.warp_sources().unwrap(), [&l, &r], [pl, pr], [cl, cr]);
+        let mut want = Vec::new();
+        stereo::upsample(&planes[0], coarse, &mut want, eye);
+        assert_eq!(shown, want);
+    }
+
     /// A frame traced without the timewarp's planes is not warped.
     #[test]
     fn a_frame_without_depths_is_not_warped() {
