@@ -231,9 +231,10 @@ impl Bvh {
     }
 
     /// Narrows `(t_best, best)` to the closest hit among a leaf's spheres other than `skip`:
-    /// the smallest `t`, and of equal ones the lowest lane.
+    /// the smallest `t`, and of equal ones the lowest lane; with `LOWEST_ID`, a hit at
+    /// `t_best` itself too, and of equal `t` the lowest sphere id, here and against `best`.
     #[inline(always)]
-    fn leaf_closest<S: Simd>(
+    fn leaf_closest<S: Simd, const LOWEST_ID: bool>(
         simd: S,
         leaf: &Leaf,
         ray: ([F<S>; 3], [F<S>; 3]),
@@ -242,14 +243,23 @@ impl Bvh {
         best: &mut Option<u32>,
     ) {
         let inf = F::<S>::splat(simd, f32::INFINITY);
+        // `t < next_up(t_best)` is `t ≤ t_best` (and +∞ stays +∞).
+        let bound = if LOWEST_ID { t_best.next_up() } else { *t_best };
         for base in (0..WIDTH).step_by(F::<S>::LEN) {
-            let (t, ids) = leaf.hits(simd, ray, base, *t_best);
-            // Every finite `t` is below `t_best`: the test's bound.
+            let (t, ids) = leaf.hits(simd, ray, base, bound);
+            // Every finite `t` is below the test's bound.
             let t = ids.simd_eq(U::<S>::splat(simd, skip)).select(inf, t);
             if t.simd_lt(inf).any_true() {
                 let nearest = t.reduce_min();
-                let lane = t.simd_eq(F::<S>::splat(simd, nearest)).to_bitmask().trailing_zeros() as usize;
-                (*t_best, *best) = (nearest, Some(leaf.ids[base + lane]));
+                let at = t.simd_eq(F::<S>::splat(simd, nearest)).to_bitmask();
+                if !LOWEST_ID {
+                    (*t_best, *best) = (nearest, Some(leaf.ids[base + at.trailing_zeros() as usize]));
+                    continue;
+                }
+                let id = crate::bits::ones(&[at]).map(|l| leaf.ids[base + l as usize]).min();
+                if let Some(id) = id.filter(|&id| nearest < *t_best || best.is_none_or(|b| id < b)) {
+                    (*t_best, *best) = (nearest, Some(id));
+                }
             }
         }
     }
@@ -277,35 +287,55 @@ impl Bvh {
     /// [`Bvh::intersect`] inside a function dispatched at `simd`'s level (a lane kernel).
     #[inline(always)]
     pub(crate) fn intersect_in<S: Simd>(&self, simd: S, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
+        self.closest_in::<S, false>(simd, ray, t_max, skip)
+    }
+
+    /// The closest hit in `(0, ∞)` of a ray from anywhere, of equal `t` the lowest sphere
+    /// id, as a scan of every sphere in id order finds it: the first hit of a primary ray
+    /// as the screen bins (`screen.rs`) find it, bit for bit, inside a lane kernel.
+    #[inline(always)]
+    pub(crate) fn first_hit_in<S: Simd>(&self, simd: S, ray: &Ray) -> Option<Hit> {
+        self.closest_in::<S, true>(simd, ray, f32::INFINITY, crate::surface::NO_OBJECT)
+    }
+
+    /// The closest hit, ties broken as `LOWEST_ID` says ([`Bvh::leaf_closest`]).
+    #[inline(always)]
+    fn closest_in<S: Simd, const LOWEST_ID: bool>(&self, simd: S, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
         if self.depth <= SHALLOW_DEPTH {
-            self.intersect_with::<S, SHALLOW_STACK>(simd, ray, t_max, skip)
+            self.intersect_with::<S, SHALLOW_STACK, LOWEST_ID>(simd, ray, t_max, skip)
         } else if self.depth <= MEDIUM_DEPTH {
-            self.intersect_with::<S, MEDIUM_STACK>(simd, ray, t_max, skip)
+            self.intersect_with::<S, MEDIUM_STACK, LOWEST_ID>(simd, ray, t_max, skip)
         } else {
-            self.intersect_deep(ray, t_max, skip)
+            self.intersect_deep::<LOWEST_ID>(ray, t_max, skip)
         }
     }
 
     /// [`Bvh::intersect`] of a tree deeper than [`SHALLOW_DEPTH`] (rare: a lopsided scene),
     /// out of line so the kernels inline only the short stack's traversal.
     #[inline(never)]
-    fn intersect_deep(&self, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
+    fn intersect_deep<const LOWEST_ID: bool>(&self, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
         dispatch!(crate::simd::level(), simd => simd.vectorize(
             #[inline(always)]
-            || self.intersect_with::<_, STACK>(simd, ray, t_max, skip),
+            || self.intersect_with::<_, STACK, LOWEST_ID>(simd, ray, t_max, skip),
         ))
     }
 
     /// [`Bvh::intersect`] with a traversal stack of `N` entries, `N` > 7 × `self.depth`.
     #[inline(always)]
-    fn intersect_with<S: Simd, const N: usize>(&self, simd: S, ray: &Ray, t_max: f32, skip: u32) -> Option<Hit> {
+    fn intersect_with<S: Simd, const N: usize, const LOWEST_ID: bool>(
+        &self,
+        simd: S,
+        ray: &Ray,
+        t_max: f32,
+        skip: u32,
+    ) -> Option<Hit> {
         let lane_ray = (splat3(simd, ray.origin), splat3(simd, ray.dir));
         let (mut t_best, mut best) = (t_max, None);
         match self.root {
             Root::Empty => return None,
             Root::Leaf => {
                 // A small scene is one leaf: its lanes are the whole test, no box needed.
-                Self::leaf_closest(simd, &self.leaves[0], lane_ray, skip, &mut t_best, &mut best);
+                Self::leaf_closest::<S, LOWEST_ID>(simd, &self.leaves[0], lane_ray, skip, &mut t_best, &mut best);
                 return best.map(|object| Hit { t: t_best, object });
             }
             Root::Node => {}
@@ -334,7 +364,8 @@ impl Bvh {
                 hit &= hit - 1;
                 let entry = Entry { link: node.child[lane], near: near[lane] };
                 if entry.link & LEAF != 0 {
-                    Self::leaf_closest(simd, self.leaf_at(entry.link), lane_ray, skip, &mut t_best, &mut best);
+                    let leaf = self.leaf_at(entry.link);
+                    Self::leaf_closest::<S, LOWEST_ID>(simd, leaf, lane_ray, skip, &mut t_best, &mut best);
                     continue;
                 }
                 let mut k = sp;
@@ -503,7 +534,7 @@ mod tests {
             let want = brute(&ray, f32::INFINITY, &centers, &radii, NO_OBJECT);
             assert_eq!(got.map(|h| (h.t.to_bits(), h.object)), want.map(|h| (h.t.to_bits(), h.object)), "ray {k}");
             // The long stack's traversal, which trees deeper than `SHALLOW_DEPTH` take.
-            let deep = bvh.intersect_deep(&ray, f32::INFINITY, NO_OBJECT);
+            let deep = bvh.intersect_deep::<false>(&ray, f32::INFINITY, NO_OBJECT);
             assert_eq!(deep.map(|h| (h.t.to_bits(), h.object)), want.map(|h| (h.t.to_bits(), h.object)), "ray {k}");
             assert_eq!(bvh.occluded(&ray, 1e30, NO_OBJECT), want.is_some(), "ray {k}");
             assert_eq!(bvh.occluded_deep(&ray, 1e30, NO_OBJECT), want.is_some(), "ray {k}: the long stack");
@@ -511,7 +542,7 @@ mod tests {
             // `MEDIUM_DEPTH` levels.
             if bvh.depth <= MEDIUM_DEPTH {
                 let (hit, blocked) = dispatch!(crate::simd::level(), simd => simd.vectorize(|| (
-                    bvh.intersect_with::<_, MEDIUM_STACK>(simd, &ray, f32::INFINITY, NO_OBJECT),
+                    bvh.intersect_with::<_, MEDIUM_STACK, false>(simd, &ray, f32::INFINITY, NO_OBJECT),
                     bvh.occluded_with::<_, MEDIUM_STACK>(simd, &ray, 1e30, NO_OBJECT),
                 )));
                 let key = |h: Option<Hit>| h.map(|h| (h.t.to_bits(), h.object));

@@ -16,7 +16,9 @@
 //!   sphere in lanes (`flat.rs`), which beats looking each ray up.
 //!
 //! An eye's primary rays go through that eye's screen bins instead (`screen.rs`, built per
-//! view by the renderer). Every structure only chooses which spheres to test; the test is
+//! view by the renderer), unless the view has so many spheres for its pixels that binning
+//! them would cost more than a BVH query per ray; then through the BVH, whose
+//! [`Aggregate::first_hit_in`] breaks ties as the bins do. Every structure only chooses which spheres to test; the test is
 //! the one ray–sphere kernel (`simd.rs`), so each answers bit-for-bit what the BVH would, and
 //! the tests compare them on every scene.
 
@@ -147,6 +149,15 @@ impl Aggregate {
             Origin::Light(shadow) => shadow.skip,
         };
         self.bvh.intersect_in(simd, ray, t_max, skip)
+    }
+
+    /// The closest hit of a ray from anywhere, of equal `t` the lowest sphere id: an eye's
+    /// primary ray through the BVH, bit for bit the screen bins' answer (`screen.rs`),
+    /// inside a lane kernel.
+    #[inline(always)]
+    #[must_use]
+    pub(crate) fn first_hit_in<S: Simd>(&self, simd: S, ray: &Ray) -> Option<Hit> {
+        self.bvh.first_hit_in(simd, ray)
     }
 
     /// Whether anything blocks `ray` before `t_max` (any hit, early exit), for a ray from

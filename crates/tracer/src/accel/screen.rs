@@ -40,7 +40,9 @@
 use fearless_simd::{prelude::*, Simd};
 use glam::{DVec3, Vec3};
 
+use super::Aggregate;
 use crate::camera::EyeView;
+use crate::ray::Ray;
 use crate::simd::{each3, nearest_root, F, U};
 use crate::surface::NO_OBJECT;
 
@@ -50,12 +52,42 @@ pub(crate) const TILE: u32 = 8;
 /// Growth of a sphere's radius for the bound, relative to its distance from the eye.
 const RADIUS_MARGIN: f64 = 1e-4;
 
-/// Screen tiles of one eye's view, each with the packets of spheres its pixels can hit.
+/// How an eye's primary rays find their first hits.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum Search {
+    /// Through the screen bins: each tile's spheres tested in lanes.
+    #[default]
+    Bins,
+    /// Through the aggregate's BVH, one ray at a time ([`Aggregate::first_hit_in`]).
+    Bvh,
+}
+
+impl Search {
+    /// The cheaper search for `spheres` spheres and `rays` primary rays (see the module
+    /// doc): the bins up to [`BINS_SPHERES_PER_RAY`] spheres a ray, the BVH beyond.
+    #[must_use]
+    pub(crate) fn cheaper(spheres: usize, rays: u64) -> Self {
+        if spheres as f64 > BINS_SPHERES_PER_RAY * rays as f64 {
+            Self::Bvh
+        } else {
+            Self::Bins
+        }
+    }
+}
+
+/// Spheres per primary ray above which the BVH finds an eye's first hits faster than
+/// binning every sphere for the frame would (measured: `docs/performance-notes.md`).
+pub(crate) const BINS_SPHERES_PER_RAY: f64 = 1.0;
+
+/// Screen tiles of one eye's view, each with the packets of spheres its pixels can hit; or,
+/// when the view is searched through the BVH, no tiles at all.
 ///
 /// Built by [`ScreenBins::build`] into buffers reused from frame to frame; traced through
 /// by [`BinnedView`].
 #[derive(Clone, Debug, Default)]
 pub(crate) struct ScreenBins {
+    /// How this view's first hits are found; with [`Search::Bvh`] the tiles are not built.
+    search: Search,
     tiles_x: u32,
     /// Tile t's spheres are `spheres[first[t]..first[t + 1]]`, ids in id order.
     first: Vec<u32>,
@@ -149,8 +181,13 @@ impl ScreenBins {
         heap(&self.first) + heap(&self.spheres) + heap(&self.rects) + heap(&self.fill)
     }
     /// Bins the spheres `(centers[k], radii[k])` for the primary rays of `view`, reusing the
-    /// buffers.
-    pub(crate) fn build(&mut self, (centers, radii): (&[Vec3], &[f32]), view: &EyeView) {
+    /// buffers; or, for [`Search::Bvh`], leaves the bins empty (their buffers kept) and
+    /// sends every primary ray through the BVH.
+    pub(crate) fn build(&mut self, (centers, radii): (&[Vec3], &[f32]), view: &EyeView, search: Search) {
+        self.search = search;
+        if search == Search::Bvh {
+            return;
+        }
         self.tiles_x = view.width.div_ceil(TILE);
         let tiles_y = view.height.div_ceil(TILE);
         let tiles = (self.tiles_x * tiles_y) as usize;
@@ -197,27 +234,42 @@ impl ScreenBins {
     }
 
     /// Whether pixel (i, j)'s tile lists no sphere: its primary ray sees only background.
+    /// (Never, when the view is searched through the BVH.)
     #[inline]
     #[must_use]
     pub(crate) fn is_empty_at(&self, i: u32, j: u32) -> bool {
-        self.spheres_at(i, j).is_empty()
+        self.search == Search::Bins && self.spheres_at(i, j).is_empty()
     }
 
     /// The first hits of the primary rays of `view` (for which the bins were built) through
     /// pixels (i + l, j), l = 0..LEN, which lie in one tile (and the image, where lanes are
     /// wanted): per lane the hit parameter (+∞ for none), the sphere, and the ray's
     /// direction: [`EyeView::primary_ray`]'s rays and the BVH's hits, bit for bit (each
-    /// sphere's `t` is the same kernel on the same values; a test compares the two).
+    /// sphere's `t` is the same kernel on the same values; a test compares the two). The
+    /// closest hit wins, of equal `t` the lowest sphere id (the bins list their spheres in
+    /// id order, and keep the first of equal `t`). Through the BVH ([`Search::Bvh`]) only
+    /// the lanes `mask` names are traced, the others left as misses; the bins fill them all.
     #[inline(always)]
     pub(crate) fn hits_lanes<S: Simd>(
         &self,
         simd: S,
         (view, centers, radii): (&EyeView, &[Vec3], &[f32]),
-        i: u32,
-        j: u32,
+        accel: &Aggregate,
+        (i, j, mask): (u32, u32, u32),
     ) -> (F<S>, U<S>, [F<S>; 3]) {
         let d = view.primary_dirs_lanes(simd, i, j);
         let o = view.origin;
+        if self.search == Search::Bvh {
+            let (mut t, mut ids) = ([f32::INFINITY; 16], [NO_OBJECT; 16]);
+            let dirs = each3(|a| d[a].as_slice());
+            for l in crate::bits::ones(&[u64::from(mask)]).map(|l| l as usize).take_while(|&l| l < F::<S>::LEN) {
+                let ray = Ray::new(o, Vec3::new(dirs[0][l], dirs[1][l], dirs[2][l]));
+                if let Some(hit) = accel.first_hit_in(simd, &ray) {
+                    (t[l], ids[l]) = (hit.t, hit.object);
+                }
+            }
+            return (F::<S>::from_slice(simd, &t[..F::<S>::LEN]), U::<S>::from_slice(simd, &ids[..F::<S>::LEN]), d);
+        }
         let mut t_best = F::<S>::splat(simd, f32::INFINITY);
         let mut best = U::<S>::splat(simd, NO_OBJECT);
         for &k in self.spheres_at(i, j) {
@@ -261,12 +313,13 @@ mod tests {
             let view = camera.view_with_margin(eye, w, h, margin);
             let (w, h) = (view.width, view.height);
             let mut bins = ScreenBins::default();
-            bins.build((&tracer.scene.centers, &tracer.scene.radii), &view);
+            bins.build((&tracer.scene.centers, &tracer.scene.radii), &view, Search::Bins);
             let mut hits = 0;
             for j in 0..h {
                 for i in (0..w).step_by(lanes as usize) {
                     let (t, ids, d) = fearless_simd::dispatch!(crate::simd::level(), simd => simd.vectorize(|| {
-                        let (t, ids, d) = bins.hits_lanes(simd, (&view, &tracer.scene.centers, &tracer.scene.radii), i, j);
+                        let scene = (&view, &tracer.scene.centers[..], &tracer.scene.radii[..]);
+                        let (t, ids, d) = bins.hits_lanes(simd, scene, &tracer.accel, (i, j, u32::MAX));
                         let mut out = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
                         let n = t.as_slice().len();
                         out.0[..n].copy_from_slice(t.as_slice());
@@ -365,7 +418,7 @@ mod tests {
         let (w, h) = (800, 800);
         let view = camera.view(Eye::Left, w, h);
         let mut bins = ScreenBins::default();
-        bins.build((&tracer.scene.centers, &tracer.scene.radii), &view);
+        bins.build((&tracer.scene.centers, &tracer.scene.radii), &view, Search::Bins);
         let half = (0.1f64.asin().tan() * 400.0) as u32; // ≈ 40 pixels
         let [x0, y0, x1, y1] = bins.rects[0].map(u32::from);
         assert_ne!(bins.rects[0], NO_RECT, "visible");

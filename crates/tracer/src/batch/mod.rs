@@ -90,12 +90,12 @@ pub(crate) fn lanes() -> u32 {
 }
 
 impl BinnedView<'_> {
-    /// The first hits of the primary rays of pixels (i + l, j), l = 0..LEN
-    /// ([`ScreenBins::hits_lanes`]).
+    /// The first hits of the primary rays of pixels (i + l, j), l = 0..LEN, at least of the
+    /// lanes `mask` names ([`ScreenBins::hits_lanes`]).
     #[inline(always)]
-    pub(crate) fn hits_lanes<S: Simd>(&self, simd: S, i: u32, j: u32) -> (F<S>, U<S>, [F<S>; 3]) {
+    pub(crate) fn hits_lanes<S: Simd>(&self, simd: S, (i, j, mask): (u32, u32, u32)) -> (F<S>, U<S>, [F<S>; 3]) {
         let scene = &self.tracer.scene;
-        self.bins.hits_lanes(simd, (self.view, &scene.centers, &scene.radii), i, j)
+        self.bins.hits_lanes(simd, (self.view, &scene.centers, &scene.radii), &self.tracer.accel, (i, j, mask))
     }
 
     /// Pushes the pixels `mask` names of the group of [`lanes`] columns from `base` (a
@@ -135,7 +135,7 @@ impl BinnedView<'_> {
             }
             return;
         }
-        let hits = self.hits_lanes(simd, base, j);
+        let hits = self.hits_lanes(simd, (base, j, mask));
         self.push_found_in(simd, wavefront, (base, mask), hits, sink);
     }
 

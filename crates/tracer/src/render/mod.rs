@@ -12,12 +12,14 @@
 //! an eye's pixels in batches of its own ([`PixelBatch`], `batch.rs` over `batch/`).
 
 mod batch;
+#[cfg(test)]
+mod both_ways;
 mod row;
 
 use rayon::iter::Either;
 use rayon::prelude::*;
 
-use crate::accel::screen::ScreenBins;
+use crate::accel::screen::{ScreenBins, Search};
 use crate::batch::BinnedView;
 use crate::bits::PixelBits;
 use crate::camera::EyeView;
@@ -35,6 +37,33 @@ pub use batch::{BatchRow, PixelBatch};
 #[derive(Clone, Debug, Default)]
 pub struct Renderer {
     bins: ScreenBins,
+    first_hits: FirstHits,
+}
+
+/// How a [`Renderer`] finds its primary rays' first hits. Every choice makes the same
+/// pixels, records, marks and counts, bit for bit; only the time differs.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FirstHits {
+    /// Per view, whichever is cheaper for its spheres and the rays traced: the screen bins
+    /// while spheres are few for the pixels, the BVH when binning them all would cost more
+    /// than the rays' BVH queries (`accel/screen.rs`).
+    #[default]
+    Cheaper,
+    /// Always the screen bins.
+    Bins,
+    /// Always the BVH, a ray at a time.
+    Bvh,
+}
+
+impl FirstHits {
+    /// The search for `rays` primary rays of `tracer`'s scene.
+    fn search(self, tracer: &Tracer, rays: u64) -> Search {
+        match self {
+            Self::Cheaper => Search::cheaper(tracer.scene.centers.len(), rays),
+            Self::Bins => Search::Bins,
+            Self::Bvh => Search::Bvh,
+        }
+    }
 }
 
 /// Which pixels of a view a render traces.
@@ -221,10 +250,18 @@ impl Renderer {
         Self::default()
     }
 
+    /// This renderer, finding first hits as `first_hits` says (by default, the cheaper way
+    /// per view); for tests and measurements, as every way makes the same pixels.
+    #[must_use]
+    pub fn with_first_hits(self, first_hits: FirstHits) -> Self {
+        Self { first_hits, ..self }
+    }
+
     /// Traces `pixels` of `view` into `target`, and returns the rays cast.
     ///
-    /// First hits are found through screen-space bins, rebuilt for `view`, the rest through
-    /// the aggregate. Rows are independent work items; each row counts its own rays and the
+    /// First hits are found through screen-space bins, rebuilt for `view`, or through the
+    /// BVH when the scene has so many spheres for the rays traced that binning them would
+    /// cost more ([`FirstHits`]); the rest through the aggregate. Rows are independent work items; each row counts its own rays and the
     /// counts are summed afterwards, so the result — pixels, record, marks and counts — is
     /// the same for any thread count. Nothing is allocated per pixel or per ray, nor per
     /// frame once the target has its size.
@@ -249,7 +286,12 @@ impl Renderer {
         if w == 0 || h == 0 {
             return RayCounts::default();
         }
-        self.bins.build((&tracer.scene.centers, &tracer.scene.radii), view);
+        let rays = match pixels {
+            Pixels::All => (w * h) as u64,
+            Pixels::Only(bits) => bits.count(),
+        };
+        let search = self.first_hits.search(tracer, rays);
+        self.bins.build((&tracer.scene.centers, &tracer.scene.radii), view, search);
         let eye = BinnedView { tracer, view, bins: &self.bins };
         let marker = swept.map(|swept| Marker::new(swept, view, &tracer.scene.lights));
         let rewrite = if matches!(pixels, Pixels::Only(_)) { Rewrite::Few } else { Rewrite::All };
@@ -279,9 +321,10 @@ impl Renderer {
     }
 
     /// `view`'s pixels, to make in batches of a row's chosen pixels (`batch/`), with the
-    /// screen bins rebuilt for it.
+    /// screen bins rebuilt for it (or the BVH chosen, as for a render of every pixel).
     pub fn batch<'a>(&'a mut self, tracer: &'a Tracer, view: &'a EyeView) -> PixelBatch<'a> {
-        self.bins.build((&tracer.scene.centers, &tracer.scene.radii), view);
+        let search = self.first_hits.search(tracer, u64::from(view.width) * u64::from(view.height));
+        self.bins.build((&tracer.scene.centers, &tracer.scene.radii), view, search);
         PixelBatch::new(BinnedView { tracer, view, bins: &self.bins })
     }
 }
@@ -375,7 +418,7 @@ mod tests {
             let (w, h) = (83, 45);
             let view = scene.camera.view(Eye::Left, w, h);
             let mut bins = ScreenBins::default();
-            bins.build((&tracer.scene.centers, &tracer.scene.radii), &view);
+            bins.build((&tracer.scene.centers, &tracer.scene.radii), &view, Search::Bins);
             let eye = BinnedView { tracer: &tracer, view: &view, bins: &bins };
             let mut rgb = vec![0; w as usize];
             let mut hits = 0;

@@ -83,7 +83,7 @@ pub(super) fn trace_row_in<S: Simd, C: Columns, O: Observe>(
             simd.vectorize(
                 #[inline(always)]
                 || {
-                    let hits = eye.hits_lanes(simd, i0 as u32, j);
+                    let hits = eye.hits_lanes(simd, (i0 as u32, j, mask));
                     if C::SHADES {
                         eye.push_found_in(simd, wavefront, (i0 as u32, mask), hits, sink);
                     } else {
