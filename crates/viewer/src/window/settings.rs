@@ -10,7 +10,7 @@ use stereo::{Layout, Mode};
 use tracer::{Camera, Scene};
 
 use crate::window::present::Look;
-use crate::window::worker::Request;
+use crate::window::worker::{Progressive, Request};
 
 /// Largest interpupillary distance the slider offers, scene units.
 pub const MAX_IPD: f32 = 2.0;
@@ -108,6 +108,9 @@ pub struct Settings {
     pub guard_band: f32,
     /// The structures' colours and hidden atoms (the panel's colour section, key C).
     pub atoms: crate::window::look::AtomLook,
+    /// The progressive policy the requests carry ([`Request::progressive`]); `None`: every
+    /// frame at the render scale (`replay --policy fixed`).
+    pub progressive: Option<Progressive>,
 }
 
 impl Settings {
@@ -136,6 +139,7 @@ impl Settings {
             timewarp: true,
             guard_band: DEFAULT_GUARD_BAND,
             atoms: crate::window::look::AtomLook::default(),
+            progressive: None,
         };
         s.reset_camera(scene);
         s.reset_light(scene);
@@ -297,7 +301,7 @@ impl Settings {
             timewarp: self.timewarp,
             guard: if self.timewarp { self.guard(samples) } else { (0, 0) },
             atoms: self.atoms,
-            progressive: None,
+            progressive: self.progressive,
         }
     }
 
@@ -442,5 +446,8 @@ mod tests {
         let orbit = "[[spheres]]\norbit = { center = [0.0, 0.0, 10.0], radius = 2.0, period_s = 4.0 }\nradius = 1.0\n";
         let animated = Scene::from_toml(orbit, "o.toml").unwrap();
         assert_eq!(s.request(&animated, 3.0, 400, 300).time, 3.0, "a moving scene at the clock's time");
+        assert_eq!(s.request(&scene, 3.0, 400, 300).progressive, None, "not progressive unless set");
+        s.progressive = Some(Progressive { target_age_ms: 20.0, max_supersample: 2 });
+        assert_eq!(s.request(&scene, 3.0, 400, 300).progressive, s.progressive, "the policy rides on the request");
     }
 }
