@@ -191,23 +191,32 @@ impl<'a> Summary<'a> {
             "{:<9} {:>7} {:>7} {:>9} {:>8} {:>8} {:>9} {:>9} {:>9}",
             "part", "frames", "scored", "PSNR dB", "p10", ">2/255", "age ms", "age p90", "guessed"
         );
-        let db = |v: f64| if v.is_finite() { format!("{v:.1}") } else { "inf".into() };
+        // No frames: a dash; an infinite PSNR (identical): inf.
+        let num = |v: f64, f: &dyn Fn(f64) -> String| if v.is_nan() { "-".into() } else { f(v) };
+        let db = |v: f64| num(v, &|v| if v.is_finite() { format!("{v:.1}") } else { "inf".into() });
+        let percent = |v: f64| num(v, &|v| format!("{:.3}%", 100.0 * v));
+        let ms = |v: f64| num(v, &|v| format!("{v:.1}"));
         for (name, s) in [("all", &self.all), ("moving", &self.moving), ("resting", &self.resting)] {
             let _ = writeln!(
                 out,
-                "{name:<9} {:>7} {:>7} {:>9} {:>8} {:>7.3}% {:>9.1} {:>9.1} {:>8.3}%",
+                "{name:<9} {:>7} {:>7} {:>9} {:>8} {:>8} {:>9} {:>9} {:>9}",
                 s.frames,
                 s.scored,
                 db(s.psnr_median),
                 db(s.psnr_p10),
-                100.0 * s.over_median,
-                s.age_median,
-                s.age_p90,
-                100.0 * s.guessed_median
+                percent(s.over_median),
+                ms(s.age_median),
+                ms(s.age_p90),
+                percent(s.guessed_median)
             );
         }
-        let converge = self.converge_s.map_or("never (null)".into(), |s| format!("{s:.3} s"));
-        let _ = writeln!(out, "converged to the {0}×{0} reference at rest after {converge}", a.max_supersample);
+        let s = a.max_supersample;
+        let _ = match self.converge_s {
+            Some(t) => {
+                writeln!(out, "converge_s: {t:.3} (the {s}×{s} reference at rest reached {t:.3} s after the stop)")
+            }
+            None => writeln!(out, "converge_s: null (the {s}×{s} reference at rest was never reached)"),
+        };
         out
     }
 
