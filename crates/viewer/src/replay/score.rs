@@ -6,7 +6,7 @@
 //!
 //! In `full` mode each eye is a trace of its own, so the reference is traced eye by eye,
 //! colour only, into one buffer of (W·S) × (H·S) reused for both eyes and every pose
-//! (36 MB at 800 × 600 and S = 4). The other modes make the right eye from the left, so
+//! (31 MB at 800 × 600 and S = 4). The other modes make the right eye from the left, so
 //! their reference is a whole stereo frame at S, one reused for every pose (`run` checks
 //! that it fits in memory). A reference is traced again only when the pose changes: a
 //! resting head's frames share one.
