@@ -9,6 +9,10 @@ use stereo::{Layout, Mode};
 use crate::crop::Crop;
 use crate::motion::Motion;
 
+mod replay;
+
+pub use replay::{Policy, ReplayArgs};
+
 /// Default scene, relative to the workspace root (also found next to the executable's
 /// workspace when run from elsewhere; see `setup::resolve_scene`).
 pub const DEFAULT_SCENE: &str = "assets/scenes/seed.toml";
@@ -44,6 +48,9 @@ pub enum Command {
     /// The atom (or sphere) a pixel's primary ray hits first in one eye: its fields, the
     /// ray and the hit point.
     Pick(PickArgs),
+    /// The viewer's own pipeline run headless in real time along a scripted head motion and
+    /// a rest: every presented frame recorded, then scored against a supersampled trace.
+    Replay(ReplayArgs),
 }
 
 /// Options of the viewer window.

@@ -1,5 +1,5 @@
 //! `stereotrace`: the stereo viewer window, and the headless `render`, `bench`, `sweep`,
-//! `timewarp` and `pick` commands.
+//! `timewarp`, `pick` and `replay` commands.
 //!
 //! Exit codes: 0 success, 2 bad input (scene file, arguments), 3 `pick`'s ray hit nothing,
 //! 1 any other failure.
@@ -19,9 +19,11 @@
 //! - `window`, the viewer window: `timing`, `syslibs`, `frame_times`, `input`; `worker`,
 //!   `present`, `settings`, `scene_watch`, `screenshot`, `fps_log`, `ui`, `os_window`; then
 //!   `app`, the event loop's handler (its parts: `chrome`, `meters`, `viewer`, `frame`,
-//!   `events`).
+//!   `events`);
+//! - `replay`, the viewer's pipeline run headless (the window's worker, timewarp and display
+//!   ticks) and scored with `cli`'s figures and metrics.
 //!
-//! `cli` and `window` do not use each other; `main` dispatches to one of them.
+//! `cli` and `window` do not use each other; `replay` uses both; `main` dispatches.
 
 mod args;
 mod cli;
@@ -29,6 +31,7 @@ mod crop;
 mod motion;
 mod pick;
 mod reference;
+mod replay;
 mod setup;
 mod window;
 
@@ -47,6 +50,7 @@ fn main() -> ExitCode {
         Some(Command::Sweep(args)) => cli::sweep::run(&args),
         Some(Command::Timewarp(args)) => cli::timewarp::run(&args),
         Some(Command::Pick(args)) => cli::pick::run(&args),
+        Some(Command::Replay(args)) => replay::run(&args),
     });
     match result {
         Ok(()) => ExitCode::SUCCESS,

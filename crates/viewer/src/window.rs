@@ -9,7 +9,9 @@
 //!   input latency, frame age);
 //! - `worker` (the render thread and its requests), `present` (a frame into the window's
 //!   buffer), `picks` (clicked atoms, their rings and stereo labels, distance and angle),
-//!   `timewarp` (the traced frame warped to the head pose of the present), `settings` (the settings model, head movement, the request), `scene_watch`
+//!   `timewarp` (the traced frame warped to the head pose of the present), `settings` (the
+//!   settings model, head movement, the request), `display` (a display tick's decisions:
+//!   redraw or not, the request posted, the picture presented; `replay`'s too), `scene_watch`
 //!   (the scene file watched and reloaded, other files opened), `screenshot`, `fps_log`
 //!   (the stderr log), `ui` (the panel, drawing only), `os_window` (the window and
 //!   presenting into it);
@@ -22,6 +24,7 @@ pub mod pose_meter;
 pub mod syslibs;
 pub mod timing;
 
+pub mod display;
 pub mod fps_log;
 pub mod look;
 pub mod os_window;

@@ -203,7 +203,7 @@ fn hole_share([l, r]: [WarpCounts; 2]) -> f64 {
 
 /// Two eyes of one size measured as one image: the mean squared error (hence the PSNR), the
 /// mean error and the shares are the means of the eyes', the largest error the larger.
-fn both_eyes(l: Quality, r: Quality) -> Quality {
+pub(crate) fn both_eyes(l: Quality, r: Quality) -> Quality {
     let peak = 255.0 * 255.0;
     let mse = |q: &Quality| if q.psnr_db.is_finite() { peak / 10f64.powf(q.psnr_db / 10.0) } else { 0.0 };
     let m = 0.5 * (mse(&l) + mse(&r));
@@ -218,7 +218,7 @@ fn both_eyes(l: Quality, r: Quality) -> Quality {
 
 /// The median; of an even count, the mean of the middle two, or the lower when the upper is
 /// +∞ (a PSNR of identical frames), so that half the frames identical never reads as all.
-fn median(mut v: Vec<f64>) -> f64 {
+pub(crate) fn median(mut v: Vec<f64>) -> f64 {
     if v.is_empty() {
         return f64::NAN;
     }

@@ -108,7 +108,8 @@ pub struct Settings {
     pub guard_band: f32,
     /// The structures' colours and hidden atoms (the panel's colour section, key C).
     pub atoms: crate::window::look::AtomLook,
-    /// The progressive policy, on by default (`--no-progressive`: `None`).
+    /// The progressive policy the requests carry ([`Request::progressive`]), on by default;
+    /// `None`: every frame at the render scale (`--no-progressive`, `replay --policy fixed`).
     pub progressive: Option<Progressive>,
 }
 
@@ -446,5 +447,10 @@ mod tests {
         let orbit = "[[spheres]]\norbit = { center = [0.0, 0.0, 10.0], radius = 2.0, period_s = 4.0 }\nradius = 1.0\n";
         let animated = Scene::from_toml(orbit, "o.toml").unwrap();
         assert_eq!(s.request(&animated, 3.0, 400, 300).time, 3.0, "a moving scene at the clock's time");
+        assert_eq!(s.request(&scene, 3.0, 400, 300).progressive, Some(Progressive::default()), "progressive by default");
+        s.progressive = None;
+        assert_eq!(s.request(&scene, 3.0, 400, 300).progressive, None, "--no-progressive");
+        s.progressive = Some(Progressive { target_age_ms: 20.0, max_supersample: 2 });
+        assert_eq!(s.request(&scene, 3.0, 400, 300).progressive, s.progressive, "the policy rides on the request");
     }
 }

@@ -110,6 +110,12 @@ impl Timewarp {
         self.last
     }
 
+    /// The eyes the last [`Timewarp::show`] that warped made (empty before the first).
+    #[must_use]
+    pub fn eyes(&self) -> &Eyes {
+        &self.out
+    }
+
     /// The eyes to present for `traced` at the head pose `pose` (its scene's camera with
     /// the settings' head, IPD and distance), shown as `look` asks: `traced` warped to
     /// `pose`; or `None`, to show `traced` as it is, when it was traced without what the warp

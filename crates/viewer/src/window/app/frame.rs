@@ -15,6 +15,7 @@ use tracer::Camera;
 use winit::event_loop::{ActiveEventLoop, ControlFlow};
 
 use super::viewer::Viewer;
+use crate::window::display::{self, Tick};
 use crate::window::fps_log::Report;
 use crate::window::frame_times;
 use crate::window::os_window::{Size, Window};
@@ -25,10 +26,6 @@ use crate::window::worker::{FrameInfo, Request};
 /// Time between UI ticks (240 Hz: above VR headsets' 90 and high-refresh monitors' 144, so a
 /// fast enough renderer is never held back by the tick that posts its requests).
 const FRAME_INTERVAL: Duration = Duration::from_micros(4_167);
-
-/// Longest time between redraws of an otherwise unchanged window (clocks and rates in the
-/// panel keep moving).
-const IDLE_REDRAW: Duration = Duration::from_millis(250);
 
 impl Viewer {
     /// One UI frame: walk the head, take the newest rendered frame, run the panel, post the
@@ -167,16 +164,11 @@ impl Viewer {
     }
 
     /// Posts the render request for a `width` × `height` window at `now`, and returns it
-    /// (none for a window too small to show an eye). The worker ignores a request equal to
-    /// the last one.
+    /// (none for a window too small to show an eye), as `display::post` does for every tick.
     fn post_request(&mut self, (width, height): (u32, u32), now: Instant) -> Option<Request> {
-        let (eye_w, eye_h) = present::eye_size(width, height);
-        (eye_w > 0).then(|| {
-            let request = self.settings.request(self.watch.scene(), self.clock.time(now), eye_w, eye_h);
-            let request = Request { moving: self.input.is_moving(), ..request };
-            self.worker.post(request);
-            request
-        })
+        let eye = present::eye_size(width, height);
+        let moving = self.input.is_moving();
+        display::post(&mut self.worker, &self.settings, (self.watch.scene(), self.clock.time(now)), eye, moving)
     }
 
     /// Presents the frame on screen with `ui` over it — with the timewarp on, the traced
@@ -191,22 +183,14 @@ impl Viewer {
         event_loop: &ActiveEventLoop,
     ) -> anyhow::Result<()> {
         let look = self.settings.look();
-        let traced = self.worker.current();
-        let pose_at = Instant::now();
         let pose = pose.filter(|_| self.settings.timewarp);
-        let warped = pose.and_then(|pose| Some((pose, self.timewarp.show(traced, &pose, look)?)));
-        // The pose of the picture shown: the warp's, or the one the pair was traced at.
-        let shown_pose = match warped {
-            Some((pose, _)) => Some((pose, pose_at)),
-            None => traced.info.map(|i| (i.views.camera, i.posted)),
-        };
-        let frame = warped.map_or(&traced.eyes, |(_, eyes)| eyes);
-        let Some(eyes) = window.present(size, frame, look, &self.egui, ui, self.dump.as_mut())? else {
+        let shown = display::show(self.worker.current(), &mut self.timewarp, pose, look);
+        let Some(eyes) = window.present(size, shown.eyes, look, &self.egui, ui, self.dump.as_mut())? else {
             return Ok(());
         };
         let m = &mut self.meters;
         m.presented += 1;
-        if let (true, Some((pose, pose_at)), Some(info)) = (eyes, shown_pose, traced.info) {
+        if let (true, Some((pose, pose_at)), Some(info)) = (eyes, shown.pose, shown.info) {
             m.pose.presented(&pose, pose_at, info.posted, Instant::now());
         }
         let (width, height) = size.get();
@@ -232,15 +216,15 @@ impl Viewer {
                 self.poll_scene(now, window);
             }
             let p = &self.pacing;
-            // A moving head alone is not a reason to repaint: until the worker has a frame
-            // of the new pose there is nothing new to show, and repainting at every tick
-            // would take the cores from the tracer (the head walks on every tick below).
-            // With the timewarp, a moving head is: every display tick shows it.
+            // (The head walks on every tick below, redrawn or not.)
             let timewarp = self.settings.timewarp;
-            let due = p.dirty
-                || self.worker.has_fresh()
-                || now - p.last_redraw >= IDLE_REDRAW
-                || (timewarp && self.input.is_moving());
+            let due = display::due(Tick {
+                dirty: p.dirty,
+                fresh: self.worker.has_fresh(),
+                since_redraw: now - p.last_redraw,
+                timewarp,
+                moving: self.input.is_moving(),
+            });
             if let Some(window) = window {
                 if due {
                     window.request_redraw();
@@ -260,7 +244,7 @@ impl Viewer {
             // on missed frames.
             let interval = if timewarp { self.config.display_interval } else { FRAME_INTERVAL };
             let p = &mut self.pacing;
-            p.next_tick = (p.next_tick + interval).max(now + interval / 2);
+            p.next_tick = display::next_tick(p.next_tick, now, interval);
         }
         event_loop.set_control_flow(ControlFlow::WaitUntil(self.pacing.next_tick));
     }
