@@ -31,6 +31,16 @@
 //! the radius grown by 10⁻⁴ of the distance (the f32 test's perpendicular distance is good
 //! to a few 10⁻⁷ of it) and then widened by one pixel on each side; a test compares the
 //! two paths over the scenes.
+//!
+//! **Bins or the BVH.** Binning costs every sphere's bound, every frame, whatever the
+//! pixels: on a 2.9M-atom capsid ~0.5 s an eye even at 50 × 38. A BVH query per ray
+//! costs the rays. So a view with more than [`BINS_SPHERES_PER_RAY`] spheres a traced
+//! pixel is not binned: each primary ray goes through the aggregate's BVH instead
+//! ([`Aggregate::first_hit_in`]), which breaks ties as the bins do (of equal `t`, the lowest
+//! sphere id), so the pixels are the same bit for bit (`render/both_ways.rs` tests it). The
+//! ratio is where the measured crossover lies (`docs/performance-notes.md`, benchmark
+//! `first_hits`): the bundled scenes stay on the bins at every size down to 50 × 38, a
+//! structure goes to the BVH at small sizes, the capsid at every size.
 
 #![expect(
     clippy::inline_always,
@@ -77,7 +87,7 @@ impl Search {
 
 /// Spheres per primary ray above which the BVH finds an eye's first hits faster than
 /// binning every sphere for the frame would (measured: `docs/performance-notes.md`).
-pub(crate) const BINS_SPHERES_PER_RAY: f64 = 1.0;
+pub(crate) const BINS_SPHERES_PER_RAY: f64 = 0.6;
 
 /// Screen tiles of one eye's view, each with the packets of spheres its pixels can hit; or,
 /// when the view is searched through the BVH, no tiles at all.
