@@ -270,15 +270,14 @@ impl ScreenBins {
         let d = view.primary_dirs_lanes(simd, i, j);
         let o = view.origin;
         if self.search == Search::Bvh {
-            let (mut t, mut ids) = ([f32::INFINITY; 16], [NO_OBJECT; 16]);
-            let dirs = each3(|a| d[a].as_slice());
-            for l in crate::bits::ones(&[u64::from(mask)]).map(|l| l as usize).take_while(|&l| l < F::<S>::LEN) {
-                let ray = Ray::new(o, Vec3::new(dirs[0][l], dirs[1][l], dirs[2][l]));
-                if let Some(hit) = accel.first_hit_in(simd, &ray) {
-                    (t[l], ids[l]) = (hit.t, hit.object);
-                }
+            let n = F::<S>::LEN;
+            let mut dirs = [[0f32; 16]; 3];
+            for (a, lanes) in dirs.iter_mut().enumerate() {
+                d[a].store_slice(&mut lanes[..n]);
             }
-            return (F::<S>::from_slice(simd, &t[..F::<S>::LEN]), U::<S>::from_slice(simd, &ids[..F::<S>::LEN]), d);
+            let mask = mask & ((1u64 << n) - 1) as u32;
+            let (t, ids) = bvh_hits(accel, o, &dirs, mask);
+            return (F::<S>::from_slice(simd, &t[..n]), U::<S>::from_slice(simd, &ids[..n]), d);
         }
         let mut t_best = F::<S>::splat(simd, f32::INFINITY);
         let mut best = U::<S>::splat(simd, NO_OBJECT);
@@ -297,6 +296,26 @@ impl ScreenBins {
         }
         (t_best, best, d)
     }
+}
+
+/// The first hits through the BVH of the rays from `o` along `dirs` (per lane) that `mask`
+/// names, the others misses: out of line, so that the bins' lane loop, into which
+/// [`ScreenBins::hits_lanes`] is inlined, does not carry a BVH traversal in its code.
+#[inline(never)]
+fn bvh_hits(accel: &Aggregate, o: Vec3, dirs: &[[f32; 16]; 3], mask: u32) -> ([f32; 16], [u32; 16]) {
+    let (mut t, mut ids) = ([f32::INFINITY; 16], [NO_OBJECT; 16]);
+    fearless_simd::dispatch!(crate::simd::level(), simd => simd.vectorize(
+        #[inline(always)]
+        || {
+            for l in crate::bits::ones(&[u64::from(mask)]).map(|l| l as usize) {
+                let ray = Ray::new(o, Vec3::new(dirs[0][l], dirs[1][l], dirs[2][l]));
+                if let Some(hit) = accel.first_hit_in(simd, &ray) {
+                    (t[l], ids[l]) = (hit.t, hit.object);
+                }
+            }
+        },
+    ));
+    (t, ids)
 }
 
 #[cfg(test)]
