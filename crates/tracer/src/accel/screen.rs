@@ -31,6 +31,16 @@
 //! the radius grown by 10⁻⁴ of the distance (the f32 test's perpendicular distance is good
 //! to a few 10⁻⁷ of it) and then widened by one pixel on each side; a test compares the
 //! two paths over the scenes.
+//!
+//! **Bins or the BVH.** Binning costs every sphere's bound, every frame, whatever the
+//! pixels: on a 2.9M-atom capsid ~0.5 s an eye even at 50 × 38. A BVH query per ray
+//! costs the rays. So a view with more than [`BINS_SPHERES_PER_RAY`] spheres a traced
+//! pixel is not binned: each primary ray goes through the aggregate's BVH instead
+//! ([`Aggregate::first_hit_in`]), which breaks ties as the bins do (of equal `t`, the lowest
+//! sphere id), so the pixels are the same bit for bit (`render/both_ways.rs` tests it). The
+//! ratio is where the measured crossover lies (`docs/performance-notes.md`, benchmark
+//! `first_hits`): the bundled scenes stay on the bins at every size down to 50 × 38, a
+//! structure goes to the BVH at small sizes, the capsid at every size.
 
 #![expect(
     clippy::inline_always,
@@ -77,7 +87,7 @@ impl Search {
 
 /// Spheres per primary ray above which the BVH finds an eye's first hits faster than
 /// binning every sphere for the frame would (measured: `docs/performance-notes.md`).
-pub(crate) const BINS_SPHERES_PER_RAY: f64 = 1.0;
+pub(crate) const BINS_SPHERES_PER_RAY: f64 = 0.6;
 
 /// Screen tiles of one eye's view, each with the packets of spheres its pixels can hit; or,
 /// when the view is searched through the BVH, no tiles at all.
@@ -260,15 +270,14 @@ impl ScreenBins {
         let d = view.primary_dirs_lanes(simd, i, j);
         let o = view.origin;
         if self.search == Search::Bvh {
-            let (mut t, mut ids) = ([f32::INFINITY; 16], [NO_OBJECT; 16]);
-            let dirs = each3(|a| d[a].as_slice());
-            for l in crate::bits::ones(&[u64::from(mask)]).map(|l| l as usize).take_while(|&l| l < F::<S>::LEN) {
-                let ray = Ray::new(o, Vec3::new(dirs[0][l], dirs[1][l], dirs[2][l]));
-                if let Some(hit) = accel.first_hit_in(simd, &ray) {
-                    (t[l], ids[l]) = (hit.t, hit.object);
-                }
+            let n = F::<S>::LEN;
+            let mut dirs = [[0f32; 16]; 3];
+            for (a, lanes) in dirs.iter_mut().enumerate() {
+                d[a].store_slice(&mut lanes[..n]);
             }
-            return (F::<S>::from_slice(simd, &t[..F::<S>::LEN]), U::<S>::from_slice(simd, &ids[..F::<S>::LEN]), d);
+            let mask = mask & ((1u64 << n) - 1) as u32;
+            let (t, ids) = bvh_hits(accel, o, &dirs, mask);
+            return (F::<S>::from_slice(simd, &t[..n]), U::<S>::from_slice(simd, &ids[..n]), d);
         }
         let mut t_best = F::<S>::splat(simd, f32::INFINITY);
         let mut best = U::<S>::splat(simd, NO_OBJECT);
@@ -287,6 +296,26 @@ impl ScreenBins {
         }
         (t_best, best, d)
     }
+}
+
+/// The first hits through the BVH of the rays from `o` along `dirs` (per lane) that `mask`
+/// names, the others misses: out of line, so that the bins' lane loop, into which
+/// [`ScreenBins::hits_lanes`] is inlined, does not carry a BVH traversal in its code.
+#[inline(never)]
+fn bvh_hits(accel: &Aggregate, o: Vec3, dirs: &[[f32; 16]; 3], mask: u32) -> ([f32; 16], [u32; 16]) {
+    let (mut t, mut ids) = ([f32::INFINITY; 16], [NO_OBJECT; 16]);
+    fearless_simd::dispatch!(crate::simd::level(), simd => simd.vectorize(
+        #[inline(always)]
+        || {
+            for l in crate::bits::ones(&[u64::from(mask)]).map(|l| l as usize) {
+                let ray = Ray::new(o, Vec3::new(dirs[0][l], dirs[1][l], dirs[2][l]));
+                if let Some(hit) = accel.first_hit_in(simd, &ray) {
+                    (t[l], ids[l]) = (hit.t, hit.object);
+                }
+            }
+        },
+    ));
+    (t, ids)
 }
 
 #[cfg(test)]

@@ -83,7 +83,7 @@ fn random_scene(rng: &mut XorShift, n: usize) -> Scene {
         })
         .collect();
     for _ in 0..n / 4 {
-        let copy = scene.spheres[rng.below(n)].clone();
+        let copy = scene.spheres[rng.below(n)];
         let at = rng.below(scene.spheres.len());
         scene.spheres.insert(at, copy);
     }

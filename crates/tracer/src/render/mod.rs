@@ -2,7 +2,9 @@
 //!
 //! [`Renderer::render`] is given a pixel set ([`Pixels`]: all, or these pixels) and a target
 //! ([`Target`]: a film keeping the record its caller names, colour only, or depth only,
-//! optionally marked for temporal reuse). It builds the screen bins of the view once, then
+//! optionally marked for temporal reuse). It builds the screen bins of the view once (or,
+//! for a scene of many spheres for the pixels traced, chooses the BVH instead: [`FirstHits`],
+//! `accel/screen.rs`), then
 //! runs one parallel loop over the target's rows: each row's planes become a
 //! [`RowSink`](crate::sink::RowSink) (`sink.rs`), with the row's marks as one more column
 //! whose observer is temporal reuse's (`reuse/observer.rs`), and one row loop (`row.rs`)
