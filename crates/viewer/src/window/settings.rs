@@ -447,7 +447,11 @@ mod tests {
         let orbit = "[[spheres]]\norbit = { center = [0.0, 0.0, 10.0], radius = 2.0, period_s = 4.0 }\nradius = 1.0\n";
         let animated = Scene::from_toml(orbit, "o.toml").unwrap();
         assert_eq!(s.request(&animated, 3.0, 400, 300).time, 3.0, "a moving scene at the clock's time");
-        assert_eq!(s.request(&scene, 3.0, 400, 300).progressive, Some(Progressive::default()), "progressive by default");
+        assert_eq!(
+            s.request(&scene, 3.0, 400, 300).progressive,
+            Some(Progressive::default()),
+            "progressive by default"
+        );
         s.progressive = None;
         assert_eq!(s.request(&scene, 3.0, 400, 300).progressive, None, "--no-progressive");
         s.progressive = Some(Progressive { target_age_ms: 20.0, max_supersample: 2 });

@@ -268,9 +268,15 @@ fn render_loop(scene: Scene, memory: Option<u64>, shared: &Shared) {
                 inbox = shared.wake.wait(inbox).unwrap_or_else(PoisonError::into_inner);
             }
         };
-        match step {
-            Step::Trace(request, posted) => job.trace(shared, request, posted),
+        let made = match step {
+            Step::Trace(request, posted) => {
+                job.trace(shared, request, posted);
+                true
+            }
             Step::Refine => job.refine(shared),
+        };
+        if !made {
+            continue;
         }
         let mut out = lock(&shared.outbox);
         std::mem::swap(&mut out.frame, &mut job.back);

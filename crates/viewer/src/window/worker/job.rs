@@ -86,28 +86,32 @@ impl Job {
         if density > 1 || !only_time {
             self.progress.measured(&request, density, info.wall_ms);
         }
-        self.progress.traced(request, posted, density, self.memory);
+        self.progress.traced((request, posted), density, info.wall_ms, self.memory);
     }
 
-    /// No newer request: the resting request's next step, in full, then pass by pass.
-    pub(super) fn refine(&mut self, shared: &Shared) {
+    /// No newer request: the resting request's next step, in full, then pass by pass (in
+    /// parts). Returns whether it made a frame to show: a part of a pass makes none.
+    pub(super) fn refine(&mut self, shared: &Shared) -> bool {
         let started = Instant::now();
-        let Some((request, posted)) = self.progress.resting else { return };
+        let Some((request, posted)) = self.progress.resting else { return false };
         if self.progress.coarse {
             self.progress.refine.stop();
             self.prepare(shared, &request);
             let info = self.trace_at(request, posted, 1, started);
             self.progress.measured(&request, 1, info.wall_ms);
-            self.progress.traced(request, posted, 1, self.memory);
-            return;
+            self.progress.traced((request, posted), 1, info.wall_ms, self.memory);
+            return true;
         }
-        let Some(last) = self.last else { return };
-        self.progress.refine.pass(&self.tracer);
+        let Some(last) = self.last else { return false };
+        if !self.progress.refine.step(&self.tracer) {
+            return false;
+        }
         self.back.fill_from(&self.frame, &request, &mut self.cut);
         self.progress.paint(&mut self.back.eyes, request.anaglyph, request.swap);
         let sampling = self.progress.sampling(&request, 1);
         // The live PSNR stays the full pair's: the refinement traces both eyes in full.
         self.publish(&FrameInfo { sampling, ..last }, started);
+        true
     }
 
     /// The scene and tracer as `request` asks: its light, its look, its time and depth.

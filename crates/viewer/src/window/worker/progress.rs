@@ -66,9 +66,10 @@ impl Progress {
         }
     }
 
-    /// `request`, posted at `posted`, was traced at `density`: what comes next for it if
-    /// no newer request comes. The refinement's buffers fit in `memory` (`None`: no limit).
-    pub fn traced(&mut self, request: Request, posted: Instant, density: u32, memory: Option<u64>) {
+    /// `request`, posted at `posted`, was traced at `density` in `ms`: what comes next for
+    /// it if no newer request comes. The refinement's buffers fit in `memory` (`None`: no
+    /// limit).
+    pub fn traced(&mut self, (request, posted): (Request, Instant), density: u32, ms: f64, memory: Option<u64>) {
         self.refine.stop();
         (self.resting, self.coarse) = (None, false);
         let Some(p) = request.progressive.filter(|_| refinable(&request)) else { return };
@@ -80,7 +81,7 @@ impl Progress {
             let fits = |s: u32| memory.is_none_or(|m| (8 * u64::from(s * s) + 24) * pixels <= m);
             let s = (1..=p.max_supersample).rev().find(|&s| fits(s)).unwrap_or(1);
             if s > 1 {
-                self.refine.start(&request.camera, eye, s);
+                self.refine.start(&request.camera, eye, s, ms);
             }
         }
     }

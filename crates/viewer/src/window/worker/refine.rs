@@ -17,16 +17,30 @@
 //! spread of the rows otherwise), the jittered supersampling of interactive tracers,
 //! converging to the regular grid the filter expects.
 //!
+//! A pass is traced in parts, bands of the eye's rows, each about [`PART_MS`] by the last
+//! pass's time: the worker looks for a new request between parts, so a head that starts
+//! to move waits for a part, not for a pass (a pass of 2BTV's assembly at 800 × 600 takes
+//! seconds). Only a whole pass is shown.
+//!
 //! Memory: the sample images, 4 · S² bytes per eye pixel and eye, the running sums, 12
 //! bytes per eye pixel and eye, and one bit per sample for the pass's selection: 152 bytes
 //! a pixel of both eyes at S = 4.
 
+use std::time::Instant;
+
 use rayon::prelude::*;
 use stereo::StereoViews;
-use tracer::{Camera, PixelBits, Pixels, RayCounts, Renderer, Target, Tracer};
+use tracer::{Camera, PixelBits, Pixels, Renderer, Target, Tracer};
 
 /// Largest S the viewer refines to (`--max-supersample`): 8 × 8 samples a pixel.
 pub const MAX_SUPERSAMPLE: u32 = 8;
+
+/// About how long a part of a pass takes (module doc): a new request waits at most about
+/// this for the worker.
+const PART_MS: f64 = 50.0;
+
+/// Most parts a pass is cut into.
+const MAX_PARTS: u32 = 32;
 
 /// One resting pose's refinement, its buffers kept from pose to pose.
 #[derive(Debug, Default)]
@@ -48,6 +62,12 @@ pub struct Refine {
     order: Vec<(u32, u32)>,
     /// Passes done.
     done: usize,
+    /// The pass being traced is in `parts` parts (bands of eye rows), `part` of them done,
+    /// in `part_ms` so far; the last whole pass took `pass_ms`.
+    parts: u32,
+    part: u32,
+    part_ms: f64,
+    pass_ms: f64,
     /// Each eye's per-pixel sums in linear light of the samples of the first `summed`
     /// passes.
     sums: [Vec<[f32; 3]>; 2],
@@ -55,12 +75,14 @@ pub struct Refine {
 }
 
 impl Refine {
-    /// Starts refining the pair of `camera` at an eye of `eye` to `s` × `s` samples a pixel.
-    pub fn start(&mut self, camera: &Camera, eye: (u32, u32), s: u32) {
+    /// Starts refining the pair of `camera` at an eye of `eye` to `s` × `s` samples a pixel;
+    /// the pair took `frame_ms` to trace at one sample a pixel, about what a pass takes.
+    pub fn start(&mut self, camera: &Camera, eye: (u32, u32), s: u32, frame_ms: f64) {
         let s = s.clamp(1, MAX_SUPERSAMPLE);
         let size = (eye.0 * s, eye.1 * s);
         self.views = Some(StereoViews::new(camera, size, (0, 0)));
         (self.s, self.eye, self.done, self.summed) = (s, eye, 0, 0);
+        (self.part, self.part_ms, self.pass_ms) = (0, 0.0, frame_ms);
         self.order.clear();
         self.order.extend((0..s).flat_map(|y| (0..s).map(move |x| (x, y))));
         self.order.sort_unstable_by_key(|&(x, y)| rank(x, y, s));
@@ -103,32 +125,46 @@ impl Refine {
         samples + sums + self.bits.words().len() * 8 + self.renderer.memory()
     }
 
-    /// Traces the next pass, both eyes; returns the rays of each.
-    pub fn pass(&mut self, tracer: &Tracer) -> [RayCounts; 2] {
-        let Some(views) = self.views.filter(|_| self.pending()) else { return Default::default() };
-        let (sx, sy) = self.order[self.done];
-        let s = self.s;
-        // Sample sx of every pixel in row sy, then that row's words copied to the rows
-        // sy + S, sy + 2S, …
-        self.bits.clear();
-        for i in (sx..self.bits.width()).step_by(s as usize) {
-            self.bits.set(i, sy, true);
+    /// Traces the next part of the next pass, both eyes: a band of the eye's rows, so
+    /// that a new request waits for a part of a pass, not a whole one (module doc).
+    /// Returns whether that completed the pass.
+    pub fn step(&mut self, tracer: &Tracer) -> bool {
+        let Some(views) = self.views.filter(|_| self.pending()) else { return false };
+        let started = Instant::now();
+        if self.part == 0 {
+            // As many parts as a pass took budgets, as last measured.
+            self.parts = ((self.pass_ms / PART_MS).ceil() as u32).clamp(1, MAX_PARTS.min(self.eye.1.max(1)));
         }
+        let (sx, sy) = self.order[self.done];
+        let s = self.s as usize;
+        // The eye rows of this part, and in them sample (sx, sy) of every pixel: one row's
+        // pattern, copied to the rows sy + S·y.
+        let rows = self.eye.1 as usize;
+        let (from, to) =
+            (rows * self.part as usize / self.parts as usize, rows * (self.part as usize + 1) / self.parts as usize);
+        self.bits.clear();
         let stride = self.bits.stride();
         let words = self.bits.words_mut();
-        let (first, rest) = words.split_at_mut((sy as usize + 1) * stride);
-        let pattern = &first[sy as usize * stride..];
-        for row in rest.chunks_exact_mut(stride).skip(s as usize - 1).step_by(s as usize) {
-            row.copy_from_slice(pattern);
+        let first = (from * s + sy as usize) * stride;
+        for i in (sx as usize..self.eye.0 as usize * s).step_by(s) {
+            tracer::bits::set(&mut words[first..first + stride], i as u32, true);
+        }
+        for y in from + 1..to {
+            let at = (y * s + sy as usize) * stride;
+            words.copy_within(first..first + stride, at);
         }
         let Self { samples: [left, right], renderer, bits, .. } = self;
         let [lv, rv] = &views.eyes;
-        let counts = [
-            renderer.render(tracer, lv, Pixels::Only(bits), Target::colour(left)),
-            renderer.render(tracer, rv, Pixels::Only(bits), Target::colour(right)),
-        ];
+        renderer.render(tracer, lv, Pixels::Only(bits), Target::colour(left));
+        renderer.render(tracer, rv, Pixels::Only(bits), Target::colour(right));
+        self.part_ms += started.elapsed().as_secs_f64() * 1e3;
+        self.part += 1;
+        if self.part < self.parts {
+            return false;
+        }
+        (self.pass_ms, self.part_ms, self.part) = (self.part_ms, 0.0, 0);
         self.done += 1;
-        counts
+        true
     }
 
     /// Each eye as shown after the passes so far, at the eye size, into `out`: the mean in
@@ -205,7 +241,7 @@ mod tests {
     fn every_position_is_traced_once_and_the_first_four_spread_over_the_pixel() {
         let order_of = |s: u32| {
             let mut refine = Refine::default();
-            refine.start(&Camera::default(), (1, 1), s);
+            refine.start(&Camera::default(), (1, 1), s, 0.0);
             refine.order
         };
         for s in 1..=MAX_SUPERSAMPLE {
@@ -229,9 +265,9 @@ mod tests {
         let tracer = Tracer::new(&scene, 0.0);
         let eye = (24, 18);
         let mut refine = Refine::default();
-        refine.start(&scene.camera, eye, 2);
+        refine.start(&scene.camera, eye, 2, 0.0);
         let (mut left, mut right) = (Vec::new(), Vec::new());
-        refine.pass(&tracer);
+        assert!(refine.step(&tracer), "one part: a whole pass");
         refine.eyes([&mut left, &mut right]);
         let (sx, sy) = refine.order[0];
         let sample = |samples: &[u32], x: usize, y: usize, (sx, sy): (u32, u32)| {
@@ -240,7 +276,7 @@ mod tests {
         for (k, px) in left.iter().enumerate() {
             assert_eq!(*px, sample(&refine.samples[0], k % 24, k / 24, (sx, sy)), "pixel {k}");
         }
-        refine.pass(&tracer);
+        assert!(refine.step(&tracer), "one part: a whole pass");
         refine.eyes([&mut left, &mut right]);
         let second = refine.order[1];
         for (k, px) in right.iter().enumerate() {
@@ -251,5 +287,34 @@ mod tests {
             assert_eq!(*px, mean[0], "pixel {k}");
         }
         assert!(!refine.converged() && refine.spp() == 2);
+    }
+
+    /// A pass cut into parts (here six, three eye rows each) traces the same samples: the converged pair is still `render --supersample 2`'s in
+    /// `full` mode, and only every part's last completes a pass.
+    #[test]
+    fn a_pass_in_parts_converges_to_the_same_bytes() {
+        let scene = tracer::testing::scene("seed.toml");
+        let tracer = Tracer::new(&scene, 0.0);
+        let (eye, camera) = ((24, 18), scene.camera);
+        let mut refine = Refine::default();
+        refine.start(&camera, eye, 2, 1e4);
+        let mut steps = 0;
+        while !refine.converged() {
+            // Every pass as slow as six parts: three eye rows a part.
+            refine.pass_ms = 6.0 * PART_MS - 1.0;
+            let whole = refine.step(&tracer);
+            steps += 1;
+            assert_eq!(whole, steps % 6 == 0, "step {steps}: a pass in 6 parts");
+        }
+        assert_eq!(steps, 4 * 6);
+        let (mut left, mut right) = (Vec::new(), Vec::new());
+        refine.eyes([&mut left, &mut right]);
+        let mut frame = stereo::StereoFrame::new();
+        let opts = stereo::Options { mode: stereo::Mode::Full, retrace_edges: false };
+        frame.render(&tracer, &camera, 48, 36, opts);
+        let (mut want_left, mut want_right) = (Vec::new(), Vec::new());
+        stereo::downsample(&frame.left().rgb, (48, 36), &mut want_left, eye);
+        stereo::downsample(&frame.right().rgb, (48, 36), &mut want_right, eye);
+        assert_eq!((left, right), (want_left, want_right));
     }
 }
