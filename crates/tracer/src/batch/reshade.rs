@@ -33,7 +33,7 @@ impl BinnedView<'_> {
                 wavefront.push_seen_at(i, source, hit, film.lights[k]);
             }
             wavefront.aim_seen(view, j, other);
-            wavefront.shade(self.tracer, counts);
+            wavefront.shade(self.tracer, j, counts);
             sink.emit(wavefront, view, false);
         });
     }
