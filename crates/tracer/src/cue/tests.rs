@@ -174,11 +174,11 @@ fn outlines_fall_behind_a_silhouette_and_not_on_a_crease() {
     // crease), then object 3 far behind, then background.
     let object = [1, 1, 2, 2, 3, 3, crate::surface::NO_OBJECT].repeat(3);
     let z = [1.0, 1.0, 1.0, 1.0, 50.0, 50.0, f32::INFINITY].repeat(3);
-    let mut rgb = vec![0xffffff; 21];
+    let mut rgb = vec![0x00ff_ffff; 21];
     outline(&mut rgb, &object, &z, (7, 3), Outline { width: 1.0, window: 10.0 });
     let row: Vec<bool> = rgb[7..14].iter().map(|&c| c == 0).collect();
     assert_eq!(row, [false, false, false, false, true, false, true], "behind object 2, and the background");
-    let mut wide = vec![0xffffff; 21];
+    let mut wide = vec![0x00ff_ffff; 21];
     outline(&mut wide, &object, &z, (7, 3), Outline { width: 2.0, window: 10.0 });
     assert_eq!(wide[7..14].iter().filter(|&&c| c == 0).count(), 3, "two pixels behind object 2, one before the sky");
 }

@@ -93,7 +93,8 @@ fn cues(ck: &Checker, at: usize, r: &RenderDef, sized: Cues) -> Result<Cues, Sce
         }
         let distance = ao.distance.unwrap_or(d.distance);
         let field = "render.ambient_occlusion.distance";
-        if !(ck.finite(at, field, distance)? > 0.0) {
+        // Finite, so not NaN: `<= 0` is the whole rest.
+        if ck.finite(at, field, distance)? <= 0.0 {
             return Err(ck.invalid(at, field, distance, "must be a finite distance > 0"));
         }
         let strength = ao.strength.unwrap_or(d.strength);

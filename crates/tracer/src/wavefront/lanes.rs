@@ -126,7 +126,7 @@ pub(super) fn shade<S: Simd>(
             Some(row) if occludes => ambient_lanes(simd, tracer, level, (j, row), counts),
             _ => F::<S>::splat(simd, tracer.scene.settings.ambient),
         };
-        let bits = light_vector(simd, tracer, level, j, (p, n, &g, ambient), first.is_some(), counts);
+        let bits = light_vector(simd, tracer, level, j, (p, n, &g), (ambient, first.is_some()), counts);
         // Stage 3.
         let v = load3(simd, &level.v, j);
         let out = highlight_vector(simd, tracer, &level.object[j..j + lanes], [p, n, v], bits, &g);
@@ -164,8 +164,8 @@ fn light_vector<S: Simd>(
     tracer: &Tracer,
     level: &mut Level,
     j: usize,
-    (p, n, g, ambient): ([F<S>; 3], [F<S>; 3], &Gathered<S>, F<S>),
-    first: bool,
+    (p, n, g): ([F<S>; 3], [F<S>; 3], &Gathered<S>),
+    (ambient, first): (F<S>, bool),
     counts: &mut RayCounts,
 ) -> U<S> {
     let lanes = F::<S>::LEN;
