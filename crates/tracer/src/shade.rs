@@ -60,7 +60,10 @@ impl Tracer {
         counts.primary += 1;
         let ray = view.primary_ray(i, j);
         match self.intersect(&ray, f32::INFINITY) {
-            Some(Hit { t, object }) => self.shade_primary_hit(view, &ray, (t, object), (i, j), counts),
+            Some(Hit { t, object }) => {
+                let pixel = crate::cue::SeedRow::of(view, j).shown((i, j));
+                self.shade_primary_hit(view, &ray, (t, object), pixel, counts)
+            }
             None => self.miss_sample(),
         }
     }
@@ -72,7 +75,8 @@ impl Tracer {
     pub(crate) fn pixel_radiance(&self, view: &EyeView, i: u32, j: u32) -> Option<Vec3> {
         let ray = view.primary_ray(i, j);
         let hit = self.intersect(&ray, f32::INFINITY)?;
-        let color = self.shade_hit(&ray, (hit.t, hit.object), (0, Some((i, j))), &mut RayCounts::default()).0;
+        let pixel = crate::cue::SeedRow::of(view, j).shown((i, j));
+        let color = self.shade_hit(&ray, (hit.t, hit.object), (0, Some(pixel)), &mut RayCounts::default()).0;
         Some(self.depth_cued(color, hit.t))
     }
 
@@ -89,8 +93,8 @@ impl Tracer {
         pack_rgb(diffuse + self.view_dependent(&surface, d, 0, &mut RayCounts::default()))
     }
 
-    /// Shades the first hit (`t`, `object`) of the primary ray of `pixel`, casting its
-    /// shadow, occlusion and reflection rays.
+    /// Shades the first hit (`t`, `object`) of the primary ray of the pixel whose place in
+    /// the shown image is `pixel`, casting its shadow, occlusion and reflection rays.
     #[inline]
     pub(crate) fn shade_primary_hit(
         &self,

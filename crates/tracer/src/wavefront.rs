@@ -27,6 +27,7 @@ use glam::Vec3;
 use crate::accel::Origin;
 use crate::camera::EyeView;
 use crate::color::pack_rgb;
+use crate::cue::SeedRow;
 use crate::ray::{reflect, spawn_ray, Ray};
 use crate::simd::{F, U};
 use crate::stats::RayCounts;
@@ -183,15 +184,16 @@ impl Wavefront {
 
     /// Shades every sample of the batch, counting the shadow and mirror rays cast. `row` is
     /// the row of the traced view the samples' pixels lie on (their tags are columns): a
-    /// sample's occlusion rays are seeded by its pixel (a re-shaded sample's: its source's).
-    pub(crate) fn shade(&mut self, tracer: &Tracer, row: u32, counts: &mut RayCounts) {
+    /// sample's occlusion rays are seeded by its pixel (a re-shaded sample's: its source's,
+    /// and `row`'s band is then the source view's).
+    pub(crate) fn shade(&mut self, tracer: &Tracer, row: SeedRow, counts: &mut RayCounts) {
         dispatch!(crate::simd::level(), simd => self.shade_in(simd, tracer, row, counts));
     }
 
     /// [`Wavefront::shade`] with the lanes of `simd`: each stage runs over whole vectors (in
     /// a function of its own with `simd`'s target features), then the scalar stage takes the
     /// entries left over.
-    pub(crate) fn shade_in<S: Simd>(&mut self, simd: S, tracer: &Tracer, row: u32, counts: &mut RayCounts) {
+    pub(crate) fn shade_in<S: Simd>(&mut self, simd: S, tracer: &Tracer, row: SeedRow, counts: &mut RayCounts) {
         let max_depth = tracer.scene.settings.max_depth as usize;
         self.depth = 0;
         for k in 0.. {
@@ -308,12 +310,12 @@ fn surfaces(tracer: &Tracer, level: &mut Level, from: usize) {
 
 /// Stage 2: the light bits (from shadow rays, or known at level 0) and the view-independent
 /// light, its ambient term occluded at level 0 (`first`: the row of its pixels).
-fn light(tracer: &Tracer, level: &mut Level, first: Option<u32>, counts: &mut RayCounts, from: usize) {
+fn light(tracer: &Tracer, level: &mut Level, first: Option<SeedRow>, counts: &mut RayCounts, from: usize) {
     for e in from..level.len() {
         let known = first.is_some() && level.known[e];
         let (p, n, object) = (get3(&level.p, e), get3(&level.n, e), level.object[e]);
         let ambient = match first {
-            Some(row) => tracer.ambient_at(object, (p, n), level.pixel(e, row), counts),
+            Some(seeds) => tracer.ambient_at(object, (p, n), seeds.shown(level.pixel(e, seeds.row)), counts),
             None => tracer.scene.settings.ambient,
         };
         let given = level.lights[e];

@@ -18,9 +18,34 @@
 use glam::Vec3;
 
 use crate::accel::Origin;
+use crate::camera::EyeView;
 use crate::ray::spawn_ray;
 use crate::stats::RayCounts;
 use crate::tracer::Tracer;
+
+/// Where a batch's pixels lie: their row of the traced view, and the view's guard band, so
+/// that a pixel is seeded by its place in the shown image: a view traced with a band (the
+/// viewer's, for its timewarp) casts the rays of one without (`render`'s).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SeedRow {
+    /// The row of the traced view.
+    pub(crate) row: u32,
+    /// The view's guard band, (columns, rows) ([`EyeView::margin`]).
+    pub(crate) margin: (u32, u32),
+}
+
+impl SeedRow {
+    /// Row `row` of `view`.
+    pub(crate) fn of(view: &EyeView, row: u32) -> Self {
+        Self { row, margin: view.margin }
+    }
+
+    /// The seed of the traced view's pixel (x, y): its place in the shown image (wrapping
+    /// in the band above and left of it).
+    pub(crate) fn shown(self, (x, y): (u32, u32)) -> (u32, u32) {
+        (x.wrapping_sub(self.margin.0), y.wrapping_sub(self.margin.1))
+    }
+}
 
 /// An integer hash with good avalanche (Wellons's "lowbias32").
 fn hash(mut x: u32) -> u32 {

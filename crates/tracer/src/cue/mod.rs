@@ -15,6 +15,7 @@ use glam::Vec3;
 
 use crate::scene::{Motion, Scene};
 
+pub(crate) use ao::SeedRow;
 pub use outline::{first_hits, outline, Outline, OUTLINE_JUMP};
 
 /// Most ambient occlusion rays a hit may cast ([`AmbientOcclusion::samples`]).

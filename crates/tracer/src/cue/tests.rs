@@ -124,7 +124,7 @@ fn lanes_of_every_width_shade_the_plain_paths_radiance_with_the_cues_on() {
                         }
                     }
                     let mut counts = RayCounts::default();
-                    dispatch!(level, simd => wavefront.shade_in(simd, &tracer, j, &mut counts));
+                    dispatch!(level, simd => wavefront.shade_in(simd, &tracer, SeedRow::of(&view, j), &mut counts));
                     for e in 0..wavefront.len() {
                         let i = wavefront.tag(e);
                         let plain = tracer.pixel_radiance(&view, i, j).expect("a hit");
@@ -266,4 +266,28 @@ fn on_1tii_lonely_atoms_are_lighter_than_crowded_ones() {
 
 fn share(tracer: &Tracer, object: u32, at: (Vec3, Vec3), pixel: (u32, u32)) -> f32 {
     tracer.occluded_share(object, at, pixel, &mut RayCounts::default())
+}
+
+#[test]
+fn a_view_with_a_guard_band_seeds_its_shown_part_as_one_without() {
+    // The viewer traces its eyes with a band for the timewarp; `render` without. The
+    // occlusion rays are seeded by the place in the shown image, so the shown parts agree.
+    let scene = with_cues(crate::testing::scene("seed.toml"), 4);
+    let tracer = Tracer::new(&scene, 0.2);
+    let (w, h, (mx, my)) = (48, 30, (5, 3));
+    let render = |view| {
+        let mut rgb = Vec::new();
+        Renderer::new().render(&tracer, &view, Pixels::All, Target::colour(&mut rgb));
+        rgb
+    };
+    let plain = render(scene.camera.view(Eye::Left, w, h));
+    let banded = render(scene.camera.view_with_margin(Eye::Left, w, h, (mx, my)));
+    let bw = (w + 2 * mx) as usize;
+    let shown: Vec<u32> = banded
+        .chunks(bw)
+        .skip(my as usize)
+        .take(h as usize)
+        .flat_map(|r| r[mx as usize..bw - mx as usize].to_vec())
+        .collect();
+    assert_eq!(shown, plain);
 }

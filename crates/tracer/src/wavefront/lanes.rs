@@ -19,6 +19,7 @@ use fearless_simd::{prelude::*, Simd};
 
 use super::Level;
 use crate::accel::ShadowLanes;
+use crate::cue::SeedRow;
 use crate::material::{Exponent, TINY};
 use crate::simd::{dot, each3, lane3, load, load3, mask_of, spawn_origins, splat3, store3, to_light, F, U};
 use crate::stats::RayCounts;
@@ -102,7 +103,7 @@ pub(super) fn shade<S: Simd>(
     simd: S,
     tracer: &Tracer,
     level: &mut Level,
-    first: Option<u32>,
+    first: Option<SeedRow>,
     counts: &mut RayCounts,
 ) -> usize {
     let lanes = F::<S>::LEN;
@@ -143,14 +144,14 @@ fn ambient_lanes<S: Simd>(
     simd: S,
     tracer: &Tracer,
     level: &Level,
-    (j, row): (usize, u32),
+    (j, row): (usize, SeedRow),
     counts: &mut RayCounts,
 ) -> F<S> {
     let mut ambient = [0f32; 16];
     for (l, a) in ambient[..F::<S>::LEN].iter_mut().enumerate() {
         let e = j + l;
         let (p, n) = (super::get3(&level.p, e), super::get3(&level.n, e));
-        *a = tracer.ambient_at(level.object[e], (p, n), level.pixel(e, row), counts);
+        *a = tracer.ambient_at(level.object[e], (p, n), row.shown(level.pixel(e, row.row)), counts);
     }
     F::<S>::from_slice(simd, &ambient[..F::<S>::LEN])
 }
