@@ -57,6 +57,8 @@
 //!   in order, and the pair they made with its views, which a warp reads;
 //! - `mask` (stats), `layout`: how a frame is shown, beside the pipeline (the mask's colour
 //!   for pixels a reused frame kept, too);
+//! - `outline` (frame): each eye's outlines (`tracer`'s cue), on copies of the pair's
+//!   colours, from each eye's own first hits, beside the pipeline;
 //! - `downsample` (mask, stats): a supersampled frame's eyes and mask filtered down to the
 //!   output size (box filter in linear light), beside the pipeline too: the stages run at
 //!   the sampled size and know nothing of it.
@@ -83,6 +85,7 @@ mod layout;
 mod mask;
 mod metrics;
 mod mode;
+mod outline;
 mod reproject;
 mod retrace;
 mod reuse;
@@ -98,6 +101,7 @@ pub use layout::{anaglyph_pixel, compose, Layout};
 pub use mask::{mask_color, mask_image, KEPT_COLOR, KEPT_LEGEND, MASK_LEGEND};
 pub use metrics::Quality;
 pub use mode::{Mode, Options};
+pub use outline::Outlined;
 pub use reproject::{reproject_row, NO_SOURCE};
 pub use stats::{EyeStats, FrameStats, PixelClass, PixelCounts, Reuse, StageTimes};
 pub use upsample::upsample;

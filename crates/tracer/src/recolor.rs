@@ -226,8 +226,10 @@ impl Tracer {
     /// last [`Tracer::update`] with only its colours changed ([`Scene::recolor`]): the
     /// palette and each sphere's material id are rewritten, the BVH and light maps kept.
     /// A new [`Tracer::generation`], so temporal reuse keeps no pixel of the old colours.
+    /// The scene's cues (`render.cues`) are taken too: they change no structure either.
     pub fn recolor(&mut self, scene: &Scene) {
         self.scene.recolor(scene);
+        self.scene.settings.cues = scene.render.cues;
         self.bump_generation();
     }
 }

@@ -11,6 +11,7 @@
 use glam::Vec3;
 
 use crate::camera::Camera;
+use crate::cue::Cues;
 use crate::material::Material;
 use crate::sphere::Sphere;
 
@@ -80,13 +81,16 @@ pub struct RenderSettings {
     pub max_depth: u32,
     /// Linear colour of rays that miss everything.
     pub background: Vec3,
-    /// Global ambient term, multiplied by each surface's colour.
+    /// Global ambient term, multiplied by each surface's colour (and, with ambient
+    /// occlusion on, by the open share at a primary hit).
     pub ambient: f32,
+    /// Ambient occlusion, depth cueing and outlines (all off by default).
+    pub cues: Cues,
 }
 
 impl Default for RenderSettings {
     fn default() -> Self {
-        Self { max_depth: 3, background: Vec3::new(0.05, 0.05, 0.08), ambient: 0.1 }
+        Self { max_depth: 3, background: Vec3::new(0.05, 0.05, 0.08), ambient: 0.1, cues: Cues::default() }
     }
 }
 

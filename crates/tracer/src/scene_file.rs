@@ -14,14 +14,14 @@ use toml::Spanned;
 use crate::camera::{Camera, Eye};
 use crate::error::SceneError;
 use crate::material::Material;
-use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere, MAX_DEPTH_LIMIT, MAX_LIGHTS};
+use crate::scene::{Light, Motion, RenderSettings, Scene, SceneSphere, MAX_LIGHTS};
 use crate::structure::LoadOptions;
 
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
 struct SceneFile {
     camera: Option<Spanned<CameraDef>>,
-    render: Option<Spanned<RenderDef>>,
+    render: Option<Spanned<render::RenderDef>>,
     #[serde(default)]
     lights: Vec<Spanned<LightDef>>,
     #[serde(default)]
@@ -52,21 +52,6 @@ impl Default for CameraDef {
             yaw_deg: c.yaw_deg,
             pitch_deg: c.pitch_deg,
         }
-    }
-}
-
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields, default)]
-struct RenderDef {
-    max_depth: i64,
-    background: [f32; 3],
-    ambient: f32,
-}
-
-impl Default for RenderDef {
-    fn default() -> Self {
-        let r = RenderSettings::default();
-        Self { max_depth: i64::from(r.max_depth), background: r.background.to_array(), ambient: r.ambient }
     }
 }
 
@@ -292,27 +277,6 @@ impl Scene {
             }
         };
 
-        let render = match &file.render {
-            None => RenderSettings::default(),
-            Some(r) => {
-                let at = r.span().start;
-                let r = r.get_ref();
-                if !(0..=i64::from(MAX_DEPTH_LIMIT)).contains(&r.max_depth) {
-                    return Err(ck.invalid(
-                        at,
-                        "render.max_depth",
-                        r.max_depth,
-                        &format!("must be 0 to {MAX_DEPTH_LIMIT} reflection bounces"),
-                    ));
-                }
-                RenderSettings {
-                    max_depth: r.max_depth as u32,
-                    background: ck.color(at, "render.background", r.background, 1.0)?,
-                    ambient: ck.range(at, "render.ambient", r.ambient, 0.0, 1.0, "must be 0 to 1")?,
-                }
-            }
-        };
-
         if file.lights.len() > MAX_LIGHTS {
             let at = file.lights[MAX_LIGHTS].span().start;
             return Err(ck.invalid(at, "lights", file.lights.len(), &format!("at most {MAX_LIGHTS} lights")));
@@ -341,7 +305,8 @@ impl Scene {
                 "a scene needs at least one [[spheres]] or [[structures]] table",
             ));
         }
-        let scene = Scene { camera, render, lights, spheres, structures };
+        let mut scene = Scene { camera, render: RenderSettings::default(), lights, spheres, structures };
+        scene.render = render::render(&ck, file.render.as_ref(), &scene)?;
         check_camera_outside_spheres(&ck, &file, &scene)?;
         Ok(scene)
     }
@@ -444,6 +409,7 @@ fn parse_error(ck: &Checker, e: &toml::de::Error, path: PathBuf) -> SceneError {
 }
 
 mod read;
+mod render;
 mod structures;
 #[cfg(test)]
 mod tests;

@@ -12,7 +12,9 @@
 //! with l_k the unit vector to light k, h_k = normalize(l_k − d) (Blinn–Phong) and V_k the
 //! light's visibility: 1 when the surface faces the light (n·l > 0) and a shadow ray towards
 //! it is unblocked. Reflection recurses up to `max_depth` bounces; a miss returns the
-//! background.
+//! background. At a primary hit, with the scene's cues on (`cue/`), the ambient term is
+//! scaled by the open share that occlusion rays find (seeded by the pixel), and the
+//! radiance is depth cued towards the background by the hit's distance.
 //!
 //! This is the plain path: a pixel at a time, recursively, as the formula reads. The
 //! renderer shades through the same operations batched in SIMD lanes (`wavefront.rs`), and
@@ -44,7 +46,7 @@ impl Tracer {
     /// there), at depth `depth`.
     fn trace_reflection(&self, from: u32, n: Vec3, ray: &Ray, depth: u32, counts: &mut RayCounts) -> Vec3 {
         match self.accel.intersect(ray, f32::INFINITY, Origin::Surface { sphere: from, normal: n }) {
-            Some(Hit { t, object }) => self.shade_hit(ray, t, object, depth, counts).0,
+            Some(Hit { t, object }) => self.shade_hit(ray, (t, object), (depth, None), counts).0,
             None => self.scene.settings.background,
         }
     }
@@ -58,7 +60,10 @@ impl Tracer {
         counts.primary += 1;
         let ray = view.primary_ray(i, j);
         match self.intersect(&ray, f32::INFINITY) {
-            Some(Hit { t, object }) => self.shade_primary_hit(view, &ray, t, object, counts),
+            Some(Hit { t, object }) => {
+                let pixel = crate::cue::SeedRow::of(view, j).shown((i, j));
+                self.shade_primary_hit(view, &ray, (t, object), pixel, counts)
+            }
             None => self.miss_sample(),
         }
     }
@@ -70,7 +75,9 @@ impl Tracer {
     pub(crate) fn pixel_radiance(&self, view: &EyeView, i: u32, j: u32) -> Option<Vec3> {
         let ray = view.primary_ray(i, j);
         let hit = self.intersect(&ray, f32::INFINITY)?;
-        Some(self.shade_hit(&ray, hit.t, hit.object, 0, &mut RayCounts::default()).0)
+        let pixel = crate::cue::SeedRow::of(view, j).shown((i, j));
+        let color = self.shade_hit(&ray, (hit.t, hit.object), (0, Some(pixel)), &mut RayCounts::default()).0;
+        Some(self.depth_cued(color, hit.t))
     }
 
     /// The plain path's re-shading (a test oracle for [`crate::PixelBatch::reshade`]): the
@@ -80,22 +87,32 @@ impl Tracer {
     pub(crate) fn reshaded_rgb(&self, ray: &Ray, (t, object, lights): (f32, u32, u32), d: Vec3) -> u32 {
         let p = ray.at(t);
         let n = (p - self.scene.centers[object as usize]).normalize();
-        let (diffuse, lights) = self.diffuse_light(object, p, n, |k, _, _| lights & (1 << k) != 0);
+        let ambient = self.scene.settings.ambient;
+        let (diffuse, lights) = self.diffuse_light((object, p, n), ambient, |k, _, _| lights & (1 << k) != 0);
         let surface = Surface { point: p, normal: n, diffuse, object, lights };
         pack_rgb(diffuse + self.view_dependent(&surface, d, 0, &mut RayCounts::default()))
     }
 
-    /// Shades the first hit of a primary ray, casting its shadow and reflection rays.
+    /// Shades the first hit (`t`, `object`) of the primary ray of the pixel whose place in
+    /// the shown image is `pixel`, casting its shadow, occlusion and reflection rays.
     #[inline]
     pub(crate) fn shade_primary_hit(
         &self,
         view: &EyeView,
         ray: &Ray,
-        t: f32,
-        object: u32,
+        (t, object): (f32, u32),
+        pixel: (u32, u32),
         counts: &mut RayCounts,
     ) -> Shaded {
-        self.shaded_sample(view, ray, t, object, counts)
+        let (color, surface) = self.shade_hit(ray, (t, object), (0, Some(pixel)), counts);
+        Shaded { rgb: pack_rgb(self.depth_cued(color, t)), z: view.head_z(surface.point), surface }
+    }
+
+    /// A primary hit's radiance `color` at distance `t`, depth cued (`cue/fog.rs`).
+    #[inline]
+    pub(crate) fn depth_cued(&self, color: Vec3, t: f32) -> Vec3 {
+        let settings = &self.scene.settings;
+        settings.cues.depth_cue.apply(color, settings.background, t)
     }
 
     /// The sample of a pixel whose primary ray missed.
@@ -104,17 +121,25 @@ impl Tracer {
         Shaded { rgb: self.scene.background_rgb, z: f32::INFINITY, surface: Surface::MISS }
     }
 
-    fn shaded_sample(&self, view: &EyeView, ray: &Ray, t: f32, object: u32, counts: &mut RayCounts) -> Shaded {
-        let (color, surface) = self.shade_hit(ray, t, object, 0, counts);
-        Shaded { rgb: pack_rgb(color), z: view.head_z(surface.point), surface }
-    }
-
-    fn shade_hit(&self, ray: &Ray, t: f32, object: u32, depth: u32, counts: &mut RayCounts) -> (Vec3, Surface) {
+    /// Shades the hit (`t`, `object`) of `ray` at reflection depth `depth`; `pixel` is the
+    /// traced view's pixel whose primary ray this is (`None` deeper down: occlusion is
+    /// cast at primary hits only).
+    fn shade_hit(
+        &self,
+        ray: &Ray,
+        (t, object): (f32, u32),
+        (depth, pixel): (u32, Option<(u32, u32)>),
+        counts: &mut RayCounts,
+    ) -> (Vec3, Surface) {
         let k = object as usize;
         let p = ray.at(t);
         // Normalised rather than divided by r: the hit lies on the sphere only to rounding.
         let n = (p - self.scene.centers[k]).normalize();
-        let (diffuse, lights) = self.view_independent(object, p, n, counts);
+        let ambient = match pixel {
+            Some(pixel) => self.ambient_at(object, (p, n), pixel, counts),
+            None => self.scene.settings.ambient,
+        };
+        let (diffuse, lights) = self.view_independent((object, p, n), ambient, counts);
         let surface = Surface { point: p, normal: n, diffuse, object, lights };
         (diffuse + self.view_dependent(&surface, ray.dir, depth, counts), surface)
     }
@@ -136,9 +161,10 @@ impl Tracer {
         (v * dist.recip(), dist)
     }
 
-    /// Ambient + Lambert diffuse with hard shadows, and the visibility bits it found.
-    fn view_independent(&self, object: u32, p: Vec3, n: Vec3, counts: &mut RayCounts) -> (Vec3, u32) {
-        self.diffuse_light(object, p, n, |k, l, dist| {
+    /// Ambient (the term `ambient`) + Lambert diffuse with hard shadows, and the visibility
+    /// bits it found.
+    fn view_independent(&self, (object, p, n): (u32, Vec3, Vec3), ambient: f32, counts: &mut RayCounts) -> (Vec3, u32) {
+        self.diffuse_light((object, p, n), ambient, |k, l, dist| {
             counts.shadow += 1;
             !self.shadowed(k, object, p, n, &spawn_ray(p, n, l), dist)
         })
@@ -147,12 +173,12 @@ impl Tracer {
     /// The view-independent light at `p` (normal `n`) on sphere `object`,
     /// colour · (ambient + kd · Σ n·l · I) over the lights the surface faces and `visible(k,
     /// l, dist)` lets through, and the bits of those lights: the one scalar formula, for the
-    /// plain path and for the wavefront's leftover entries.
+    /// plain path and for the wavefront's leftover entries. `ambient` is the scene's, or at
+    /// a primary hit with occlusion on, [`Tracer::ambient_at`]'s.
     pub(crate) fn diffuse_light(
         &self,
-        object: u32,
-        p: Vec3,
-        n: Vec3,
+        (object, p, n): (u32, Vec3, Vec3),
+        ambient: f32,
         mut visible: impl FnMut(usize, Vec3, f32) -> bool,
     ) -> (Vec3, u32) {
         let mut sum = Vec3::ZERO;
@@ -166,7 +192,7 @@ impl Tracer {
             }
         }
         let m = self.scene.material(object as usize);
-        (m.color * (self.scene.settings.ambient + m.diffuse * sum), bits)
+        (m.color * (ambient + m.diffuse * sum), bits)
     }
 
     /// Blinn–Phong highlights at `p` (normal `n`) on sphere `object`, seen along `d`, from
@@ -295,11 +321,19 @@ mod tests {
     fn head_on_mirror_shows_the_background_and_depth_zero_turns_it_off() {
         let m = Material { color: Vec3::ONE, diffuse: 0.0, specular: 0.0, shininess: 1.0, reflectivity: 1.0 };
         let bg = Vec3::new(0.2, 0.4, 0.6);
-        let scene = one_sphere(m, vec![], RenderSettings { max_depth: 1, background: bg, ambient: 0.0 });
+        let scene = one_sphere(
+            m,
+            vec![],
+            RenderSettings { max_depth: 1, background: bg, ambient: 0.0, ..RenderSettings::default() },
+        );
         let (px, counts, _) = centre_pixel(&scene);
         assert_eq!(px, srgb(bg), "r = d − 2(d·n)n sends the ray back past the eye");
         assert!(counts.reflection >= 1);
-        let scene = one_sphere(m, vec![], RenderSettings { max_depth: 0, background: bg, ambient: 0.0 });
+        let scene = one_sphere(
+            m,
+            vec![],
+            RenderSettings { max_depth: 0, background: bg, ambient: 0.0, ..RenderSettings::default() },
+        );
         let (px, counts, _) = centre_pixel(&scene);
         assert_eq!(px, [0, 0, 0]);
         assert_eq!(counts.reflection, 0);
@@ -317,8 +351,11 @@ mod tests {
             shininess: 1.0,
             reflectivity: 0.0,
         };
-        let mut scene =
-            one_sphere(mirror, vec![], RenderSettings { max_depth: 1, background: Vec3::ZERO, ambient: 1.0 });
+        let mut scene = one_sphere(
+            mirror,
+            vec![],
+            RenderSettings { max_depth: 1, background: Vec3::ZERO, ambient: 1.0, ..RenderSettings::default() },
+        );
         scene.spheres.push(SceneSphere {
             radius: 0.5,
             motion: Motion::Static(Vec3::new(0.0, 0.0, -3.0)),

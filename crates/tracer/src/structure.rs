@@ -16,6 +16,9 @@
 //! **Lights.** A key light above, left of and in front of the structure and a dimmer fill
 //! light from the right, both on the viewer's side, so the side facing the eyes is lit and
 //! shadows fall behind.
+//!
+//! **Cues.** Ambient occlusion (8 rays a hit, within max(8, R/10)), Exp2 depth cueing from
+//! the sphere's front and 1-pixel outlines are on (`cue::sized`; `docs/design/cues.md`).
 
 use std::path::Path;
 use std::sync::Arc;
@@ -148,10 +151,12 @@ impl Scene {
             pitch_deg: 0.0,
         };
         let lights = vec![
-            Light { position: c + Vec3::new(-0.8, 1.2, -2.0) * r, color: Vec3::splat(0.85) },
-            Light { position: c + Vec3::new(1.6, 0.2, -1.2) * r, color: Vec3::splat(0.35) },
+            Light { position: c + Vec3::new(-0.8, 1.2, -2.0) * r, color: Vec3::splat(0.7) },
+            Light { position: c + Vec3::new(1.6, 0.2, -1.2) * r, color: Vec3::splat(0.25) },
         ];
-        let render = RenderSettings { max_depth: 1, background: Vec3::new(0.02, 0.02, 0.03), ambient: 0.15 };
+        // The cues on, sized to the structure (`cue::sized`).
+        let cues = crate::cue::sized((c, r), camera.position, crate::cue::STRUCTURE_AO_SAMPLES);
+        let render = RenderSettings { max_depth: 1, background: Vec3::new(0.02, 0.02, 0.03), ambient: 0.35, cues };
         Self { camera, render, lights, spheres: Vec::new(), structures: vec![structure] }
     }
 

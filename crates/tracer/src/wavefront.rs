@@ -27,6 +27,7 @@ use glam::Vec3;
 use crate::accel::Origin;
 use crate::camera::EyeView;
 use crate::color::pack_rgb;
+use crate::cue::SeedRow;
 use crate::ray::{reflect, spawn_ray, Ray};
 use crate::simd::{F, U};
 use crate::stats::RayCounts;
@@ -181,15 +182,18 @@ impl Wavefront {
         }
     }
 
-    /// Shades every sample of the batch, counting the shadow and mirror rays cast.
-    pub(crate) fn shade(&mut self, tracer: &Tracer, counts: &mut RayCounts) {
-        dispatch!(crate::simd::level(), simd => self.shade_in(simd, tracer, counts));
+    /// Shades every sample of the batch, counting the shadow and mirror rays cast. `row` is
+    /// the row of the traced view the samples' pixels lie on (their tags are columns): a
+    /// sample's occlusion rays are seeded by its pixel (a re-shaded sample's: its source's,
+    /// and `row`'s band is then the source view's).
+    pub(crate) fn shade(&mut self, tracer: &Tracer, row: SeedRow, counts: &mut RayCounts) {
+        dispatch!(crate::simd::level(), simd => self.shade_in(simd, tracer, row, counts));
     }
 
     /// [`Wavefront::shade`] with the lanes of `simd`: each stage runs over whole vectors (in
     /// a function of its own with `simd`'s target features), then the scalar stage takes the
     /// entries left over.
-    pub(crate) fn shade_in<S: Simd>(&mut self, simd: S, tracer: &Tracer, counts: &mut RayCounts) {
+    pub(crate) fn shade_in<S: Simd>(&mut self, simd: S, tracer: &Tracer, row: SeedRow, counts: &mut RayCounts) {
         let max_depth = tracer.scene.settings.max_depth as usize;
         self.depth = 0;
         for k in 0.. {
@@ -204,12 +208,13 @@ impl Wavefront {
             }
             self.depth = k + 1;
             next.reserve(level.len());
+            let first = (k == 0).then_some(row);
             let done = simd.vectorize(
                 #[inline(always)]
-                || lanes::shade(simd, tracer, level, k == 0, counts),
+                || lanes::shade(simd, tracer, level, first, counts),
             );
             surfaces(tracer, level, done);
-            light(tracer, level, k == 0, counts, done);
+            light(tracer, level, first, counts, done);
             highlights(tracer, level, done);
             if k < max_depth {
                 let done = simd.vectorize(
@@ -232,6 +237,13 @@ impl Wavefront {
                 for e in 0..level.len() {
                     set3(&mut above.mirror, level.parent[e] as usize, get3(&level.radiance, e));
                 }
+            }
+        }
+        if tracer.scene.settings.cues.depth_cue.mode != crate::cue::DepthCueMode::Off {
+            let level = &mut self.levels[0];
+            for e in 0..level.len() {
+                let cued = tracer.depth_cued(get3(&level.radiance, e), level.t[e]);
+                set3(&mut level.radiance, e, cued);
             }
         }
     }
@@ -297,13 +309,17 @@ fn surfaces(tracer: &Tracer, level: &mut Level, from: usize) {
 }
 
 /// Stage 2: the light bits (from shadow rays, or known at level 0) and the view-independent
-/// light.
-fn light(tracer: &Tracer, level: &mut Level, first: bool, counts: &mut RayCounts, from: usize) {
+/// light, its ambient term occluded at level 0 (`first`: the row of its pixels).
+fn light(tracer: &Tracer, level: &mut Level, first: Option<SeedRow>, counts: &mut RayCounts, from: usize) {
     for e in from..level.len() {
-        let known = first && level.known[e];
+        let known = first.is_some() && level.known[e];
         let (p, n, object) = (get3(&level.p, e), get3(&level.n, e), level.object[e]);
+        let ambient = match first {
+            Some(seeds) => tracer.ambient_at(object, (p, n), seeds.shown(level.pixel(e, seeds.row)), counts),
+            None => tracer.scene.settings.ambient,
+        };
         let given = level.lights[e];
-        let (diffuse, bits) = tracer.diffuse_light(object, p, n, |k, l, dist| {
+        let (diffuse, bits) = tracer.diffuse_light((object, p, n), ambient, |k, l, dist| {
             if known {
                 given & (1 << k) != 0
             } else {

@@ -6,6 +6,10 @@ use std::path::PathBuf;
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use stereo::{Layout, Mode};
 
+mod cues;
+
+pub use cues::CueArgs;
+
 use crate::crop::Crop;
 use crate::motion::Motion;
 
@@ -159,8 +163,8 @@ pub struct FrameArgs {
     pub look: LookArgs,
 }
 
-/// How the scene's structures are coloured and which of their atoms are hidden: the
-/// window's and every headless command's.
+/// How the scene's structures are coloured, which of their atoms are hidden, and the cues:
+/// the window's and every headless command's.
 #[derive(Debug, Args, Clone, Copy, Default, PartialEq)]
 pub struct LookArgs {
     /// Colour the structures' atoms by element, chain, residue (RasMol's shapely), bfactor
@@ -176,6 +180,8 @@ pub struct LookArgs {
     /// hydrogen, hetero (HETATM records).
     #[arg(long, value_name = "ITEMS", value_parser = parse_hide)]
     pub hide: Option<tracer::Hide>,
+    #[command(flatten)]
+    pub cues: CueArgs,
 }
 
 impl LookArgs {
@@ -196,6 +202,7 @@ impl LookArgs {
         if let Some(coloring) = self.coloring() {
             scene.recolor(&coloring);
         }
+        self.cues.apply(&mut scene);
         scene
     }
 }

@@ -8,5 +8,6 @@
 //! (`SourceParallel("proptest-regressions")`) looks for them there.
 
 mod alloc;
+mod cues;
 mod reuse;
 mod stereo;

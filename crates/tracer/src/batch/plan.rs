@@ -76,7 +76,7 @@ impl BinnedView<'_> {
                 #[inline(always)]
                 || self.push_row_in(simd, wavefront, (j, plan), counts, (missed, sink)),
             ));
-            wavefront.shade(self.tracer, counts);
+            wavefront.shade(self.tracer, crate::cue::SeedRow::of(self.view, j), counts);
             sink.emit(wavefront, self.view, true);
             tests
         })

@@ -33,7 +33,8 @@ impl BinnedView<'_> {
                 wavefront.push_seen_at(i, source, hit, film.lights[k]);
             }
             wavefront.aim_seen(view, j, other);
-            wavefront.shade(self.tracer, counts);
+            // The sources are `other`'s pixels: seeded in its shown image.
+            wavefront.shade(self.tracer, crate::cue::SeedRow::of(other, j), counts);
             sink.emit(wavefront, view, false);
         });
     }

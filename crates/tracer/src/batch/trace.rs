@@ -20,7 +20,7 @@ impl BinnedView<'_> {
                 counts.primary += u64::from(mask.count_ones());
                 self.push_traced(wavefront, (base, j, mask), sink);
             });
-            wavefront.shade(self.tracer, counts);
+            wavefront.shade(self.tracer, crate::cue::SeedRow::of(self.view, j), counts);
             sink.emit(wavefront, self.view, true);
         });
     }

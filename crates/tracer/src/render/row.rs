@@ -95,7 +95,7 @@ pub(super) fn trace_row_in<S: Simd, C: Columns, O: Observe>(
         }
     }
     if C::SHADES {
-        wavefront.shade_in(simd, tracer, &mut counts);
+        wavefront.shade_in(simd, tracer, crate::cue::SeedRow::of(view, j), &mut counts);
         sink.emit(wavefront, view, true);
     }
     counts

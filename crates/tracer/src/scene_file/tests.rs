@@ -11,7 +11,13 @@ fn err(src: &str) -> String {
 fn minimal_scene_gets_the_documented_defaults() {
     let s = Scene::from_toml(MINIMAL, "m.toml").unwrap();
     assert_eq!(s.camera, Camera::default());
-    assert_eq!(s.render, RenderSettings::default());
+    // The cues are off, and sized to the scene for whoever turns them on.
+    let cues = s.render.cues;
+    assert_eq!(RenderSettings { cues: crate::cue::Cues::default(), ..s.render }, RenderSettings::default());
+    assert!(
+        !cues.ambient_occlusion.is_on() && cues.depth_cue.mode == crate::cue::DepthCueMode::Off && cues.outline == 0
+    );
+    assert_eq!(cues.ambient_occlusion.distance, 8.0, "a ball of radius 2.5: at least 8");
     assert!(s.lights.is_empty());
     assert_eq!(s.spheres[0].material, Material::default());
     // Integers are accepted where floats are expected.
@@ -178,4 +184,31 @@ fn a_structure_s_color_by_recolours_it_and_a_bad_one_is_named() {
     write("chian");
     let e = Scene::load(&path).unwrap_err().to_string();
     assert!(e.contains("s.toml:1: structures[0].color_by = chian: unknown colour scheme `chian`"), "{e}");
+}
+
+#[test]
+fn the_cues_are_read_and_bad_ones_name_their_field() {
+    let src = format!(
+        "[render]\nambient_occlusion = {{ samples = 16, distance = 3.5 }}\n\
+         depth_cue = {{ mode = \"linear\", start = 10, end = 30 }}\noutline = 2\n{MINIMAL}"
+    );
+    let cues = Scene::from_toml(&src, "c.toml").unwrap().render.cues;
+    let ao = cues.ambient_occlusion;
+    assert_eq!((ao.samples, ao.distance, ao.strength), (16, 3.5, 1.0));
+    let cue = cues.depth_cue;
+    assert_eq!((cue.mode, cue.start, cue.end), (crate::cue::DepthCueMode::Linear, 10.0, 30.0));
+    assert_eq!(cues.outline, 2);
+    for (field, want) in [
+        ("ambient_occlusion = { samples = 2000 }", "render.ambient_occlusion.samples = 2000: must be 0 (off) to 1024"),
+        ("ambient_occlusion = { samples = 4, distance = -1 }", "render.ambient_occlusion.distance = -1: must be"),
+        ("ambient_occlusion = { samples = 4, distance = nan }", "render.ambient_occlusion.distance = NaN: must be"),
+        ("ambient_occlusion = { samples = 4, strength = 2 }", "render.ambient_occlusion.strength = 2: must be 0 to 1"),
+        ("depth_cue = { mode = \"fog\" }", "render.depth_cue.mode = fog: \"fog\": must be off, linear or exp2"),
+        ("depth_cue = { mode = \"linear\", start = 5, end = 5 }", "render.depth_cue.end = 5: must be beyond start"),
+        ("outline = 9", "render.outline = 9: must be 0 (off) to 8 pixels"),
+        ("outline = -1", "render.outline = -1: must be"),
+    ] {
+        let e = err(&format!("[render]\n{field}\n{MINIMAL}"));
+        assert!(e.starts_with("bad.toml:1: ") && e.contains(want), "{field}: {e}");
+    }
 }

@@ -19,6 +19,7 @@ use fearless_simd::{prelude::*, Simd};
 
 use super::Level;
 use crate::accel::ShadowLanes;
+use crate::cue::SeedRow;
 use crate::material::{Exponent, TINY};
 use crate::simd::{dot, each3, lane3, load, load3, mask_of, spawn_origins, splat3, store3, to_light, F, U};
 use crate::stats::RayCounts;
@@ -102,12 +103,13 @@ pub(super) fn shade<S: Simd>(
     simd: S,
     tracer: &Tracer,
     level: &mut Level,
-    first: bool,
+    first: Option<SeedRow>,
     counts: &mut RayCounts,
 ) -> usize {
     let lanes = F::<S>::LEN;
     let whole = level.len() / lanes * lanes;
     let one = F::<S>::splat(simd, 1.0);
+    let occludes = first.is_some() && tracer.scene.settings.cues.ambient_occlusion.is_on();
     for j in (0..whole).step_by(lanes) {
         let g = Gathered::of(simd, tracer, &level.object[j..j + lanes]);
         let d = load3(simd, &level.d, j);
@@ -120,8 +122,12 @@ pub(super) fn shade<S: Simd>(
         let n = each3(|a| v[a] * recip);
         store3::<S>(p, &mut level.p, j);
         store3::<S>(n, &mut level.n, j);
-        // Stage 2.
-        let bits = light_vector(simd, tracer, level, j, (p, n, &g), first, counts);
+        // Stage 2, its ambient term occluded per lane at level 0.
+        let ambient = match first {
+            Some(row) if occludes => ambient_lanes(simd, tracer, level, (j, row), counts),
+            _ => F::<S>::splat(simd, tracer.scene.settings.ambient),
+        };
+        let bits = light_vector(simd, tracer, level, j, (p, n, &g), (ambient, first.is_some()), counts);
         // Stage 3.
         let v = load3(simd, &level.v, j);
         let out = highlight_vector(simd, tracer, &level.object[j..j + lanes], [p, n, v], bits, &g);
@@ -130,9 +136,29 @@ pub(super) fn shade<S: Simd>(
     whole
 }
 
+/// The ambient term of the vector of level-0 entries from `j` (their hit points and
+/// normals stored), on row `row`: [`Tracer::ambient_at`] per lane, whose occlusion rays go
+/// one by one through the aggregate's any-hit query.
+#[inline(always)]
+fn ambient_lanes<S: Simd>(
+    simd: S,
+    tracer: &Tracer,
+    level: &Level,
+    (j, row): (usize, SeedRow),
+    counts: &mut RayCounts,
+) -> F<S> {
+    let mut ambient = [0f32; 16];
+    for (l, a) in ambient[..F::<S>::LEN].iter_mut().enumerate() {
+        let e = j + l;
+        let (p, n) = (super::get3(&level.p, e), super::get3(&level.n, e));
+        *a = tracer.ambient_at(level.object[e], (p, n), row.shown(level.pixel(e, row.row)), counts);
+    }
+    F::<S>::from_slice(simd, &ambient[..F::<S>::LEN])
+}
+
 /// Stage 2 of the vector of entries from `j`: light bits (shadow rays per vector or per
-/// lane, or the bits known at level 0) and the view-independent light, stored; returns the
-/// bits.
+/// lane, or the bits known at level 0) and the view-independent light with the ambient
+/// term `ambient`, stored; returns the bits.
 #[inline(always)]
 fn light_vector<S: Simd>(
     simd: S,
@@ -140,7 +166,7 @@ fn light_vector<S: Simd>(
     level: &mut Level,
     j: usize,
     (p, n, g): ([F<S>; 3], [F<S>; 3], &Gathered<S>),
-    first: bool,
+    (ambient, first): (F<S>, bool),
     counts: &mut RayCounts,
 ) -> U<S> {
     let lanes = F::<S>::LEN;
@@ -179,7 +205,6 @@ fn light_vector<S: Simd>(
             sum = each3(|a| visible.select(sum[a] + ndl * color[a], sum[a]));
         }
     }
-    let ambient = F::<S>::splat(simd, tracer.scene.settings.ambient);
     let (kd, c) = (g.diffuse, g.color);
     store3::<S>(each3(|a| c[a] * (ambient + kd * sum[a])), &mut level.diffuse, j);
     bits.store_slice(&mut level.lights[j..j + lanes]);

@@ -139,6 +139,19 @@ impl Level {
     }
 }
 
+impl Level {
+    /// Level 0: the pixel of the traced view (column, row) whose occlusion rays entry `e`
+    /// casts, on row `row`: its own (its tag is its column), or for an entry re-shaded from
+    /// another view's pixel, that pixel (so its light is that pixel's, bit for bit).
+    pub(super) fn pixel(&self, e: usize, row: u32) -> (u32, u32) {
+        if self.known[e] {
+            (self.source[0][e], self.source[1][e])
+        } else {
+            (self.parent[e], row)
+        }
+    }
+}
+
 /// The columns of a shaded level an observer reads (the marking of temporal reuse): its
 /// rays and where they hit, read-only.
 impl Level {

@@ -4,7 +4,8 @@
 //! Frames are taken at scene times t, t + 1/30 s, …; for each frame every mode renders in
 //! turn (interleaved, so a noisy neighbour on the machine hurts all modes alike) after one
 //! untimed warm-up frame per mode. Times and counts are medians over the frames; quality is
-//! the worst frame's. `sweep` measures each of its steps with the same loop
+//! the worst frame's. An eye's time includes its outlines when the scene has them
+//! (`--outline`; quality is measured without them). `sweep` measures each of its steps with the same loop
 //! ([`Bench::measure`]) and the same medians ([`Summary::of`]).
 //!
 //! The animation rows (`--animate N`) play N frames 1/60 s apart from the same start with
@@ -18,8 +19,8 @@ use std::fmt::Write as _;
 
 use anyhow::Result;
 use serde_json::{json, Map, Value};
-use stereo::{FrameStats, Mode, Options, Quality, StereoFrame};
-use tracer::{Camera, RayCounts, Scene, Tracer};
+use stereo::{FrameStats, Mode, Options, Outlined, Quality, StereoFrame};
+use tracer::{Camera, Eye, RayCounts, Scene, Tracer};
 
 use crate::args::BenchArgs;
 use crate::cli::report;
@@ -88,6 +89,7 @@ fn animate(setup: &FrameSetup, start: f32, (w, h): (u32, u32), opts: Options, fr
 pub(crate) struct Bench {
     frame: StereoFrame,
     reference: Reference,
+    outlined: Outlined,
 }
 
 impl Bench {
@@ -113,7 +115,16 @@ impl Bench {
             tracer.advance(scene, time_of(k));
             self.reference.trace(tracer, camera, w, h);
             for (m, &(_, mode, retrace_edges)) in results.iter_mut().zip(variants) {
-                let stats = self.frame.render(tracer, camera, w, h, Options { mode, retrace_edges });
+                let mut stats = self.frame.render(tracer, camera, w, h, Options { mode, retrace_edges });
+                // The scene's outlines, each eye's timed with that eye.
+                let width = scene.render.cues.outline as f32;
+                if width > 0.0 {
+                    for (eye, ms) in [(Eye::Left, &mut stats.left.ms), (Eye::Right, &mut stats.right.ms)] {
+                        let t = std::time::Instant::now();
+                        self.outlined.draw(tracer, &self.frame, eye, width);
+                        *ms += t.elapsed().as_secs_f64() * 1e3;
+                    }
+                }
                 m.frames.push(stats);
                 m.quality.push(self.reference.compare(&self.frame.right().rgb));
             }

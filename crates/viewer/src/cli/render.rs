@@ -7,7 +7,9 @@
 //! are written or measured. The mask PNG stays at the sampled size, one pixel per sample
 //! (its `--crop` scaled by S), as the report's ray and pixel counts do; `quality` and
 //! `--diff` compare the filtered right eye with a full trace filtered alike,
-//! `quality_samples` the samples themselves.
+//! `quality_samples` the samples themselves. The scene's outlines (`--outline PX`) are
+//! drawn on each eye's samples, PX × S samples wide, before the filter; `quality` is
+//! measured without them, as the reference has none.
 
 use std::path::Path;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -16,7 +18,7 @@ use std::time::Instant;
 
 use anyhow::{Context, Result};
 use serde_json::json;
-use stereo::{compose, downsample, mask_image, Options, Quality, StereoFrame};
+use stereo::{compose, downsample, mask_image, Options, Outlined, Quality, StereoFrame};
 use tracer::{RayCounts, Tracer};
 
 use crate::args::RenderArgs;
@@ -58,8 +60,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let opts = Options { mode: args.mode, retrace_edges: args.retrace_edges };
     let mut frame = StereoFrame::new();
     let stats = frame.render(&tracer, &setup.camera, size.samples.0, size.samples.1, opts);
+    let mut outlined = Outlined::new();
     let mut filtered = Filtered::default();
-    let (left, right) = filtered.eyes(&frame, size);
+    let (left, right) = filtered.eyes(outlined.eyes(&tracer, &frame, size.outline(&setup)), size);
 
     // An eye image, or its --crop.
     let write_eye = |p: &Path, image: &[u32]| match args.crop {
@@ -102,7 +105,10 @@ pub fn run(args: &RenderArgs) -> Result<()> {
         write_png(p, ow, oh, &pair)?;
     }
     if let (true, Some(reference)) = (args.json, &mut reference) {
+        // Measured before the outlines, which the reference has not.
         let per_sample = reference.compare(&frame.right().rgb);
+        let mut plain = Filtered::default();
+        let right = plain.eyes([&frame.left().rgb, &frame.right().rgb], size).1;
         let q = reference.compare_filtered(right, size.samples, size.out);
         let cost = Cost { load: loaded, build: built, memory: report::memory(&tracer.memory(), frame.bins_memory()) };
         print_report(args, (&setup, size), (&stats, &q, &per_sample), &cost)?;
@@ -170,6 +176,12 @@ impl Sizes {
         // FrameSetup::load_supersampled checked that an eye has fewer than u32::MAX samples.
         Self { out: (w, h), samples: (w * s, h * s) }
     }
+
+    /// The scene's outline width in samples: its width in pixels of the image times the
+    /// supersampling (drawn on the samples, before the filter).
+    fn outline(self, setup: &FrameSetup) -> f32 {
+        (setup.scene.render.cues.outline * (self.samples.0 / self.out.0.max(1))) as f32
+    }
 }
 
 /// The eyes filtered down to the output size, kept from frame to frame.
@@ -180,14 +192,14 @@ struct Filtered {
 }
 
 impl Filtered {
-    /// The frame's left and right images at the output size: the frame's own without
-    /// supersampling, else filtered into these buffers.
-    fn eyes<'a>(&'a mut self, frame: &'a StereoFrame, size: Sizes) -> (&'a [u32], &'a [u32]) {
+    /// A frame's left and right images (`eyes`, at the sampled size) at the output size:
+    /// themselves without supersampling, else filtered into these buffers.
+    fn eyes<'a>(&'a mut self, [left, right]: [&'a [u32]; 2], size: Sizes) -> (&'a [u32], &'a [u32]) {
         if size.samples == size.out {
-            return (&frame.left().rgb, &frame.right().rgb);
+            return (left, right);
         }
-        downsample(&frame.left().rgb, size.samples, &mut self.left, size.out);
-        downsample(&frame.right().rgb, size.samples, &mut self.right, size.out);
+        downsample(left, size.samples, &mut self.left, size.out);
+        downsample(right, size.samples, &mut self.right, size.out);
         (&self.left, &self.right)
     }
 }
@@ -221,6 +233,7 @@ fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
     // everything), the same bytes either way.
     frame.set_reuse((!args.no_reuse).then_some(&setup.scene));
     let mut filtered = Filtered::default();
+    let mut outlined = Outlined::new();
     let mut pair = Vec::new();
     let (mut left_rays, mut right_rays) = (RayCounts::default(), RayCounts::default());
     let (mut made, mut pixels) = (0u64, 0u64);
@@ -241,7 +254,7 @@ fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
         left_rays += stats.left.rays;
         right_rays += stats.right.rays;
         (made, pixels) = (made + stats.reuse.made, pixels + stats.reuse.pixels);
-        let (left, right) = filtered.eyes(&frame, size);
+        let (left, right) = filtered.eyes(outlined.eyes(&tracer, &frame, size.outline(&setup)), size);
         compose(args.layout, args.swap_eyes, left, right, w, h, &mut pair);
         write_png(&dir.join(format!("frame_{k:05}.png")), ow, oh, &pair)?;
         written += 1;

@@ -1,9 +1,10 @@
-//! How the window colours its structures and which atoms it hides ([`AtomLook`]: `--color`,
-//! `--hide`, the panel's "colour" section and the C key), and how the render worker takes a
-//! new look ([`Looked`]): a new colouring recolours the tracer's materials without
-//! rebuilding its BVH (`Tracer::recolor`); hidden atoms leave the scene, which is rebuilt.
+//! How the window colours its structures, which atoms it hides and its cues ([`AtomLook`]:
+//! `--color`, `--hide`, `--ao-samples`…, the panel's "colour" section and the C key), and
+//! how the render worker takes a new look ([`Looked`]): a new colouring or new cues
+//! recolour the tracer without rebuilding its BVH (`Tracer::recolor` takes the cues too);
+//! hidden atoms leave the scene, which is rebuilt.
 
-use tracer::{ColorBy, Coloring, Hide, Scene};
+use tracer::{ColorBy, Coloring, Cues, DepthCueMode, Hide, Scene, OUTLINE_MAX, STRUCTURE_AO_SAMPLES};
 
 use crate::args::LookArgs;
 
@@ -14,13 +15,61 @@ pub struct AtomLook {
     pub coloring: Option<Coloring>,
     /// The atoms out of the scene.
     pub hide: Hide,
+    /// The panel's cues; `None`: the scene's own.
+    pub cues: Option<CueLook>,
+}
+
+/// The panel's cue controls: ambient occlusion on or off and its strength, depth cueing on
+/// or off, the outline width.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CueLook {
+    /// Ambient occlusion on (with the scene's rays a hit, or 8 where it had none).
+    pub ambient_occlusion: bool,
+    /// Its strength, 0 to 1.
+    pub strength: f32,
+    /// Depth cueing on (the scene's mode, or Exp2).
+    pub depth_cue: bool,
+    /// Outline width, pixels.
+    pub outline: u32,
+}
+
+impl CueLook {
+    /// The controls as `cues` set them.
+    #[must_use]
+    pub fn of(cues: &Cues) -> Self {
+        Self {
+            ambient_occlusion: cues.ambient_occlusion.is_on(),
+            strength: cues.ambient_occlusion.strength,
+            depth_cue: cues.depth_cue.mode != DepthCueMode::Off,
+            outline: cues.outline,
+        }
+    }
+
+    /// `cues` (a scene's, sized) as these controls set them.
+    #[must_use]
+    pub fn applied(&self, mut cues: Cues) -> Cues {
+        let ao = &mut cues.ambient_occlusion;
+        ao.samples = match (self.ambient_occlusion, ao.samples) {
+            (false, _) => 0,
+            (true, 0) => STRUCTURE_AO_SAMPLES,
+            (true, n) => n,
+        };
+        ao.strength = self.strength;
+        cues.depth_cue.mode = match (self.depth_cue, cues.depth_cue.mode) {
+            (false, _) => DepthCueMode::Off,
+            (true, DepthCueMode::Off) => DepthCueMode::Exp2,
+            (true, mode) => mode,
+        };
+        cues.outline = self.outline;
+        cues
+    }
 }
 
 impl AtomLook {
     /// The look the command line asks for.
     #[must_use]
     pub fn from_args(args: &LookArgs) -> Self {
-        Self { coloring: args.coloring(), hide: args.hide.unwrap_or_default() }
+        Self { coloring: args.coloring(), hide: args.hide.unwrap_or_default(), cues: None }
     }
 
     /// The scheme shown (element for the scene's own).
@@ -68,6 +117,7 @@ impl Looked {
             return Change::None;
         }
         let change = if want.hide == self.look.hide {
+            // New colours or cues alike: no structure changes.
             Change::Colors
         } else {
             let whole = match self.whole.take() {
@@ -85,6 +135,9 @@ impl Looked {
         // The scene's own colours back: element colours (the TOML's `color_by` is not kept).
         if want.coloring.is_some() || self.look.coloring.is_some() {
             scene.recolor(&want.coloring.unwrap_or_default());
+        }
+        if let Some(cues) = want.cues {
+            scene.render.cues = cues.applied(scene.render.cues);
         }
         self.look = want;
         change
@@ -110,6 +163,17 @@ pub fn look_ui(ui: &mut egui::Ui, look: &mut AtomLook) -> bool {
         ui.checkbox(&mut look.hide.hydrogen, "H");
         ui.checkbox(&mut look.hide.hetero, "hetero");
     });
+    if let Some(cues) = &mut look.cues {
+        ui.horizontal(|ui| {
+            ui.checkbox(&mut cues.ambient_occlusion, "occlusion");
+            ui.add_enabled(cues.ambient_occlusion, egui::Slider::new(&mut cues.strength, 0.0..=1.0).text("strength"));
+        })
+        .response
+        .on_hover_text("ray-traced ambient occlusion: the ambient light a point gets from the open sky around it");
+        ui.checkbox(&mut cues.depth_cue, "depth cue")
+            .on_hover_text("colours fade towards the background with distance");
+        ui.add(egui::Slider::new(&mut cues.outline, 0..=OUTLINE_MAX).text("outline px"));
+    }
     *look != before
 }
 
@@ -127,7 +191,11 @@ mod tests {
         let mut scene = tii();
         let atoms = scene.sphere_count();
         let mut looked = Looked::default();
-        let chain = AtomLook { coloring: Some(Coloring { by: ColorBy::Chain, range: None }), hide: Hide::default() };
+        let chain = AtomLook {
+            coloring: Some(Coloring { by: ColorBy::Chain, range: None }),
+            hide: Hide::default(),
+            cues: None,
+        };
         assert_eq!(looked.apply(&mut scene, chain), Change::Colors);
         assert_eq!(looked.apply(&mut scene, chain), Change::None);
         let hide = Hide { hydrogen: true, water: true, hetero: false };
@@ -150,5 +218,25 @@ mod tests {
         for k in (0..atoms).step_by(7) {
             assert_eq!(tracer.snapshot().material(k), fresh.snapshot().material(k), "atom {k}");
         }
+    }
+
+    #[test]
+    fn the_panels_cues_reach_the_tracer_without_a_rebuild() {
+        let mut scene = tii();
+        assert!(scene.render.cues.ambient_occlusion.is_on(), "a structure opens with its cues on");
+        let mut looked = Looked::default();
+        let mut tracer = Tracer::new(&scene, 0.0);
+        let mut cues = CueLook::of(&scene.render.cues);
+        assert!(cues.ambient_occlusion && cues.depth_cue && cues.outline == 1);
+        cues.ambient_occlusion = false;
+        cues.outline = 3;
+        let look = AtomLook { cues: Some(cues), ..AtomLook::default() };
+        assert_eq!(looked.apply(&mut scene, look), Change::Colors, "no atom changes");
+        tracer.recolor(&scene);
+        let settings = tracer.settings().cues;
+        assert_eq!((settings.ambient_occlusion.samples, settings.outline), (0, 3));
+        cues.ambient_occlusion = true;
+        looked.apply(&mut scene, AtomLook { cues: Some(cues), ..look });
+        assert_eq!(scene.render.cues.ambient_occlusion.samples, STRUCTURE_AO_SAMPLES, "back on with 8 rays");
     }
 }

@@ -90,6 +90,10 @@ impl Viewer {
         settings.paused = clock.is_paused();
         settings.live_psnr = args.live_psnr;
         settings.atoms = crate::window::look::AtomLook::from_args(&args.look);
+        // The panel's cues start as the scene's, with the command line's flags.
+        let mut scene = tracer::Scene { render: watch.scene().render, ..tracer::Scene::default() };
+        args.look.cues.apply(&mut scene);
+        settings.atoms.cues = Some(crate::window::look::CueLook::of(&scene.render.cues));
         settings.reuse = !args.no_reuse;
         settings.timewarp = !args.no_timewarp;
         settings.guard_band = args.guard_band as f32 / 100.0;

@@ -194,3 +194,18 @@ fn a_bad_colour_scheme_range_or_hide_item_exits_2_naming_it() {
     let out = stereotrace(&["--scene", tii, "--color", "chian"]);
     assert_eq!(out.status.code(), Some(2), "the window's --color chian");
 }
+
+#[test]
+fn cue_flags_out_of_range_exit_2() {
+    for (args, flag, value) in [
+        (["--ao-samples", "2000"], "--ao-samples", "2000"),
+        (["--outline", "9"], "--outline", "9"),
+        (["--outline=-1", "--ao-samples=4"], "--outline", "-1"),
+        (["--depth-cue", "fog"], "--depth-cue", "fog"),
+    ] {
+        let out = stereotrace(&["render", "--width", "8", "--height", "8", "--json", args[0], args[1]]);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(flag) && err.contains(value), "{args:?}: {err}");
+    }
+}

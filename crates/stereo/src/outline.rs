@@ -1,0 +1,53 @@
+//! A stereo pair's outlines (`tracer`'s `cue/outline.rs`), each eye's drawn from that eye's
+//! own first hits ([`tracer::first_hits`]) onto a copy of its colours: the frame keeps its
+//! own colours as traced (a reused frame starts from them), and a right eye made by
+//! reprojection is outlined exactly as a fully traced one, since both eyes' planes are
+//! their own views' whatever the mode.
+
+use tracer::{first_hits, outline, Eye, Outline, Tracer};
+
+use crate::frame::StereoFrame;
+
+/// The outlined eyes of a pair, and the planes they were drawn from, kept from frame to
+/// frame.
+#[derive(Clone, Debug, Default)]
+pub struct Outlined {
+    rgb: [Vec<u32>; 2],
+    object: Vec<u32>,
+    z: Vec<f32>,
+}
+
+impl Outlined {
+    /// Empty buffers.
+    #[must_use]
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// `frame`'s eyes (traced by `tracer`) with outlines `width` pixels of the traced eyes
+    /// wide (for a frame supersampled S × S, the shown width times S); the frame's own
+    /// colours when `width` is 0.
+    pub fn eyes<'a>(&'a mut self, tracer: &Tracer, frame: &'a StereoFrame, width: f32) -> [&'a [u32]; 2] {
+        if width <= 0.0 {
+            return [&frame.left().rgb, &frame.right().rgb];
+        }
+        for eye in [Eye::Left, Eye::Right] {
+            self.draw(tracer, frame, eye, width);
+        }
+        [&self.rgb[0], &self.rgb[1]]
+    }
+
+    /// Draws `eye`'s outlines ([`Outlined::eyes`]), into this eye's copy of its colours.
+    pub fn draw(&mut self, tracer: &Tracer, frame: &StereoFrame, eye: Eye, width: f32) {
+        let (k, rgb) = match eye {
+            Eye::Left => (0, &frame.left().rgb),
+            Eye::Right => (1, &frame.right().rgb),
+        };
+        let view = frame.views().eyes[k];
+        self.rgb[k].clear();
+        self.rgb[k].extend_from_slice(rgb);
+        first_hits(tracer, &view, &mut self.object, &mut self.z);
+        let size = (view.width, view.height);
+        outline(&mut self.rgb[k], &self.object, &self.z, size, Outline::of_view(&view, width));
+    }
+}

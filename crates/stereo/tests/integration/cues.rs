@@ -1,0 +1,55 @@
+//! The cues (ambient occlusion, depth cueing, outlines) in a stereo pair: exact mode's right
+//! eye, outlines included, is the full trace's, and the bytes do not depend on the thread
+//! count.
+
+use stereo::{Mode, Options, Outlined, StereoFrame};
+use tracer::{sized_cues, AmbientOcclusion, Cues, Scene, Tracer};
+
+/// `scene` with every cue on, sized to it: `samples` occlusion rays, Exp2 depth cueing,
+/// outlines `outline` pixels wide.
+fn with_cues(mut scene: Scene, samples: u32, outline: u32) -> Scene {
+    let sized = sized_cues(tracer::scene_bounds(&scene), scene.camera.position, samples);
+    let ambient_occlusion = AmbientOcclusion { strength: 0.8, ..sized.ambient_occlusion };
+    scene.render.cues = Cues { ambient_occlusion, outline, ..sized };
+    scene
+}
+
+/// Both eyes of a `w` × `h` pair in `mode`, outlined, on `threads` threads.
+fn pair(tracer: &Tracer, scene: &Scene, (w, h): (u32, u32), mode: Mode, threads: usize) -> [Vec<u32>; 2] {
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap();
+    pool.install(|| {
+        let mut frame = StereoFrame::new();
+        frame.render(tracer, &scene.camera, w, h, Options { mode, retrace_edges: false });
+        let mut outlined = Outlined::new();
+        outlined.eyes(tracer, &frame, scene.render.cues.outline as f32).map(<[u32]>::to_vec)
+    })
+}
+
+fn exact_is_full(scene: &Scene, size: (u32, u32)) {
+    let tracer = Tracer::new(scene, 0.4);
+    let full = pair(&tracer, scene, size, Mode::Full, 2);
+    let exact = pair(&tracer, scene, size, Mode::Exact, 2);
+    assert_eq!(exact[0], full[0], "the left eyes");
+    let differ = exact[1].iter().zip(&full[1]).filter(|(a, b)| a != b).count();
+    assert_eq!(differ, 0, "exact's right eye differs from full's on {differ} pixels");
+    assert_eq!(pair(&tracer, scene, size, Mode::Exact, 1), exact, "1 thread against 2");
+    let outlined = full[1].iter().filter(|&&c| c == 0).count();
+    assert!(outlined > 50, "the outlines are drawn: {outlined} pixels");
+}
+
+#[test]
+fn exact_is_full_with_every_cue_on_the_seed_scene() {
+    exact_is_full(&with_cues(tracer::testing::scene("seed.toml"), 6, 2), (160, 90));
+}
+
+#[test]
+fn exact_is_full_with_every_cue_on_1tii() {
+    let path = "/usr/share/pymol/data/demo/1tii.pdb";
+    if !std::path::Path::new(path).exists() {
+        tracer::testing::skipped("1tii.pdb is not installed (pymol-data)");
+        return;
+    }
+    let scene = Scene::load(path).unwrap();
+    assert!(scene.render.cues.ambient_occlusion.is_on() && scene.render.cues.outline == 1, "on by default");
+    exact_is_full(&scene, (200, 150));
+}

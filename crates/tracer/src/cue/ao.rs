@@ -1,0 +1,154 @@
+//! Ray-traced ambient occlusion at a primary hit (pbrt-v4's `AOIntegrator`; Tachyon's and
+//! ChimeraX's ambient shadows, QuteMol's per-atom occlusion made per pixel).
+//!
+//! At point p (unit outward normal n) of sphere k, hit by the primary ray of pixel (x, y)
+//! of the traced view, ray s = 0..N leaves p as a shadow ray does ([`spawn_ray`]) along a
+//! cosine-weighted direction about n (Malley's method), and asks the aggregate whether any
+//! sphere lies within `distance` (an any-hit query, sphere k left out as for any ray that
+//! leaves it outwards). The fraction that meet one estimates the cosine-weighted occluded
+//! share of the hemisphere, and the ambient term is scaled by `1 − strength · share`.
+//!
+//! The directions are the first two dimensions of Sobol's (0, 2)-sequence, point s,
+//! scrambled by a random digit scramble (an XOR; Kollig & Keller 2002) drawn from a hash
+//! of (x, y): a function of the pixel and the sample index alone, never of threads, lanes,
+//! batches or which other pixels are traced, so an image with occlusion is the same bytes
+//! however it is made, and an eye traced in parts (exact mode, a progressive viewer) casts
+//! the very rays of a whole one. Both shading paths call [`Tracer::ambient_factor`].
+
+use glam::Vec3;
+
+use crate::accel::Origin;
+use crate::camera::EyeView;
+use crate::ray::spawn_ray;
+use crate::stats::RayCounts;
+use crate::tracer::Tracer;
+
+/// Where a batch's pixels lie: their row of the traced view, and the view's guard band, so
+/// that a pixel is seeded by its place in the shown image: a view traced with a band (the
+/// viewer's, for its timewarp) casts the rays of one without (`render`'s).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct SeedRow {
+    /// The row of the traced view.
+    pub(crate) row: u32,
+    /// The view's guard band, (columns, rows) ([`EyeView::margin`]).
+    pub(crate) margin: (u32, u32),
+}
+
+impl SeedRow {
+    /// Row `row` of `view`.
+    pub(crate) fn of(view: &EyeView, row: u32) -> Self {
+        Self { row, margin: view.margin }
+    }
+
+    /// The seed of the traced view's pixel (x, y): its place in the shown image (wrapping
+    /// in the band above and left of it).
+    pub(crate) fn shown(self, (x, y): (u32, u32)) -> (u32, u32) {
+        (x.wrapping_sub(self.margin.0), y.wrapping_sub(self.margin.1))
+    }
+}
+
+/// An integer hash with good avalanche (Wellons's "lowbias32").
+fn hash(mut x: u32) -> u32 {
+    x ^= x >> 16;
+    x = x.wrapping_mul(0x7feb_352d);
+    x ^= x >> 15;
+    x = x.wrapping_mul(0x846c_a68b);
+    x ^ (x >> 16)
+}
+
+/// Pixel (x, y)'s scramble of each of the two dimensions.
+pub(crate) fn scramble(x: u32, y: u32) -> (u32, u32) {
+    let a = hash(x.wrapping_mul(0x9e37_79b9) ^ hash(y ^ 0x85eb_ca6b));
+    (a, hash(a ^ 0x68e3_1da4))
+}
+
+/// Point `s` of the first two dimensions of Sobol's sequence, as 32-bit fractions: the
+/// bit-reversed index (van der Corput), and the second dimension's generator (each
+/// direction number the last XOR itself shifted right by one: Pascal's matrix mod 2).
+pub(crate) fn sobol2(s: u32) -> (u32, u32) {
+    let (mut second, mut v, mut i) = (0u32, 1u32 << 31, s);
+    while i != 0 {
+        if i & 1 != 0 {
+            second ^= v;
+        }
+        i >>= 1;
+        v ^= v >> 1;
+    }
+    (s.reverse_bits(), second)
+}
+
+/// A 32-bit fraction's top 24 bits as an `f32` in [0, 1 − 2⁻²⁴].
+fn unit(bits: u32) -> f32 {
+    (bits >> 8) as f32 * (1.0 / 16_777_216.0)
+}
+
+/// An orthonormal basis (t, b) of the plane normal to unit `n` (Duff et al. 2017,
+/// "Building an orthonormal basis, revisited").
+fn basis(n: Vec3) -> (Vec3, Vec3) {
+    let sign = 1f32.copysign(n.z);
+    let a = -1.0 / (sign + n.z);
+    let b = n.x * n.y * a;
+    (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
+}
+
+/// The cosine-weighted direction about unit `n` of the point (u1, u2) of the unit square:
+/// a uniform point of the unit disc (radius √u1, angle 2π·u2) lifted to the hemisphere.
+/// u1 ≤ 1 − 2⁻²⁴ keeps it at least 2⁻¹² above the horizon, so it leaves outwards.
+pub(crate) fn direction(n: Vec3, (u1, u2): (f32, f32)) -> Vec3 {
+    let r = u1.sqrt();
+    let (sin, cos) = (std::f32::consts::TAU * u2).sin_cos();
+    let (t, b) = basis(n);
+    t * (r * cos) + b * (r * sin) + n * (1.0 - u1).sqrt()
+}
+
+/// The direction of occlusion ray `s` of pixel `pixel` at a point of unit normal `n`.
+pub(crate) fn sample_direction(n: Vec3, pixel: (u32, u32), s: u32) -> Vec3 {
+    let (sx, sy) = scramble(pixel.0, pixel.1);
+    let (a, b) = sobol2(s);
+    direction(n, (unit(a ^ sx), unit(b ^ sy)))
+}
+
+impl Tracer {
+    /// The share of occlusion rays from point `p` (unit outward normal `n`) of sphere
+    /// `object`, hit by the primary ray of `pixel` of the traced view, that meet a sphere
+    /// within the scene's distance: the cosine-weighted occluded share, estimated. Counts
+    /// the rays as shadow rays (any-hit queries). 0 when occlusion is off.
+    pub(crate) fn occluded_share(
+        &self,
+        object: u32,
+        (p, n): (Vec3, Vec3),
+        pixel: (u32, u32),
+        counts: &mut RayCounts,
+    ) -> f32 {
+        let ao = self.scene.settings.cues.ambient_occlusion;
+        if !ao.is_on() {
+            return 0.0;
+        }
+        let from = Origin::Surface { sphere: object, normal: n };
+        let mut blocked = 0u32;
+        for s in 0..ao.samples {
+            let ray = spawn_ray(p, n, sample_direction(n, pixel, s));
+            blocked += u32::from(self.accel.occluded(&ray, ao.distance, from));
+        }
+        counts.shadow += u64::from(ao.samples);
+        blocked as f32 / ao.samples as f32
+    }
+
+    /// The ambient term at a primary hit: the scene's ambient scaled by
+    /// `1 − strength · occluded share` ([`Tracer::occluded_share`]); the ambient itself when
+    /// occlusion is off. The one formula of both shading paths.
+    pub(crate) fn ambient_at(
+        &self,
+        object: u32,
+        (p, n): (Vec3, Vec3),
+        pixel: (u32, u32),
+        counts: &mut RayCounts,
+    ) -> f32 {
+        let settings = &self.scene.settings;
+        if !settings.cues.ambient_occlusion.is_on() {
+            return settings.ambient;
+        }
+        let share = self.occluded_share(object, (p, n), pixel, counts);
+        settings.ambient * (1.0 - settings.cues.ambient_occlusion.strength * share)
+    }
+}
