@@ -37,6 +37,16 @@ impl Outlined {
         [&self.rgb[0], &self.rgb[1]]
     }
 
+    /// The eyes the last [`Outlined::eyes`] drew for `frame` with `width`, without drawing
+    /// them again: the frame's own colours when `width` is 0.
+    #[must_use]
+    pub fn drawn<'a>(&'a self, frame: &'a StereoFrame, width: f32) -> [&'a [u32]; 2] {
+        if width <= 0.0 {
+            return [&frame.left().rgb, &frame.right().rgb];
+        }
+        [&self.rgb[0], &self.rgb[1]]
+    }
+
     /// Draws `eye`'s outlines ([`Outlined::eyes`]), into this eye's copy of its colours.
     pub fn draw(&mut self, tracer: &Tracer, frame: &StereoFrame, eye: Eye, width: f32) {
         let (k, rgb) = match eye {

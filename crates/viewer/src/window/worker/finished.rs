@@ -95,10 +95,11 @@ impl Finished {
         ])
     }
 
-    /// Copies `frame`, rendered for `request`, in: its eyes' shown part filtered down to
-    /// the request's eye size, reusing this frame's allocations. The metadata is the
+    /// Copies `frame`, rendered for `request`, in: its eyes' shown part filtered to the
+    /// request's eye size, reusing this frame's allocations. The eyes' colours are `rgb`:
+    /// the frame's own, or with outlines drawn ([`stereo::Outlined`]). The metadata is the
     /// caller's to set.
-    pub(super) fn fill_from(&mut self, frame: &StereoFrame, request: &Request, cut: &mut Cut) {
+    pub(super) fn fill_from(&mut self, (frame, rgb): (&StereoFrame, [&[u32]; 2]), request: &Request, cut: &mut Cut) {
         let views = frame.views();
         let (samples, guard) = (views.shown, views.margin);
         let eye = (request.width, request.height);
@@ -111,7 +112,7 @@ impl Finished {
         let Cut { eyes: [left_cut, right_cut], mask: shown_mask } = cut;
         rayon::join(
             || {
-                let traced = [&frame.left().rgb[..], &frame.right().rgb[..]];
+                let traced = rgb;
                 if guard == (0, 0) {
                     filter_eyes(traced, samples, [left, right], eye);
                 } else {
@@ -141,9 +142,9 @@ impl Finished {
                 }
                 traced.clear();
                 if request.timewarp {
-                    traced.left.extend_from_slice(&frame.left().rgb);
+                    traced.left.extend_from_slice(rgb[0]);
                     traced.left_z.extend_from_slice(&frame.left().z);
-                    traced.right.extend_from_slice(&frame.right().rgb);
+                    traced.right.extend_from_slice(rgb[1]);
                     traced.right_z.extend_from_slice(frame.right_depth());
                 }
             },

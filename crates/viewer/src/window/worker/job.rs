@@ -5,7 +5,7 @@
 use std::time::Instant;
 
 use glam::Vec3;
-use stereo::StereoFrame;
+use stereo::{Outlined, StereoFrame};
 use tracer::{Scene, Tracer};
 
 use super::finished::{Cut, Finished};
@@ -30,6 +30,10 @@ pub(super) struct Job {
     /// The look (colours, hidden atoms) the scene has.
     looked: Looked,
     frame: StereoFrame,
+    /// The frame's eyes with the scene's outlines drawn, when it has them.
+    outlined: Outlined,
+    /// The outline width the frame's eyes were drawn with, in samples.
+    outline: f32,
     reference: Reference,
     /// The frame being filled, swapped into the outbox when done.
     pub(super) back: Finished,
@@ -52,6 +56,8 @@ impl Job {
             built: Some(scene_light),
             looked: Looked::default(),
             frame: StereoFrame::new(),
+            outlined: Outlined::new(),
+            outline: 0.0,
             reference: Reference::default(),
             back: Finished::default(),
             cut: Cut::default(),
@@ -74,8 +80,9 @@ impl Job {
         let started = Instant::now();
         if let Some(info) = self.last.filter(|info| Request { overlay: request.overlay, ..info.request } == request) {
             // The mask switched on or off: the same frame, its overlay made or dropped.
-            self.back.fill_from(&self.frame, &request, &mut self.cut);
-            self.progress.paint(&mut self.back.eyes, request.anaglyph, request.swap);
+            let rgb = self.outlined.drawn(&self.frame, self.outline);
+            self.back.fill_from((&self.frame, rgb), &request, &mut self.cut);
+            self.progress.paint(&self.tracer, &mut self.back.eyes, (request.anaglyph, request.swap));
             self.publish(&FrameInfo { request, wall_ms: 0.0, ..info }, started);
             return;
         }
@@ -86,7 +93,7 @@ impl Job {
         if density > 1 || !only_time {
             self.progress.measured(&request, density, info.wall_ms);
         }
-        self.progress.traced((request, posted), density, info.wall_ms, self.memory);
+        self.progress.traced((request, posted), (density, self.scene.render.cues.outline), info.wall_ms, self.memory);
     }
 
     /// No newer request: the resting request's next step, in full, then pass by pass (in
@@ -99,15 +106,16 @@ impl Job {
             self.prepare(shared, &request);
             let info = self.trace_at(request, posted, 1, started);
             self.progress.measured(&request, 1, info.wall_ms);
-            self.progress.traced((request, posted), 1, info.wall_ms, self.memory);
+            self.progress.traced((request, posted), (1, self.scene.render.cues.outline), info.wall_ms, self.memory);
             return true;
         }
         let Some(last) = self.last else { return false };
         if !self.progress.refine.step(&self.tracer) {
             return false;
         }
-        self.back.fill_from(&self.frame, &request, &mut self.cut);
-        self.progress.paint(&mut self.back.eyes, request.anaglyph, request.swap);
+        let rgb = self.outlined.drawn(&self.frame, self.outline);
+        self.back.fill_from((&self.frame, rgb), &request, &mut self.cut);
+        self.progress.paint(&self.tracer, &mut self.back.eyes, (request.anaglyph, request.swap));
         let sampling = self.progress.sampling(&request, 1);
         // The live PSNR stays the full pair's: the refinement traces both eyes in full.
         self.publish(&FrameInfo { sampling, ..last }, started);
@@ -153,7 +161,9 @@ impl Job {
         let guard = if request.timewarp { request.guard } else { (0, 0) };
         let guard = (guard.0.div_ceil(density), guard.1.div_ceil(density));
         let stats = self.frame.render_banded(&self.tracer, &request.camera, samples, guard, request.opts);
-        self.back.fill_from(&self.frame, &request, &mut self.cut);
+        self.outline = outline_width(self.scene.render.cues.outline, samples, eye);
+        let rgb = self.outlined.eyes(&self.tracer, &self.frame, self.outline);
+        self.back.fill_from((&self.frame, rgb), &request, &mut self.cut);
         let quality = request.psnr.then(|| {
             // A coarse frame is measured as shown, at the eye size.
             let traced = if density > 1 { eye } else { samples };
@@ -175,4 +185,17 @@ impl Job {
         self.last = Some(info);
         info
     }
+}
+
+/// The outline width, in samples, for outlines `px` pixels wide on an eye of `eye` pixels
+/// traced at `samples`: `px` times the supersampling, as `render` draws them; a coarse
+/// frame's at least one sample, so that they do not come and go as the head moves.
+fn outline_width(px: u32, samples: (u32, u32), eye: (u32, u32)) -> f32 {
+    if px == 0 {
+        return 0.0;
+    }
+    if samples.0 < eye.0 {
+        return 1.0;
+    }
+    (px * (samples.0 / eye.0.max(1))) as f32
 }

@@ -15,6 +15,8 @@
 
 use std::time::Instant;
 
+use tracer::Tracer;
+
 use super::budget::{self, Budget};
 use super::refine::Refine;
 use super::{Eyes, Request, Sampling};
@@ -69,7 +71,13 @@ impl Progress {
     /// `request`, posted at `posted`, was traced at `density` in `ms`: what comes next for
     /// it if no newer request comes. The refinement's buffers fit in `memory` (`None`: no
     /// limit).
-    pub fn traced(&mut self, (request, posted): (Request, Instant), density: u32, ms: f64, memory: Option<u64>) {
+    pub fn traced(
+        &mut self,
+        (request, posted): (Request, Instant),
+        (density, outline): (u32, u32),
+        ms: f64,
+        memory: Option<u64>,
+    ) {
         self.refine.stop();
         (self.resting, self.coarse) = (None, false);
         let Some(p) = request.progressive.filter(|_| refinable(&request)) else { return };
@@ -81,7 +89,7 @@ impl Progress {
             let fits = |s: u32| memory.is_none_or(|m| (8 * u64::from(s * s) + 24) * pixels <= m);
             let s = (1..=p.max_supersample).rev().find(|&s| fits(s)).unwrap_or(1);
             if s > 1 {
-                self.refine.start(&request.camera, eye, s, ms);
+                self.refine.start(&request.camera, eye, (s, outline), ms);
             }
         }
     }
@@ -102,9 +110,9 @@ impl Progress {
     }
 
     /// Over `eyes`, the refined pair, when a pass is done (and the anaglyph made again).
-    pub fn paint(&mut self, eyes: &mut Eyes, anaglyph: bool, swap: bool) {
+    pub fn paint(&mut self, tracer: &Tracer, eyes: &mut Eyes, (anaglyph, swap): (bool, bool)) {
         if self.refine.spp() > 0 {
-            self.refine.eyes([&mut eyes.left, &mut eyes.right]);
+            self.refine.eyes(tracer, [&mut eyes.left, &mut eyes.right]);
             eyes.finish_anaglyph(anaglyph, swap);
         }
     }
@@ -156,16 +164,18 @@ mod tests {
     }
 
     /// `request`'s pair as `render --supersample s` makes it: traced at s × s samples a
-    /// pixel in its mode, each eye filtered down.
+    /// pixel in its mode, the scene's outlines drawn on the samples, each eye filtered down.
     fn supersampled(scene: &Scene, request: &Request, s: u32) -> [Vec<u32>; 2] {
         let mut tracer = Tracer::new(scene, request.time);
         tracer.set_max_depth(request.depth);
         let mut frame = StereoFrame::new();
         frame.render(&tracer, &request.camera, EYE.0 * s, EYE.1 * s, request.opts);
         let size = (EYE.0 * s, EYE.1 * s);
+        let mut outlined = stereo::Outlined::new();
+        let [l, r] = outlined.eyes(&tracer, &frame, (scene.render.cues.outline * s) as f32);
         let (mut left, mut right) = (Vec::new(), Vec::new());
-        stereo::downsample(&frame.left().rgb, size, &mut left, EYE);
-        stereo::downsample(&frame.right().rgb, size, &mut right, EYE);
+        stereo::downsample(l, size, &mut left, EYE);
+        stereo::downsample(r, size, &mut right, EYE);
         [left, right]
     }
 
@@ -189,6 +199,23 @@ mod tests {
             assert_ne!(want[0], want[1], "the eyes differ, so a swap would show");
             assert_eq!(info.views.camera, request.camera, "shown as traced at the resting pose");
         }
+    }
+
+    /// With outlines (1 pixel), the converged pair has them as `render` draws them: on the
+    /// samples, S samples wide, before the filter.
+    #[test]
+    fn a_resting_view_with_outlines_converges_to_the_render_with_them() {
+        let mut scene = scene("seed.toml");
+        scene.render.cues.outline = 1;
+        let mut worker = Worker::spawn_with_memory(scene.clone(), None).unwrap();
+        let request = request(&scene, Mode::Exact, 2, true);
+        worker.post(request);
+        let f = wait(&mut worker, 0, |f| f.info.is_some_and(|i| i.sampling.converged));
+        let want = supersampled(&scene, &request, 2);
+        assert_eq!(eyes(f), want, "render --supersample 2 --outline 1's pair");
+        let mut plain = scene.clone();
+        plain.render.cues.outline = 0;
+        assert_ne!(want, supersampled(&plain, &request, 2), "the outlines show");
     }
 
     #[test]

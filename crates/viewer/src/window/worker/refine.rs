@@ -49,8 +49,9 @@ pub struct Refine {
     s: u32,
     /// The eye size.
     eye: (u32, u32),
-    /// The views at the samples' size.
+    /// The views at the samples' size, and at the eye size.
     views: Option<StereoViews>,
+    shown_views: Option<StereoViews>,
     /// Each eye's samples, (W·S) × (H·S).
     samples: [Vec<u32>; 2],
     /// The pass's selection of samples.
@@ -68,6 +69,14 @@ pub struct Refine {
     part: u32,
     part_ms: f64,
     pass_ms: f64,
+    /// Outlines this many pixels of the eye wide (0: none), and each eye's first hits at
+    /// the eye size (object, depth) they are drawn from before the pair converges.
+    outline: u32,
+    planes: [(Vec<u32>, Vec<f32>); 2],
+    /// The samples have their outlines (drawn once, when the pair converges), and the
+    /// first hits at the samples' size they are drawn from, one eye at a time.
+    outlined: bool,
+    sample_planes: (Vec<u32>, Vec<f32>),
     /// Each eye's per-pixel sums in linear light of the samples of the first `summed`
     /// passes.
     sums: [Vec<[f32; 3]>; 2],
@@ -75,14 +84,17 @@ pub struct Refine {
 }
 
 impl Refine {
-    /// Starts refining the pair of `camera` at an eye of `eye` to `s` × `s` samples a pixel;
-    /// the pair took `frame_ms` to trace at one sample a pixel, about what a pass takes.
-    pub fn start(&mut self, camera: &Camera, eye: (u32, u32), s: u32, frame_ms: f64) {
+    /// Starts refining the pair of `camera` at an eye of `eye` to `s` × `s` samples a pixel,
+    /// with outlines `outline` pixels wide; the pair took `frame_ms` to trace at one sample a
+    /// pixel, about what a pass takes.
+    pub fn start(&mut self, camera: &Camera, eye: (u32, u32), (s, outline): (u32, u32), frame_ms: f64) {
         let s = s.clamp(1, MAX_SUPERSAMPLE);
         let size = (eye.0 * s, eye.1 * s);
         self.views = Some(StereoViews::new(camera, size, (0, 0)));
         (self.s, self.eye, self.done, self.summed) = (s, eye, 0, 0);
         (self.part, self.part_ms, self.pass_ms) = (0, 0.0, frame_ms);
+        (self.outline, self.outlined) = (outline, false);
+        self.shown_views = Some(StereoViews::new(camera, eye, (0, 0)));
         self.order.clear();
         self.order.extend((0..s).flat_map(|y| (0..s).map(move |x| (x, y))));
         self.order.sort_unstable_by_key(|&(x, y)| rank(x, y, s));
@@ -96,6 +108,10 @@ impl Refine {
     /// Stops refining: nothing is left to do until the next [`Refine::start`].
     pub fn stop(&mut self) {
         self.views = None;
+        for (object, z) in &mut self.planes {
+            object.clear();
+            z.clear();
+        }
     }
 
     /// Whether a pass is left to trace.
@@ -171,13 +187,23 @@ impl Refine {
     /// linear light of each pixel's samples traced so far (kept as running sums, which this
     /// call brings up to date), or when converged the box filter `render --supersample`
     /// applies.
-    pub fn eyes(&mut self, out: [&mut Vec<u32>; 2]) {
-        let Some(views) = self.views else { return };
+    pub fn eyes(&mut self, tracer: &Tracer, out: [&mut Vec<u32>; 2]) {
+        let (Some(views), Some(shown)) = (self.views, self.shown_views) else { return };
         let converged = self.converged();
+        if self.outline > 0 {
+            if converged {
+                self.outline_samples(tracer, &views);
+            } else if self.planes[0].0.is_empty() {
+                for ((object, z), view) in self.planes.iter_mut().zip(&shown.eyes) {
+                    tracer::first_hits(tracer, view, object, z);
+                }
+            }
+        }
         let (w, h, s) = (self.eye.0 as usize, self.eye.1 as usize, self.s as usize);
         let new = &self.order[self.summed..self.done];
         let scale = 1.0 / self.done.max(1) as f32;
-        for ((samples, sums), out) in self.samples.iter().zip(&mut self.sums).zip(out) {
+        let [left, right] = out;
+        for ((samples, sums), out) in self.samples.iter().zip(&mut self.sums).zip([&mut *left, &mut *right]) {
             if converged {
                 stereo::downsample(samples, views.shown, out, self.eye);
                 continue;
@@ -201,6 +227,29 @@ impl Refine {
             });
         }
         self.summed = self.done;
+        if self.outline > 0 && !converged {
+            // Before the samples have theirs, the mean gets the eye's outlines at its size.
+            for ((out, (object, z)), view) in [left, right].into_iter().zip(&self.planes).zip(&shown.eyes) {
+                let style = tracer::Outline::of_view(view, self.outline as f32);
+                tracer::outline(out, object, z, self.eye, style);
+            }
+        }
+    }
+
+    /// Draws the outlines on the converged samples, once, each eye from its own first hits
+    /// at the samples' size, `outline` × S samples wide: as `render --supersample S` draws
+    /// them before its filter.
+    fn outline_samples(&mut self, tracer: &Tracer, views: &StereoViews) {
+        if self.outlined {
+            return;
+        }
+        let (object, z) = &mut self.sample_planes;
+        for (samples, view) in self.samples.iter_mut().zip(&views.eyes) {
+            tracer::first_hits(tracer, view, object, z);
+            let style = tracer::Outline::of_view(view, (self.outline * self.s) as f32);
+            tracer::outline(samples, object, z, views.shown, style);
+        }
+        self.outlined = true;
     }
 }
 
@@ -241,7 +290,7 @@ mod tests {
     fn every_position_is_traced_once_and_the_first_four_spread_over_the_pixel() {
         let order_of = |s: u32| {
             let mut refine = Refine::default();
-            refine.start(&Camera::default(), (1, 1), s, 0.0);
+            refine.start(&Camera::default(), (1, 1), (s, 0), 0.0);
             refine.order
         };
         for s in 1..=MAX_SUPERSAMPLE {
@@ -265,10 +314,10 @@ mod tests {
         let tracer = Tracer::new(&scene, 0.0);
         let eye = (24, 18);
         let mut refine = Refine::default();
-        refine.start(&scene.camera, eye, 2, 0.0);
+        refine.start(&scene.camera, eye, (2, 0), 0.0);
         let (mut left, mut right) = (Vec::new(), Vec::new());
         assert!(refine.step(&tracer), "one part: a whole pass");
-        refine.eyes([&mut left, &mut right]);
+        refine.eyes(&tracer, [&mut left, &mut right]);
         let (sx, sy) = refine.order[0];
         let sample = |samples: &[u32], x: usize, y: usize, (sx, sy): (u32, u32)| {
             samples[(2 * y + sy as usize) * 48 + 2 * x + sx as usize]
@@ -277,7 +326,7 @@ mod tests {
             assert_eq!(*px, sample(&refine.samples[0], k % 24, k / 24, (sx, sy)), "pixel {k}");
         }
         assert!(refine.step(&tracer), "one part: a whole pass");
-        refine.eyes([&mut left, &mut right]);
+        refine.eyes(&tracer, [&mut left, &mut right]);
         let second = refine.order[1];
         for (k, px) in right.iter().enumerate() {
             let (x, y) = (k % 24, k / 24);
@@ -297,7 +346,7 @@ mod tests {
         let tracer = Tracer::new(&scene, 0.0);
         let (eye, camera) = ((24, 18), scene.camera);
         let mut refine = Refine::default();
-        refine.start(&camera, eye, 2, 1e4);
+        refine.start(&camera, eye, (2, 0), 1e4);
         let mut steps = 0;
         while !refine.converged() {
             // Every pass as slow as six parts: three eye rows a part.
@@ -308,7 +357,7 @@ mod tests {
         }
         assert_eq!(steps, 4 * 6);
         let (mut left, mut right) = (Vec::new(), Vec::new());
-        refine.eyes([&mut left, &mut right]);
+        refine.eyes(&tracer, [&mut left, &mut right]);
         let mut frame = stereo::StereoFrame::new();
         let opts = stereo::Options { mode: stereo::Mode::Full, retrace_edges: false };
         frame.render(&tracer, &camera, 48, 36, opts);
