@@ -10,8 +10,9 @@ fn the_window_colours_and_hides_as_render_does() {
         return;
     }
     let dir = scratch("colour");
-    // The window draws no outlines yet (its worker does not call `stereo::Outlined`).
-    let frame = ["--scene", tii, "--color", "rainbow", "--hide", "water", "--outline", "0"];
+    // A structure's cues on by default: occlusion, depth cueing and 1-pixel outlines, which
+    // the converged window draws on its samples as render does.
+    let frame = ["--scene", tii, "--color", "rainbow", "--hide", "water"];
     clean_dump_is_render(&dir, &frame, &["--width", "400", "--height", "200"], &["--width", "200", "--height", "200"]);
     let _ = std::fs::remove_dir_all(&dir);
 }
