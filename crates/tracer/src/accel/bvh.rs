@@ -245,9 +245,9 @@ impl Bvh {
         best: &mut Option<u32>,
     ) {
         let inf = F::<S>::splat(simd, f32::INFINITY);
-        // `t < next_up(t_best)` is `t ≤ t_best` (and +∞ stays +∞).
-        let bound = if LOWEST_ID { t_best.next_up() } else { *t_best };
         for base in (0..WIDTH).step_by(F::<S>::LEN) {
+            // `t < next_up(t_best)` is `t ≤ t_best` (and +∞ stays +∞).
+            let bound = if LOWEST_ID { t_best.next_up() } else { *t_best };
             let (t, ids) = leaf.hits(simd, ray, base, bound);
             // Every finite `t` is below the test's bound.
             let t = ids.simd_eq(U::<S>::splat(simd, skip)).select(inf, t);
@@ -259,7 +259,8 @@ impl Bvh {
                     continue;
                 }
                 let id = crate::bits::ones(&[at]).map(|l| leaf.ids[base + l as usize]).min();
-                if let Some(id) = id.filter(|&id| nearest < *t_best || best.is_none_or(|b| id < b)) {
+                let tie = |id| nearest == *t_best && best.is_none_or(|b| id < b);
+                if let Some(id) = id.filter(|&id| nearest < *t_best || tie(id)) {
                     (*t_best, *best) = (nearest, Some(id));
                 }
             }
@@ -514,6 +515,47 @@ mod tests {
                 assert_eq!(bvh.occluded(&ray, 30.0, NO_OBJECT), blocked, "n = {n}, ray {k}");
             }
         }
+    }
+
+    #[test]
+    fn first_hits_take_of_equal_t_the_lowest_id_at_both_lane_widths() {
+        // Copies of spheres (equal `t`, other ids) among a cloud: the nearest hit, of equal
+        // `t` the lowest id, as a scan in id order keeps the first; at 8 lanes (a leaf in one
+        // test) and at the 4-lane baseline (a leaf in two halves).
+        let (mut centers, mut radii) = cloud(300);
+        for k in (0..300).step_by(5) {
+            let at = (k * 7) % centers.len();
+            let (c, r) = (centers[k], radii[k]);
+            centers.insert(at, c);
+            radii.insert(at, r);
+        }
+        let mut bvh = Bvh::default();
+        bvh.build(&centers, &radii);
+        let (mut ties, mut hits) = (0, 0);
+        for k in 0..3000 {
+            let a = k as f32 * 0.618_034;
+            let dir = Vec3::new((a * 7.3).sin() * 0.6, (a * 3.1).cos() * 0.35, 1.0).normalize();
+            let ray = Ray::new(Vec3::new(0.0, 0.0, -2.0), dir);
+            let mut want: Option<(u32, u32)> = None;
+            for (id, (&c, &r)) in centers.iter().zip(&radii).enumerate() {
+                let t = intersect_sphere(&ray, c, r, f32::INFINITY);
+                if let Some(t) = t.filter(|&t| want.is_none_or(|(b, _)| t < f32::from_bits(b))) {
+                    want = Some((t.to_bits(), id as u32));
+                }
+            }
+            let key = |h: Option<Hit>| h.map(|h| (h.t.to_bits(), h.object));
+            let wide = dispatch!(crate::simd::level(), simd => simd.vectorize(|| bvh.first_hit_in(simd, &ray)));
+            let narrow =
+                dispatch!(fearless_simd::Level::baseline(), simd => simd.vectorize(|| bvh.first_hit_in(simd, &ray)));
+            assert_eq!((key(wide), key(narrow)), (want, want), "ray {k}: lanes of the level, then 4");
+            hits += usize::from(want.is_some());
+            ties += usize::from(want.is_some_and(|(t, id)| {
+                centers.iter().zip(&radii).enumerate().any(|(o, (&c, &r))| {
+                    o as u32 != id && intersect_sphere(&ray, c, r, f32::INFINITY).map(f32::to_bits) == Some(t)
+                })
+            }));
+        }
+        assert!(hits > 1000 && ties > 50, "{hits} hits, {ties} ties");
     }
 
     #[test]

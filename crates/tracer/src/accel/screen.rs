@@ -243,12 +243,27 @@ impl ScreenBins {
         &self.spheres[self.first[t] as usize..self.first[t + 1] as usize]
     }
 
+    /// How this view's first hits are found.
+    #[inline]
+    #[must_use]
+    pub(crate) fn search(&self) -> Search {
+        self.search
+    }
+
     /// Whether pixel (i, j)'s tile lists no sphere: its primary ray sees only background.
     /// (Never, when the view is searched through the BVH.)
     #[inline]
     #[must_use]
     pub(crate) fn is_empty_at(&self, i: u32, j: u32) -> bool {
-        self.search == Search::Bins && self.spheres_at(i, j).is_empty()
+        self.search == Search::Bins && self.bin_is_empty_at(i, j)
+    }
+
+    /// [`ScreenBins::is_empty_at`] for bins built ([`Search::Bins`]).
+    #[inline]
+    #[must_use]
+    pub(crate) fn bin_is_empty_at(&self, i: u32, j: u32) -> bool {
+        debug_assert_eq!(self.search, Search::Bins, "bins built");
+        self.spheres_at(i, j).is_empty()
     }
 
     /// The first hits of the primary rays of `view` (for which the bins were built) through
@@ -259,17 +274,21 @@ impl ScreenBins {
     /// closest hit wins, of equal `t` the lowest sphere id (the bins list their spheres in
     /// id order, and keep the first of equal `t`). Through the BVH ([`Search::Bvh`]) only
     /// the lanes `mask` names are traced, the others left as misses; the bins fill them all.
+    /// `BVH` must say whether the view is searched through the BVH ([`ScreenBins::search`]):
+    /// a constant, so that the bins' lane loop, inlined into its callers, carries no trace
+    /// of the other way.
     #[inline(always)]
-    pub(crate) fn hits_lanes<S: Simd>(
+    pub(crate) fn hits_lanes<S: Simd, const BVH: bool>(
         &self,
         simd: S,
         (view, centers, radii): (&EyeView, &[Vec3], &[f32]),
         accel: &Aggregate,
         (i, j, mask): (u32, u32, u32),
     ) -> (F<S>, U<S>, [F<S>; 3]) {
+        debug_assert_eq!(BVH, self.search == Search::Bvh, "the search the bins were built for");
         let d = view.primary_dirs_lanes(simd, i, j);
         let o = view.origin;
-        if self.search == Search::Bvh {
+        if BVH {
             let n = F::<S>::LEN;
             let mut dirs = [[0f32; 16]; 3];
             for (a, lanes) in dirs.iter_mut().enumerate() {
@@ -348,7 +367,7 @@ mod tests {
                 for i in (0..w).step_by(lanes as usize) {
                     let (t, ids, d) = fearless_simd::dispatch!(crate::simd::level(), simd => simd.vectorize(|| {
                         let scene = (&view, &tracer.scene.centers[..], &tracer.scene.radii[..]);
-                        let (t, ids, d) = bins.hits_lanes(simd, scene, &tracer.accel, (i, j, u32::MAX));
+                        let (t, ids, d) = bins.hits_lanes::<_, false>(simd, scene, &tracer.accel, (i, j, u32::MAX));
                         let mut out = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
                         let n = t.as_slice().len();
                         out.0[..n].copy_from_slice(t.as_slice());

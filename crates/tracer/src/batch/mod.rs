@@ -39,7 +39,7 @@ mod trace;
 use fearless_simd::{dispatch, prelude::*, Simd};
 use glam::Vec3;
 
-use crate::accel::screen::ScreenBins;
+use crate::accel::screen::{ScreenBins, Search};
 use crate::camera::EyeView;
 use crate::ray::Ray;
 use crate::simd::{F, U};
@@ -93,9 +93,23 @@ impl BinnedView<'_> {
     /// The first hits of the primary rays of pixels (i + l, j), l = 0..LEN, at least of the
     /// lanes `mask` names ([`ScreenBins::hits_lanes`]).
     #[inline(always)]
-    pub(crate) fn hits_lanes<S: Simd>(&self, simd: S, (i, j, mask): (u32, u32, u32)) -> (F<S>, U<S>, [F<S>; 3]) {
+    pub(crate) fn hits_lanes<S: Simd>(&self, simd: S, at: (u32, u32, u32)) -> (F<S>, U<S>, [F<S>; 3]) {
+        if self.bins.search() == Search::Bvh {
+            self.hits_lanes_by::<S, true>(simd, at)
+        } else {
+            self.hits_lanes_by::<S, false>(simd, at)
+        }
+    }
+
+    /// [`BinnedView::hits_lanes`] for a view searched through the BVH (`BVH`) or the bins.
+    #[inline(always)]
+    pub(crate) fn hits_lanes_by<S: Simd, const BVH: bool>(
+        &self,
+        simd: S,
+        at: (u32, u32, u32),
+    ) -> (F<S>, U<S>, [F<S>; 3]) {
         let scene = &self.tracer.scene;
-        self.bins.hits_lanes(simd, (self.view, &scene.centers, &scene.radii), &self.tracer.accel, (i, j, mask))
+        self.bins.hits_lanes::<S, BVH>(simd, (self.view, &scene.centers, &scene.radii), &self.tracer.accel, at)
     }
 
     /// Pushes the pixels `mask` names of the group of [`lanes`] columns from `base` (a

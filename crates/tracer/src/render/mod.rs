@@ -427,7 +427,7 @@ mod tests {
             for j in 0..h {
                 with_wavefront(|wavefront| {
                     let mut sink = RowSink::new(RgbRow(&mut rgb), ());
-                    dispatch!(crate::simd::level(), simd => trace_row_in(simd, wavefront, &eye, j, w as usize, &mut sink, None));
+                    dispatch!(crate::simd::level(), simd => trace_row_in::<_, _, _, false>(simd, wavefront, &eye, j, w as usize, &mut sink, None));
                     for e in 0..wavefront.len() {
                         let i = wavefront.tag(e);
                         let plain = tracer.pixel_radiance(&view, i, j).expect("a batched sample is a hit");

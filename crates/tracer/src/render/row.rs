@@ -16,7 +16,7 @@
 use fearless_simd::{dispatch, prelude::*, Simd};
 use glam::Vec3;
 
-use crate::accel::screen::TILE;
+use crate::accel::screen::{Search, TILE};
 use crate::batch::BinnedView;
 use crate::bits;
 use crate::camera::EyeView;
@@ -37,13 +37,19 @@ pub(super) fn trace_row<C: Columns, O: Observe>(
     if only.is_some_and(|row| row.iter().all(|&word| word == 0)) {
         return RayCounts::default();
     }
-    with_wavefront(
-        |wavefront| dispatch!(crate::simd::level(), simd => trace_row_in(simd, wavefront, eye, j, w, sink, only)),
-    )
+    let bvh = eye.bins.search() == Search::Bvh;
+    with_wavefront(|wavefront| {
+        dispatch!(crate::simd::level(), simd => if bvh {
+            trace_row_in::<_, _, _, true>(simd, wavefront, eye, j, w, sink, only)
+        } else {
+            trace_row_in::<_, _, _, false>(simd, wavefront, eye, j, w, sink, only)
+        })
+    })
 }
 
-/// [`trace_row`] with the lanes of `simd`.
-pub(super) fn trace_row_in<S: Simd, C: Columns, O: Observe>(
+/// [`trace_row`] with the lanes of `simd`, for a view searched through the BVH (`BVH`) or
+/// the bins.
+pub(super) fn trace_row_in<S: Simd, C: Columns, O: Observe, const BVH: bool>(
     simd: S,
     wavefront: &mut Wavefront,
     eye: &BinnedView<'_>,
@@ -63,7 +69,7 @@ pub(super) fn trace_row_in<S: Simd, C: Columns, O: Observe>(
         only.map_or(all, |row| (row[i0 / 64] >> (i0 % 64)) as u32 & all)
     };
     for span in (0..w.div_ceil(tile)).map(|t| t * tile..((t + 1) * tile).min(w)) {
-        if eye.bins.is_empty_at(span.start as u32, j) {
+        if !BVH && eye.bins.bin_is_empty_at(span.start as u32, j) {
             let mask = chosen(span.start, span.len());
             counts.primary += u64::from(mask.count_ones());
             if only.is_none() {
@@ -84,7 +90,7 @@ pub(super) fn trace_row_in<S: Simd, C: Columns, O: Observe>(
             simd.vectorize(
                 #[inline(always)]
                 || {
-                    let hits = eye.hits_lanes(simd, (i0 as u32, j, mask));
+                    let hits = eye.hits_lanes_by::<S, BVH>(simd, (i0 as u32, j, mask));
                     if C::SHADES {
                         eye.push_found_in(simd, wavefront, (i0 as u32, mask), hits, sink);
                     } else {
