@@ -16,7 +16,7 @@ fn with_cues(mut scene: Scene, samples: u32, outline: u32) -> Scene {
 
 /// Both eyes of a `w` × `h` pair in `mode`, outlined, on `threads` threads.
 fn pair(tracer: &Tracer, scene: &Scene, (w, h): (u32, u32), mode: Mode, threads: usize) -> [Vec<u32>; 2] {
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap_or_else(|e| panic!("a pool of {threads}: {e}"));
+    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().unwrap_or_else(|e| panic!("a pool: {e}"));
     pool.install(|| {
         let mut frame = StereoFrame::new();
         frame.render(tracer, &scene.camera, w, h, Options { mode, retrace_edges: false });
