@@ -105,8 +105,13 @@ impl StereoFrame {
     /// frame must have marked where its rays meet the moving spheres' paths, which it does
     /// when the frame before it was asked the same (or it was the first): after a change,
     /// one fresh frame, one fresh frame that marks, then reused frames.
+    ///
+    /// A scene with ambient occlusion and moving spheres is always traced afresh: the marks
+    /// do not follow occlusion rays (`tracer`'s `cue/`), so a kept pixel could miss a
+    /// sphere that moved into its occlusion rays' reach.
     pub fn set_reuse(&mut self, scene: Option<&Scene>) {
-        self.reuse.set(scene);
+        let moving = |s: &Scene| s.spheres.iter().any(|s| matches!(s.motion, tracer::Motion::Orbit { .. }));
+        self.reuse.set(scene.filter(|s| !(s.render.cues.ambient_occlusion.is_on() && moving(s))));
     }
 
     /// Whether reuse is on.

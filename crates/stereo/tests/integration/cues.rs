@@ -53,3 +53,13 @@ fn exact_is_full_with_every_cue_on_1tii() {
     assert!(scene.render.cues.ambient_occlusion.is_on() && scene.render.cues.outline == 1, "on by default");
     exact_is_full(&scene, (200, 150));
 }
+
+#[test]
+fn a_moving_scene_with_occlusion_is_not_reused() {
+    let mut frame = StereoFrame::new();
+    let many = tracer::testing::scene("many.toml");
+    frame.set_reuse(Some(&many));
+    assert!(frame.reuse(), "without occlusion, reused");
+    frame.set_reuse(Some(&with_cues(many, 4, 0)));
+    assert!(!frame.reuse(), "occlusion rays are not marked: traced afresh");
+}
