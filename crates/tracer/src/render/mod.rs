@@ -4,11 +4,10 @@
 //! ([`Target`]: a film keeping the record its caller names, colour only, or depth only,
 //! optionally marked for temporal reuse). It builds the screen bins of the view once (or,
 //! for a scene of many spheres for the pixels traced, chooses the BVH instead: [`FirstHits`],
-//! `accel/screen.rs`), then
-//! runs one parallel loop over the target's rows: each row's planes become a
-//! [`RowSink`](crate::sink::RowSink) (`sink.rs`), with the row's marks as one more column
-//! whose observer is temporal reuse's (`reuse/observer.rs`), and one row loop (`row.rs`)
-//! fills it, as pbrt-v4's film takes every sample. A [`Renderer`] owns the buffers an eye
+//! `accel/screen.rs`), then runs one parallel loop over the target's rows: each row's planes
+//! become a [`RowSink`](crate::sink::RowSink) (`sink.rs`), with the row's marks as one more
+//! column whose observer is temporal reuse's (`reuse/observer.rs`), and one row loop
+//! (`row.rs`) fills it, as pbrt-v4's film takes every sample. A [`Renderer`] owns the buffers an eye
 //! needs besides its image (the screen bins of its primary rays, `accel/screen.rs`), so a
 //! warm renderer allocates nothing; [`Renderer::batch`] hands the same bins to whoever makes
 //! an eye's pixels in batches of its own ([`PixelBatch`], `batch.rs` over `batch/`).
