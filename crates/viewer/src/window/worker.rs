@@ -3,7 +3,7 @@
 //! The UI thread posts the newest [`Request`] (`worker/request.rs`, with the [`FrameInfo`]
 //! that answers it) into a one-slot mailbox (a `Mutex` + `Condvar`); an older request that
 //! the worker has not started yet is simply replaced. The worker renders with
-//! [`StereoFrame::render_banded`] (which spreads the work over rayon's global pool), copies
+//! [`stereo::StereoFrame::render_banded`] (which spreads the work over rayon's global pool), copies
 //! the pictures into a [`Finished`] frame (`worker/finished.rs`; the eyes to present,
 //! `worker/eyes.rs`) and swaps it into a second one-slot mailbox. The UI thread swaps the
 //! newest finished frame out whenever it draws. The three `Finished` buffers (the worker's,
