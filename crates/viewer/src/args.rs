@@ -13,8 +13,10 @@ pub use cues::CueArgs;
 use crate::crop::Crop;
 use crate::motion::Motion;
 
+mod progressive;
 mod replay;
 
+pub use progressive::ProgressiveArgs;
 pub use replay::{Policy, ReplayArgs};
 
 /// Default scene, relative to the workspace root (also found next to the executable's
@@ -102,18 +104,8 @@ pub struct WindowArgs {
     /// is presented this many times a second (1 to 240).
     #[arg(long, value_name = "HZ", default_value_t = 90, value_parser = clap::value_parser!(u32).range(1..=240))]
     pub display_hz: u32,
-    /// Trace every frame at full resolution, as before the progressive policy: no coarse
-    /// frames while the head moves, no refinement while it rests.
-    #[arg(long)]
-    pub no_progressive: bool,
-    /// While the head moves, the age a traced pair aims at when presented, milliseconds
-    /// (5 to 1000): the progressive policy picks each pair's sample density for it.
-    #[arg(long, value_name = "MS", default_value_t = 33, value_parser = clap::value_parser!(u32).range(5..=1000))]
-    pub target_age_ms: u32,
-    /// While the head rests, refine up to S × S samples a pixel (1 to 8), converging to
-    /// `render --supersample S`.
-    #[arg(long, value_name = "S", default_value_t = 4, value_parser = clap::value_parser!(u32).range(1..=8))]
-    pub max_supersample: u32,
+    #[command(flatten)]
+    pub progressive: ProgressiveArgs,
     /// A structure file's biological assembly (PDB BIOMT, mmCIF pdbx_struct_oper_list)
     /// instead of its asymmetric unit.
     #[arg(long)]

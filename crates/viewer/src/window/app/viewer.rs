@@ -97,8 +97,9 @@ impl Viewer {
         settings.reuse = !args.no_reuse;
         settings.timewarp = !args.no_timewarp;
         settings.guard_band = args.guard_band as f32 / 100.0;
-        settings.progressive = (!args.no_progressive)
-            .then_some(Progressive { target_age_ms: args.target_age_ms as f32, max_supersample: args.max_supersample });
+        let p = args.progressive;
+        settings.progressive = (!p.no_progressive)
+            .then_some(Progressive { target_age_ms: p.target_age_ms as f32, max_supersample: p.max_supersample });
         if let Some(percent) = args.render_scale {
             settings.render_scale = percent as f32 / 100.0;
         }
