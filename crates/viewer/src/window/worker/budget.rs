@@ -43,6 +43,8 @@ pub struct Budget {
     tried: Option<usize>,
     /// Choices left before the next try.
     cool_down: u32,
+    /// The last choice (its index).
+    last: Option<usize>,
 }
 
 impl Budget {
@@ -58,6 +60,10 @@ impl Budget {
         // with it (part way), so that a density measured in another view is not trusted as
         // it was; the one measured is what it cost.
         let factor = 1.0 + NEWEST * (rate / old - 1.0);
+        if !(0.5..=2.0).contains(&(rate / old)) {
+            // Another view: a try that failed in the last one may fit now.
+            self.cool_down = 0;
+        }
         for r in self.rate.iter_mut().flatten() {
             *r *= factor;
         }
@@ -96,10 +102,14 @@ impl Budget {
     pub fn choose(&mut self, eye: (u32, u32), target_age_ms: f64) -> u32 {
         let budget = target_age_ms * TRACE_SHARE;
         if self.rate.iter().all(Option::is_none) {
+            self.last = DENSITIES.iter().position(|&d| d == FIRST);
             return FIRST;
         }
         let fits = (0..DENSITIES.len()).find(|&i| self.predict(eye, i).is_some_and(|ms| ms <= budget));
-        let Some(i) = fits else { return DENSITIES[DENSITIES.len() - 1] };
+        let Some(i) = fits else {
+            self.last = Some(DENSITIES.len() - 1);
+            return DENSITIES[DENSITIES.len() - 1];
+        };
         if let Some(tried) = self.tried.take() {
             // The last choice was a try: it failed if it was measured beyond the budget.
             if self.predict(eye, tried).is_some_and(|ms| ms > budget) {
@@ -108,10 +118,17 @@ impl Budget {
         }
         self.cool_down = self.cool_down.saturating_sub(1);
         let cheap = self.predict(eye, i).is_some_and(|ms| ms <= budget * 0.5);
-        if i > 0 && cheap && self.cool_down == 0 {
+        let i = if i > 0 && cheap && self.cool_down == 0 {
             self.tried = Some(i - 1);
-            return DENSITIES[i - 1];
-        }
+            i - 1
+        } else {
+            i
+        };
+        // Never more than one step denser than the last choice: a prediction far from the
+        // densities measured lately may be far off (one sent a half-second pair while the
+        // head moved), and a step costs at most 2.25 times the samples.
+        let i = self.last.map_or(i, |last| i.max(last.saturating_sub(1)));
+        self.last = Some(i);
         DENSITIES[i]
     }
 }
@@ -191,6 +208,23 @@ mod tests {
         let tries = chosen[1..].iter().filter(|&&k| k == 1).count();
         assert!(tries <= 2, "one try per cool-down, not every other frame: {chosen:?}");
         assert_eq!(chosen.last(), Some(&2));
+    }
+
+    /// A prediction that drifted far below the truth (here: every pixel measured cheap long
+    /// ago) moves the choice one density a frame, so the error costs one step, not a jump
+    /// from the coarsest to every pixel.
+    #[test]
+    fn the_density_rises_one_step_a_frame() {
+        let cost = model(2.0, 0.5);
+        let mut budget = Budget::default();
+        budget.record(EYE, 16, cost(16));
+        let first = budget.choose(EYE, 33.0);
+        budget.record(EYE, first, cost(first));
+        // A guess for every pixel far below the truth, as a drifted one can be.
+        budget.record(EYE, 1, 1.0);
+        let next = budget.choose(EYE, 33.0);
+        let step = |k: u32| DENSITIES.iter().position(|&d| d == k).unwrap();
+        assert_eq!(step(next) + 1, step(first), "one step denser than {first}, not {next}");
     }
 
     #[test]

@@ -81,6 +81,12 @@ impl Progress {
         self.refine.stop();
         (self.resting, self.coarse) = (None, false);
         let Some(p) = request.progressive.filter(|_| refinable(&request)) else { return };
+        // A moving head's request is not rested on: the window's next request (the key let
+        // go) says the head stopped. Traced in full now, it would hold the worker for a full
+        // pair while the head moves on.
+        if request.moving {
+            return;
+        }
         (self.resting, self.coarse) = (Some((request, posted)), density > 1);
         if density == 1 {
             let eye = (request.width, request.height);
@@ -243,7 +249,7 @@ mod tests {
     }
 
     #[test]
-    fn a_moving_head_gets_coarse_pairs_at_the_eye_size_then_the_full_one() {
+    fn a_moving_head_gets_coarse_pairs_at_the_eye_size_and_a_still_one_the_full_pair() {
         let scene = scene("seed.toml");
         let mut worker = Worker::spawn_with_memory(scene.clone(), None).unwrap();
         let mut moving = Request { moving: true, ..request(&scene, Mode::Exact, 2, true) };
@@ -273,9 +279,17 @@ mod tests {
         let guard = info.request.guard;
         let banded = (info.samples().0 + 2 * guard.0.div_ceil(k), info.samples().1 + 2 * guard.1.div_ceil(k));
         assert_eq!((sources[0].view.width, sources[0].view.height), banded, "its guard band scaled too");
-        // The head stops: its last request is traced in full next, then refined.
-        let f = wait(&mut worker, 0, |f| f.info.is_some_and(|i| i.request == moving && i.sampling.converged));
+        // Nothing newer, the head still moving: the worker waits rather than trace the pose
+        // in full.
+        let seq = wait(&mut worker, 0, |f| f.info.is_some_and(|i| i.request == moving)).info.unwrap().seq;
+        std::thread::sleep(Duration::from_millis(50));
+        let last = worker.latest().info.unwrap();
+        assert_eq!((last.seq, last.sampling.density), (seq, 16), "no full pair for a moving head: {last:?}");
+        // The key let go: the same pose, still, is traced in full, then refined.
+        let still = Request { moving: false, ..moving };
+        worker.post(still);
+        let f = wait(&mut worker, seq, |f| f.info.is_some_and(|i| i.request == still && i.sampling.converged));
         assert_eq!(f.info.unwrap().samples(), EYE);
-        assert_eq!(eyes(f), supersampled(&scene, &moving, 2), "a moving request converges too once it is the last");
+        assert_eq!(eyes(f), supersampled(&scene, &still, 2), "the still pose converges");
     }
 }
