@@ -56,6 +56,17 @@ pub fn stereotrace(args: &[&str]) -> Output {
     stereotrace_with(&[], args)
 }
 
+/// The arguments `ok` with `flag`'s value replaced by `value`, or the flag added: one bad
+/// argument in an otherwise good command line.
+pub fn with_flag<'a>(ok: &[&'a str], flag: &'a str, value: &'a str) -> Vec<&'a str> {
+    let mut args = ok.to_vec();
+    match args.iter().position(|&a| a == flag) {
+        Some(i) => args[i + 1] = value,
+        None => args.extend([flag, value]),
+    }
+    args
+}
+
 /// A path for `name` in this test process's scratch directory.
 pub fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("stereotrace-tests-{}", std::process::id()));

@@ -5,7 +5,7 @@
 
 use serde_json::Value;
 
-use crate::common::{interrupted, read_rgb_png, stereotrace, tmp};
+use crate::common::{interrupted, read_rgb_png, stereotrace, tmp, with_flag};
 
 const HEADER: &str = "frame,t_s,phase,seq,age_ms,guessed_share,warped,density,spp,converged,yaw_deg,pitch_deg,x,y,z,psnr_db,share_over_2_255";
 
@@ -136,14 +136,7 @@ fn bad_replay_arguments_exit_2_naming_the_flag() {
     let csv = tmp("replay-never.csv");
     let c = csv.to_str().unwrap();
     let ok = ["--motion", "yaw=30", "--seconds", "0.1", "--csv", c];
-    let with = |flag: &'static str, value: &'static str| -> Vec<&str> {
-        let mut args = ok.to_vec();
-        match args.iter().position(|&a| a == flag) {
-            Some(i) => args[i + 1] = value,
-            None => args.extend([flag, value]),
-        }
-        args
-    };
+    let with = |flag: &'static str, value: &'static str| with_flag(&ok, flag, value);
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (with("--seconds", "0"), "--seconds 0: must be more than 0 and at most 60"),
         (with("--seconds", "-1"), "--seconds -1: must be more than 0"),

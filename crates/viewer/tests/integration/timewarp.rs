@@ -4,7 +4,7 @@
 
 use serde_json::Value;
 
-use crate::common::{interrupted, read_rgb_png, stereotrace, tmp};
+use crate::common::{interrupted, read_rgb_png, stereotrace, tmp, with_flag};
 
 const HEADER: &str =
     "trace_every,frame,age_frames,age_ms,method,psnr_db,share_over_2_255,share_not_identical,hole_share,ms";
@@ -122,14 +122,7 @@ fn bad_timewarp_arguments_exit_2_with_a_clear_message() {
     let csv = tmp("timewarp-never.csv");
     let c = csv.to_str().unwrap();
     let ok = ["--motion", "yaw=30", "--trace-every", "2", "--csv", c];
-    let with = |flag: &'static str, value: &'static str| -> Vec<&str> {
-        let mut args = ok.to_vec();
-        match args.iter().position(|&a| a == flag) {
-            Some(i) => args[i + 1] = value,
-            None => args.extend([flag, value]),
-        }
-        args
-    };
+    let with = |flag: &'static str, value: &'static str| with_flag(&ok, flag, value);
     let cases: Vec<(Vec<&str>, &str)> = vec![
         (with("--motion", "roll=3"), "invalid value 'roll=3' for '--motion"),
         (with("--motion", "roll=3"), "unknown key `roll`"),
