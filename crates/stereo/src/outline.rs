@@ -4,7 +4,7 @@
 //! reprojection is outlined exactly as a fully traced one, since both eyes' planes are
 //! their own views' whatever the mode.
 
-use tracer::{first_hits, outline, Eye, Outline, Tracer};
+use tracer::{first_hits, outline, Eye, Outline, Renderer, Tracer};
 
 use crate::frame::StereoFrame;
 
@@ -13,6 +13,8 @@ use crate::frame::StereoFrame;
 #[derive(Clone, Debug, Default)]
 pub struct Outlined {
     rgb: [Vec<u32>; 2],
+    /// Traces the planes (its screen bins kept).
+    renderer: Renderer,
     object: Vec<u32>,
     z: Vec<f32>,
 }
@@ -56,7 +58,7 @@ impl Outlined {
         let view = frame.views().eyes[k];
         self.rgb[k].clear();
         self.rgb[k].extend_from_slice(rgb);
-        first_hits(tracer, &view, &mut self.object, &mut self.z);
+        first_hits(&mut self.renderer, tracer, &view, &mut self.object, &mut self.z);
         let size = (view.width, view.height);
         outline(&mut self.rgb[k], &self.object, &self.z, size, Outline::of_view(&view, width));
     }

@@ -44,10 +44,10 @@ pub(crate) trait Columns {
     /// Pixel `i` saw a sphere: its colour, and (called only by columns that keep them) its
     /// record's keys and its shading entry.
     fn hit(&mut self, i: usize, rgb: u32, keys: impl FnOnce() -> Keys, shading: impl FnOnce() -> Shading);
-    /// Pixel `i`'s first hit is at depth `z` ([`EyeView::head_z`]): what columns that do not
-    /// shade keep instead of [`Columns::hit`].
-    fn first_hit(&mut self, i: usize, z: f32) {
-        let _ = (i, z);
+    /// Pixel `i`'s first hit is sphere `object` at depth `z` ([`EyeView::head_z`]): what
+    /// columns that do not shade keep instead of [`Columns::hit`].
+    fn first_hit(&mut self, i: usize, z: f32, object: u32) {
+        let _ = (i, z, object);
     }
 }
 
@@ -212,29 +212,48 @@ impl Columns for FilmRow<'_> {
     }
 }
 
-/// One row of depth only: each pixel's first hit, +∞ for a miss.
+/// One row of first hits only: each pixel's depth, +∞ for a miss, and, when `object` is not
+/// empty, the sphere it saw ([`NO_OBJECT`] for a miss).
 #[derive(Debug)]
-pub(crate) struct DepthRow<'a>(pub(crate) &'a mut [f32]);
+pub(crate) struct DepthRow<'a> {
+    pub(crate) z: &'a mut [f32],
+    pub(crate) object: &'a mut [u32],
+}
+
+impl DepthRow<'_> {
+    /// Pixel `i` saw `object` at depth `z`.
+    #[inline]
+    fn keep(&mut self, i: usize, z: f32, object: u32) {
+        self.z[i] = z;
+        if let Some(o) = self.object.get_mut(i) {
+            *o = object;
+        }
+    }
+}
 
 impl Columns for DepthRow<'_> {
     const SHADES: bool = false;
 
     #[inline]
     fn background(&mut self, span: Range<usize>, _: u32) {
-        self.0[span].fill(f32::INFINITY);
+        if !self.object.is_empty() {
+            self.object[span.clone()].fill(NO_OBJECT);
+        }
+        self.z[span].fill(f32::INFINITY);
     }
 
     fn take(&mut self, i: usize, _: u32) {
         debug_assert!(false, "a depth row takes no colour");
-        self.0[i] = f32::INFINITY;
+        self.keep(i, f32::INFINITY, NO_OBJECT);
     }
 
     fn hit(&mut self, i: usize, _: u32, keys: impl FnOnce() -> Keys, _: impl FnOnce() -> Shading) {
-        self.0[i] = keys().0;
+        let (z, _, object, _) = keys();
+        self.keep(i, z, object);
     }
 
     #[inline]
-    fn first_hit(&mut self, i: usize, z: f32) {
-        self.0[i] = z;
+    fn first_hit(&mut self, i: usize, z: f32, object: u32) {
+        self.keep(i, z, object);
     }
 }

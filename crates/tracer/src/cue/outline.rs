@@ -14,7 +14,8 @@
 use rayon::prelude::*;
 
 use crate::camera::EyeView;
-use crate::surface::{Hit, NO_OBJECT};
+use crate::render::{Pixels, Renderer, Target};
+use crate::surface::NO_OBJECT;
 use crate::tracer::Tracer;
 
 /// The depth jump that draws an outline, as a share of the nearer pixel's distance.
@@ -54,17 +55,53 @@ pub fn outline(rgb: &mut [u32], object: &[u32], z: &[f32], (w, h): (u32, u32), s
     let r2 = style.width * style.width;
     let reach = style.width.floor() as isize;
     rgb.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
-        for (i, out) in row.iter_mut().enumerate() {
-            let k = j * w + i;
-            if drawn((i as isize, j as isize), (w, h), (object, z), (reach, r2, style.window), (object[k], z[k])) {
-                *out = 0;
+        let own = (&object[j * w..][..w], &z[j * w..][..w]);
+        for c0 in (0..w).step_by(CHUNK) {
+            let span = c0..(c0 + CHUNK).min(w);
+            let mut drawn = 0u64;
+            // Offset by offset over the chunk: a branch-free inner loop.
+            for dy in -reach..=reach {
+                let y = j as isize + dy;
+                if y < 0 || y >= h as isize {
+                    continue;
+                }
+                let near = (&object[y as usize * w..][..w], &z[y as usize * w..][..w]);
+                for dx in -reach..=reach {
+                    if (dx * dx + dy * dy) as f32 > r2 || (dx, dy) == (0, 0) {
+                        continue;
+                    }
+                    // The columns whose neighbour i + dx lies in the row.
+                    let lo = span.start.max((-dx).max(0) as usize);
+                    let hi = span.end.min((w as isize - dx).max(0) as usize);
+                    for i in lo..hi {
+                        let q = i.wrapping_add_signed(dx);
+                        let on = behind((own.0[i], own.1[i]), (near.0[q], near.1[q]), style.window);
+                        drawn |= u64::from(on) << (i - c0);
+                    }
+                }
+            }
+            for l in crate::bits::ones(&[drawn]) {
+                row[c0 + l as usize] = 0;
             }
         }
     });
 }
 
-/// Whether pixel (i, j), which saw `own` (object, depth), lies on an outline.
-fn drawn(
+/// Pixels of a row drawn at once, a bit each of a word.
+const CHUNK: usize = 64;
+
+/// Whether a pixel that saw `own` (object, depth) lies behind its neighbour that saw `near`
+/// (another object, nearer by more than [`OUTLINE_JUMP`] of the neighbour's distance along
+/// the view axis; `window` is d).
+#[inline]
+fn behind(own: (u32, f32), near: (u32, f32), window: f32) -> bool {
+    near.0 != own.0 && near.0 != NO_OBJECT && own.1 - near.1 > OUTLINE_JUMP * (near.1 + window)
+}
+
+/// Whether pixel (i, j), which saw `own` (object, depth), lies on an outline: the plain
+/// definition, pixel by pixel, that [`outline`]'s chunks are tested against.
+#[cfg(test)]
+pub(crate) fn drawn(
     (i, j): (isize, isize),
     (w, h): (usize, usize),
     (object, z): (&[u32], &[f32]),
@@ -82,7 +119,7 @@ fn drawn(
                 continue;
             }
             let q = y as usize * w + x as usize;
-            if object[q] != own.0 && object[q] != NO_OBJECT && own.1 - z[q] > OUTLINE_JUMP * (z[q] + window) {
+            if behind(own, (object[q], z[q]), window) {
                 return true;
             }
         }
@@ -91,22 +128,9 @@ fn drawn(
 }
 
 /// The object and head-space depth ([`EyeView::head_z`]) of the first hit of each pixel's
-/// primary ray of `view`, through the BVH, into `object` and `z` (resized; [`NO_OBJECT`]
-/// and +∞ for a miss): the planes [`outline`] reads, the same in every stereo mode.
-pub fn first_hits(tracer: &Tracer, view: &EyeView, object: &mut Vec<u32>, z: &mut Vec<f32>) {
-    let (w, n) = (view.width as usize, view.width as usize * view.height as usize);
-    object.resize(n, NO_OBJECT);
-    z.resize(n, f32::INFINITY);
-    if w == 0 {
-        return;
-    }
-    object.par_chunks_mut(w).zip(z.par_chunks_mut(w)).enumerate().for_each(|(j, (objects, depths))| {
-        for (i, (o, d)) in objects.iter_mut().zip(depths.iter_mut()).enumerate() {
-            let ray = view.primary_ray(i as u32, j as u32);
-            (*o, *d) = match tracer.intersect(&ray, f32::INFINITY) {
-                Some(Hit { t, object }) => (object, view.head_z(ray.at(t))),
-                None => (NO_OBJECT, f32::INFINITY),
-            };
-        }
-    });
+/// primary ray of `view`, into `object` and `z` (resized; [`NO_OBJECT`] and +∞ for a miss):
+/// the planes [`outline`] reads, the same in every stereo mode. Traced by `renderer` as a
+/// first-hits pass ([`Target::first_hits`]: the screen bins or the BVH, primary rays only).
+pub fn first_hits(renderer: &mut Renderer, tracer: &Tracer, view: &EyeView, object: &mut Vec<u32>, z: &mut Vec<f32>) {
+    renderer.render(tracer, view, Pixels::All, Target::first_hits(object, z));
 }

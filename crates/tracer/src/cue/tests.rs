@@ -10,6 +10,7 @@ use crate::material::Material;
 use crate::render::{Pixels, Renderer, Target};
 use crate::scene::{RenderSettings, SceneSphere};
 use crate::stats::RayCounts;
+use crate::surface::NO_OBJECT;
 use crate::tracer::Tracer;
 use crate::wavefront::with_wavefront;
 
@@ -181,6 +182,31 @@ fn outlines_fall_behind_a_silhouette_and_not_on_a_crease() {
     let mut wide = vec![0x00ff_ffff; 21];
     outline(&mut wide, &object, &z, (7, 3), Outline { width: 2.0, window: 10.0 });
     assert_eq!(wide[7..14].iter().filter(|&&c| c == 0).count(), 3, "two pixels behind object 2, one before the sky");
+}
+
+#[test]
+fn outlines_drawn_by_chunks_are_the_plain_definition_pixel_by_pixel() {
+    // Random planes of few objects and scattered depths, misses among them, at sizes
+    // around the 64-pixel chunk and below the reach, and at every width to 8 (and between).
+    let mut rng = crate::testing::XorShift::new(0x5eed_0071);
+    for (w, h) in [(1, 1), (3, 2), (63, 5), (64, 4), (65, 7), (130, 9)] {
+        let n = w * h;
+        let object: Vec<u32> =
+            (0..n).map(|_| if rng.range(0.0, 1.0) < 0.1 { NO_OBJECT } else { rng.range(0.0, 4.0) as u32 }).collect();
+        let z: Vec<f32> =
+            object.iter().map(|&o| if o == NO_OBJECT { f32::INFINITY } else { rng.range(0.0, 40.0) }).collect();
+        for width in [0.5, 1.0, 1.5, 2.0, 3.0, 4.5, 8.0] {
+            let style = Outline { width, window: 10.0 };
+            let mut rgb = vec![0x00ff_ffff; n];
+            outline(&mut rgb, &object, &z, (w as u32, h as u32), style);
+            let (reach, r2) = (width.floor() as isize, width * width);
+            for k in 0..n {
+                let at = ((k % w) as isize, (k / w) as isize);
+                let plain = outline::drawn(at, (w, h), (&object, &z), (reach, r2, 10.0), (object[k], z[k]));
+                assert_eq!(rgb[k] == 0, plain, "{w}×{h}, width {width}, pixel {at:?}");
+            }
+        }
+    }
 }
 
 /// Directions spread over the sphere (a Fibonacci lattice of `n` points).

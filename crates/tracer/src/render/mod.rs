@@ -29,6 +29,7 @@ use crate::reuse::{with_marks, Marker, Marks, MarksColumn, MarksRow, Rewrite, Sw
 use crate::sink::{DepthRow, FilmRow, KeysRow, RgbRow, RowSink};
 use crate::stats::RayCounts;
 use crate::surface::Shading;
+use crate::surface::NO_OBJECT;
 use crate::tracer::Tracer;
 use row::trace_row;
 
@@ -92,7 +93,8 @@ pub struct Target<'a> {
 enum Image<'a> {
     Film(&'a mut Film, Record),
     Colour(&'a mut Vec<u32>),
-    Depth(&'a mut Vec<f32>),
+    /// The depth plane, and the object plane if asked.
+    Depth(&'a mut Vec<f32>, Option<&'a mut Vec<u32>>),
 }
 
 impl<'a> Target<'a> {
@@ -115,7 +117,16 @@ impl<'a> Target<'a> {
     /// film of its own reads. Counts the primary rays; marks nothing.
     #[must_use]
     pub fn depth(z: &'a mut Vec<f32>) -> Self {
-        Self { image: Image::Depth(z), marking: None }
+        Self { image: Image::Depth(z, None), marking: None }
+    }
+
+    /// First hits only: [`Target::depth`] into `z`, and each pixel's sphere into `object`
+    /// (resized to the view; [`NO_OBJECT`] for a miss), as the screen bins or the BVH find
+    /// it (of equal `t`, the lowest id). An eye's own object and depth planes at the cost of
+    /// its primary rays, whatever made its colours (what outlines read).
+    #[must_use]
+    pub fn first_hits(object: &'a mut Vec<u32>, z: &'a mut Vec<f32>) -> Self {
+        Self { image: Image::Depth(z, Some(object)), marking: None }
     }
 
     /// Also marks in `marks` (resized to the view) where each traced pixel's ray tree —
@@ -158,10 +169,14 @@ impl<'a> Image<'a> {
                 rgb.resize(n, 0);
                 (Kind::Colour, Planes { rgb, ..Planes::default() })
             }
-            Image::Depth(z) => {
+            Image::Depth(z, object) => {
                 debug_assert!(matches!(pixels, Pixels::All), "a depth pass traces every pixel");
                 z.resize(n, f32::INFINITY);
-                (Kind::Depth, Planes { z, ..Planes::default() })
+                let object = object.map_or(<&mut [u32]>::default(), |object| {
+                    object.resize(n, NO_OBJECT);
+                    object
+                });
+                (Kind::Depth, Planes { z, object, ..Planes::default() })
             }
             Image::Film(film, record) => {
                 if let Pixels::Only(_) = pixels {
@@ -221,7 +236,7 @@ impl<'a> Row<'a> {
             Kind::Colour => Self::Colour(RgbRow(rgb)),
             Kind::Keys => Self::Keys(KeysRow { rgb, z, t, object, lights }),
             Kind::Full => Self::Full(FilmRow { keys: KeysRow { rgb, z, t, object, lights }, shading }),
-            Kind::Depth => Self::Depth(DepthRow(z)),
+            Kind::Depth => Self::Depth(DepthRow { z, object }),
         }
     }
 

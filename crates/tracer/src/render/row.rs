@@ -23,6 +23,7 @@ use crate::camera::EyeView;
 use crate::simd::{F, U};
 use crate::sink::{Columns, Observe, RowSink};
 use crate::stats::RayCounts;
+use crate::surface::NO_OBJECT;
 use crate::wavefront::{with_wavefront, Wavefront};
 
 /// Traces row `j` of `eye`, `w` pixels wide, into `sink`; the rays cast. `only` (a row of
@@ -107,24 +108,24 @@ pub(super) fn trace_row_in<S: Simd, C: Columns, O: Observe, const BVH: bool>(
     counts
 }
 
-/// Hands `sink` the depth of the first hit of each pixel `mask` names of the group of lanes
-/// from column `i0`, whose first hits are `hits`: [`EyeView::head_z`] of the hit point
-/// `o + t·d` (the operations the wavefront makes it with), +∞ for a miss.
+/// Hands `sink` the first hit of each pixel `mask` names of the group of lanes from column
+/// `i0`, whose first hits are `hits`: its sphere, and [`EyeView::head_z`] of the hit point
+/// `o + t·d` (the operations the wavefront makes it with); +∞ and [`NO_OBJECT`] for a miss.
 #[inline(always)]
 fn first_hits<S: Simd>(
     view: &EyeView,
     (i0, mask): (usize, u32),
-    (t, _, d): (F<S>, U<S>, [F<S>; 3]),
+    (t, ids, d): (F<S>, U<S>, [F<S>; 3]),
     sink: &mut RowSink<impl Columns, impl Observe>,
 ) {
     let o = view.origin;
-    let (t, d) = (t.as_slice(), crate::simd::each3(|a| d[a].as_slice()));
+    let (t, ids, d) = (t.as_slice(), ids.as_slice(), crate::simd::each3(|a| d[a].as_slice()));
     for l in bits::ones(&[u64::from(mask)]).map(|l| l as usize) {
-        let z = if t[l].is_finite() {
-            view.head_z(Vec3::new(o.x + t[l] * d[0][l], o.y + t[l] * d[1][l], o.z + t[l] * d[2][l]))
+        let (z, object) = if t[l].is_finite() {
+            (view.head_z(Vec3::new(o.x + t[l] * d[0][l], o.y + t[l] * d[1][l], o.z + t[l] * d[2][l])), ids[l])
         } else {
-            f32::INFINITY
+            (f32::INFINITY, NO_OBJECT)
         };
-        sink.columns.first_hit(i0 + l, z);
+        sink.columns.first_hit(i0 + l, z, object);
     }
 }

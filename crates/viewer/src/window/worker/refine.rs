@@ -195,7 +195,7 @@ impl Refine {
                 self.outline_samples(tracer, &views);
             } else if self.planes[0].0.is_empty() {
                 for ((object, z), view) in self.planes.iter_mut().zip(&shown.eyes) {
-                    tracer::first_hits(tracer, view, object, z);
+                    tracer::first_hits(&mut self.renderer, tracer, view, object, z);
                 }
             }
         }
@@ -245,7 +245,7 @@ impl Refine {
         }
         let (object, z) = &mut self.sample_planes;
         for (samples, view) in self.samples.iter_mut().zip(&views.eyes) {
-            tracer::first_hits(tracer, view, object, z);
+            tracer::first_hits(&mut self.renderer, tracer, view, object, z);
             let style = tracer::Outline::of_view(view, (self.outline * self.s) as f32);
             tracer::outline(samples, object, z, views.shown, style);
         }
