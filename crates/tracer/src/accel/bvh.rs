@@ -602,6 +602,94 @@ mod tests {
         }
     }
 
+    /// A tree's nodes and leaves as bits: what two builds must agree on.
+    fn tree_bits(bvh: &Bvh) -> (Vec<u32>, Vec<u32>) {
+        let nodes = bvh.nodes.iter().flat_map(|n| {
+            n.bounds.iter().flatten().flatten().map(|x| x.to_bits()).chain(n.child).chain([n.lanes])
+        });
+        let leaves = bvh.leaves.iter().flat_map(|l| {
+            l.center.iter().flatten().chain(&l.radius).map(|x| x.to_bits()).chain(l.ids)
+        });
+        (nodes.collect(), leaves.collect())
+    }
+
+    proptest::proptest! {
+        /// On random scenes (overlapping, nested and repeated spheres) and incoherent rays,
+        /// some from inside the cloud: the closest hit, the first hit (of equal `t` the lowest
+        /// id), and the any-hit answer with a short or long reach and a sphere left out, all
+        /// as a scan of every sphere gives them, at the level's lanes and at 4; and a second
+        /// build of the same spheres is the same tree, bit for bit.
+        #[test]
+        fn every_query_is_a_scan_of_every_sphere(
+            spheres in proptest::collection::vec((proptest::array::uniform3(-30.0f32..30.0), 0.05f32..4.0), 0..400),
+            repeat in 0usize..4,
+            rays in proptest::collection::vec(
+                (proptest::array::uniform3(-40.0f32..40.0), proptest::array::uniform3(-1.0f32..1.0), 0.5f32..80.0),
+                1..40,
+            ),
+        ) {
+            let (mut centers, mut radii): (Vec<Vec3>, Vec<f32>) =
+                spheres.iter().map(|&(c, r)| (Vec3::from(c), r)).unzip();
+            for k in (0..centers.len()).step_by(repeat + 3).take(repeat * 5) {
+                centers.push(centers[k]);
+                radii.push(radii[k]);
+            }
+            let mut bvh = Bvh::default();
+            bvh.build(&centers, &radii);
+            let mut again = Bvh::default();
+            again.build(&centers, &radii);
+            proptest::prop_assert!(tree_bits(&bvh) == tree_bits(&again), "the build is deterministic");
+            let key = |h: Option<Hit>| h.map(|h| (h.t.to_bits(), h.object));
+            for (k, &(o, d, reach)) in rays.iter().enumerate() {
+                let d = Vec3::from(d);
+                proptest::prop_assume!(d.length() > 1e-2);
+                let ray = Ray::new(Vec3::from(o), d.normalize());
+                let skip = (k % (centers.len() + 1)) as u32;
+                let skip = if skip as usize == centers.len() { NO_OBJECT } else { skip };
+                // The closest hit: its `t`, and a sphere hit there (of equal `t`, any).
+                let closest = brute(&ray, f32::INFINITY, &centers, &radii, skip);
+                let got = bvh.intersect(&ray, f32::INFINITY, skip);
+                proptest::prop_assert_eq!(got.map(|h| h.t.to_bits()), closest.map(|h| h.t.to_bits()));
+                if let Some(h) = got {
+                    let own = intersect_sphere(&ray, centers[h.object as usize], radii[h.object as usize], f32::INFINITY);
+                    proptest::prop_assert!(h.object != skip && own == Some(h.t), "sphere {} is hit at {}", h.object, h.t);
+                }
+                let blocked = brute(&ray, reach, &centers, &radii, skip).is_some();
+                proptest::prop_assert_eq!(bvh.occluded(&ray, reach, skip), blocked, "reach {}", reach);
+                let mut first: Option<(u32, u32)> = None;
+                for (id, (&c, &r)) in centers.iter().zip(&radii).enumerate() {
+                    let t = intersect_sphere(&ray, c, r, f32::INFINITY);
+                    if let Some(t) = t.filter(|&t| first.is_none_or(|(b, _)| t < f32::from_bits(b))) {
+                        first = Some((t.to_bits(), id as u32));
+                    }
+                }
+                let (wide, narrow) = (
+                    dispatch!(crate::simd::level(), simd => simd.vectorize(|| (
+                        bvh.first_hit_in(simd, &ray), bvh.occluded_in(simd, &ray, reach, skip),
+                    ))),
+                    dispatch!(fearless_simd::Level::baseline(), simd => simd.vectorize(|| (
+                        bvh.first_hit_in(simd, &ray), bvh.occluded_in(simd, &ray, reach, skip),
+                    ))),
+                );
+                proptest::prop_assert_eq!((key(wide.0), wide.1), (first, blocked), "the level's lanes");
+                proptest::prop_assert_eq!((key(narrow.0), narrow.1), (first, blocked), "4 lanes");
+            }
+        }
+    }
+
+    #[test]
+    fn one_sphere_is_a_leaf_at_the_root() {
+        let mut bvh = Bvh::default();
+        bvh.build(&[Vec3::new(0.0, 0.0, 5.0)], &[1.0]);
+        assert!(matches!(bvh.root, Root::Leaf));
+        let hit = bvh.intersect(&Ray::new(Vec3::ZERO, Vec3::Z), f32::INFINITY, NO_OBJECT);
+        assert_eq!(hit.map(|h| (h.t, h.object)), Some((4.0, 0)));
+        assert_eq!(bvh.intersect(&Ray::new(Vec3::ZERO, Vec3::Z), f32::INFINITY, 0), None, "left out");
+        assert!(bvh.occluded(&Ray::new(Vec3::ZERO, Vec3::Z), 4.5, NO_OBJECT));
+        assert!(!bvh.occluded(&Ray::new(Vec3::ZERO, Vec3::Z), 3.5, NO_OBJECT), "beyond the reach");
+        assert!(!bvh.occluded(&Ray::new(Vec3::ZERO, Vec3::X), f32::INFINITY, NO_OBJECT));
+    }
+
     #[test]
     fn rebuild_reuses_and_handles_empty() {
         let mut bvh = Bvh::default();

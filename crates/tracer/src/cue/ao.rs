@@ -91,21 +91,42 @@ fn basis(n: Vec3) -> (Vec3, Vec3) {
     (Vec3::new(1.0 + sign * n.x * n.x * a, sign * b, -sign * n.x), Vec3::new(b, sign + n.y * n.y * a, -n.y))
 }
 
-/// The cosine-weighted direction about unit `n` of the point (u1, u2) of the unit square:
-/// a uniform point of the unit disc (radius √u1, angle 2π·u2) lifted to the hemisphere.
-/// u1 ≤ 1 − 2⁻²⁴ keeps it at least 2⁻¹² above the horizon, so it leaves outwards.
-pub(crate) fn direction(n: Vec3, (u1, u2): (f32, f32)) -> Vec3 {
+/// The cosine-weighted direction about unit `n` (with its basis `(t, b)`, [`basis`]) of
+/// the point (u1, u2) of the unit square: a uniform point of the unit disc (radius √u1,
+/// angle 2π·u2) lifted to the hemisphere. u1 ≤ 1 − 2⁻²⁴ keeps it at least 2⁻¹² above the
+/// horizon, so it leaves outwards.
+fn direction(n: Vec3, (t, b): (Vec3, Vec3), (u1, u2): (f32, f32)) -> Vec3 {
     let r = u1.sqrt();
     let (sin, cos) = (std::f32::consts::TAU * u2).sin_cos();
-    let (t, b) = basis(n);
     t * (r * cos) + b * (r * sin) + n * (1.0 - u1).sqrt()
 }
 
+/// A point's occlusion directions: those of one pixel about one normal, the pixel's
+/// scramble and the normal's basis made once for all its samples.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Directions {
+    n: Vec3,
+    basis: (Vec3, Vec3),
+    scramble: (u32, u32),
+}
+
+impl Directions {
+    /// The directions of pixel `pixel` about unit normal `n`.
+    pub(crate) fn new(n: Vec3, pixel: (u32, u32)) -> Self {
+        Self { n, basis: basis(n), scramble: scramble(pixel.0, pixel.1) }
+    }
+
+    /// The direction of occlusion ray `s`.
+    pub(crate) fn get(self, s: u32) -> Vec3 {
+        let (a, b) = sobol2(s);
+        direction(self.n, self.basis, (unit(a ^ self.scramble.0), unit(b ^ self.scramble.1)))
+    }
+}
+
 /// The direction of occlusion ray `s` of pixel `pixel` at a point of unit normal `n`.
+#[cfg(test)]
 pub(crate) fn sample_direction(n: Vec3, pixel: (u32, u32), s: u32) -> Vec3 {
-    let (sx, sy) = scramble(pixel.0, pixel.1);
-    let (a, b) = sobol2(s);
-    direction(n, (unit(a ^ sx), unit(b ^ sy)))
+    Directions::new(n, pixel).get(s)
 }
 
 impl Tracer {
@@ -125,9 +146,10 @@ impl Tracer {
             return 0.0;
         }
         let from = Origin::Surface { sphere: object, normal: n };
+        let directions = Directions::new(n, pixel);
         let mut blocked = 0u32;
         for s in 0..ao.samples {
-            let ray = spawn_ray(p, n, sample_direction(n, pixel, s));
+            let ray = spawn_ray(p, n, directions.get(s));
             blocked += u32::from(self.accel.occluded(&ray, ao.distance, from));
         }
         counts.shadow += u64::from(ao.samples);
