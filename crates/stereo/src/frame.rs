@@ -14,7 +14,7 @@
 
 use std::time::Instant;
 
-use tracer::{Camera, EyeView, Film, PixelBatch, PixelBits, Pixels, Record, Renderer, Scene, Target, Tracer};
+use tracer::{Camera, Eye, EyeView, Film, PixelBatch, PixelBits, Pixels, Record, Renderer, Scene, Target, Tracer};
 
 use crate::fill::{fill, reproject_and_fill_exact, Fill};
 use crate::image::Image;
@@ -46,9 +46,10 @@ pub struct StereoFrame {
     /// Temporal reuse: what the last frame was, and what this one may keep of it.
     reuse: Temporal,
     /// Whether frames keep both eyes' depth ([`StereoFrame::set_depths`]), and the right
-    /// eye's.
+    /// eye's first hits: its depth and object planes.
     depths: bool,
     right_z: Vec<f32>,
+    right_object: Vec<u32>,
     /// The views the last frame was traced through.
     views: StereoViews,
 }
@@ -122,7 +123,8 @@ impl StereoFrame {
 
     /// Keeps both eyes' depth from now on (off for a new frame), as a timewarp reads it: the
     /// left film keeps its depth in every mode, and the right eye gets a depth pass of its
-    /// own (its first hits alone, no shading: [`StereoFrame::right_depth`]).
+    /// own (its first hits alone, no shading: [`StereoFrame::right_depth`]). Both eyes then
+    /// have their first hits' planes ([`StereoFrame::first_hits`]), which outlines read.
     pub fn set_depths(&mut self, on: bool) {
         self.depths = on;
     }
@@ -135,6 +137,17 @@ impl StereoFrame {
             &self.right_z
         } else {
             &[]
+        }
+    }
+
+    /// `eye`'s first hits in the last frame, (object, depth) per pixel, as
+    /// [`tracer::first_hits`] gives them: the left film's planes when it kept them, the
+    /// right eye's depth pass when frames keep depths ([`StereoFrame::set_depths`]).
+    #[must_use]
+    pub fn first_hits(&self, eye: Eye) -> Option<(&[u32], &[f32])> {
+        match eye {
+            Eye::Left => (self.left.record() != Record::Colour).then(|| (&self.left.object[..], &self.left.z[..])),
+            Eye::Right => self.depths.then(|| (&self.right_object[..], &self.right_z[..])),
         }
     }
 
@@ -214,6 +227,7 @@ impl StereoFrame {
             reuse,
             depths,
             right_z,
+            right_object,
             views,
         } = self;
         let [lv, rv] = &views.eyes;
@@ -265,7 +279,7 @@ impl StereoFrame {
         if *depths {
             // The right eye's depth, for a timewarp: its first hits alone.
             let t = Instant::now();
-            right_renderer.render(tracer, rv, Pixels::All, Target::depth(right_z));
+            right_renderer.render(tracer, rv, Pixels::All, Target::first_hits(right_object, right_z));
             stats.stages.depth = ms_since(t);
         }
         (stats.reuse, stats.pixels) = reuse.finish(mask, last.pixels);

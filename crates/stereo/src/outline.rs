@@ -1,8 +1,10 @@
 //! A stereo pair's outlines (`tracer`'s `cue/outline.rs`), each eye's drawn from that eye's
-//! own first hits ([`tracer::first_hits`]) onto a copy of its colours: the frame keeps its
-//! own colours as traced (a reused frame starts from them), and a right eye made by
-//! reprojection is outlined exactly as a fully traced one, since both eyes' planes are
-//! their own views' whatever the mode.
+//! own first hits onto a copy of its colours: the frame keeps its own colours as traced (a
+//! reused frame starts from them), and a right eye made by reprojection is outlined exactly
+//! as a fully traced one, since both eyes' planes are their own views' whatever the mode.
+//! The planes are the frame's where it kept them ([`StereoFrame::first_hits`]: the left
+//! film's, and the right eye's depth pass of a frame that keeps depths), else a first-hits
+//! pass of their own ([`tracer::first_hits`]), the same values.
 
 use tracer::{first_hits, outline, Eye, Outline, Renderer, Tracer};
 
@@ -58,8 +60,13 @@ impl Outlined {
         let view = frame.views().eyes[k];
         self.rgb[k].clear();
         self.rgb[k].extend_from_slice(rgb);
-        first_hits(&mut self.renderer, tracer, &view, &mut self.object, &mut self.z);
+        let (object, z) = if let Some(planes) = frame.first_hits(eye) {
+            planes
+        } else {
+            first_hits(&mut self.renderer, tracer, &view, &mut self.object, &mut self.z);
+            (&self.object[..], &self.z[..])
+        };
         let size = (view.width, view.height);
-        outline(&mut self.rgb[k], &self.object, &self.z, size, Outline::of_view(&view, width));
+        outline(&mut self.rgb[k], object, z, size, Outline::of_view(&view, width));
     }
 }

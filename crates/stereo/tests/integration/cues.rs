@@ -3,7 +3,7 @@
 //! count.
 
 use stereo::{Mode, Options, Outlined, StereoFrame};
-use tracer::{sized_cues, AmbientOcclusion, Cues, Scene, Tracer};
+use tracer::{sized_cues, AmbientOcclusion, Cues, Eye, Renderer, Scene, Tracer};
 
 /// `scene` with every cue on, sized to it: `samples` occlusion rays, Exp2 depth cueing,
 /// outlines `outline` pixels wide.
@@ -52,6 +52,31 @@ fn exact_is_full_with_every_cue_on_1tii() {
     let scene = Scene::load(path).unwrap();
     assert!(scene.render.cues.ambient_occlusion.is_on() && scene.render.cues.outline == 1, "on by default");
     exact_is_full(&scene, (200, 150));
+}
+
+#[test]
+fn a_frame_keeps_each_eyes_first_hits_as_a_pass_of_their_own_finds_them() {
+    // The planes outlines read: the left film's and the right eye's depth pass, in every
+    // mode, against a first-hits pass of each eye's view; none before depths are kept in
+    // full mode (the left film keeps colour alone).
+    let scene = with_cues(tracer::testing::scene("seed.toml"), 0, 1);
+    let tracer = Tracer::new(&scene, 0.4);
+    let mut frame = StereoFrame::new();
+    frame.render(&tracer, &scene.camera, 96, 54, Options { mode: Mode::Full, retrace_edges: false });
+    assert!(frame.first_hits(Eye::Left).is_none() && frame.first_hits(Eye::Right).is_none());
+    frame.set_depths(true);
+    for mode in [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact] {
+        frame.render(&tracer, &scene.camera, 96, 54, Options { mode, retrace_edges: false });
+        for (k, eye) in [Eye::Left, Eye::Right].into_iter().enumerate() {
+            let (mut object, mut z) = (Vec::new(), Vec::new());
+            tracer::first_hits(&mut Renderer::new(), &tracer, &frame.views().eyes[k], &mut object, &mut z);
+            let kept = frame.first_hits(eye).unwrap_or_else(|| panic!("{mode:?}: {eye:?}'s planes kept"));
+            assert_eq!(kept.0, &object[..], "{mode:?}: {eye:?}'s objects");
+            let bits = |z: &[f32]| z.iter().map(|z| z.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(kept.1), bits(&z), "{mode:?}: {eye:?}'s depths");
+            assert!(object.iter().any(|&o| o != tracer::NO_OBJECT), "something is seen");
+        }
+    }
 }
 
 #[test]

@@ -604,12 +604,14 @@ mod tests {
 
     /// A tree's nodes and leaves as bits: what two builds must agree on.
     fn tree_bits(bvh: &Bvh) -> (Vec<u32>, Vec<u32>) {
-        let nodes = bvh.nodes.iter().flat_map(|n| {
-            n.bounds.iter().flatten().flatten().map(|x| x.to_bits()).chain(n.child).chain([n.lanes])
-        });
-        let leaves = bvh.leaves.iter().flat_map(|l| {
-            l.center.iter().flatten().chain(&l.radius).map(|x| x.to_bits()).chain(l.ids)
-        });
+        let nodes = bvh
+            .nodes
+            .iter()
+            .flat_map(|n| n.bounds.iter().flatten().flatten().map(|x| x.to_bits()).chain(n.child).chain([n.lanes]));
+        let leaves = bvh
+            .leaves
+            .iter()
+            .flat_map(|l| l.center.iter().flatten().chain(&l.radius).map(|x| x.to_bits()).chain(l.ids));
         (nodes.collect(), leaves.collect())
     }
 

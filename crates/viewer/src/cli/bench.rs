@@ -108,6 +108,10 @@ impl Bench {
     ) -> Vec<Measured> {
         let mut results: Vec<Measured> =
             variants.iter().map(|&(name, ..)| Measured { name, frames: Vec::new(), quality: Vec::new() }).collect();
+        // The scene's outlines read each eye's first hits: the left film's, and the right
+        // eye's depth pass (timed with that eye).
+        let width = scene.render.cues.outline as f32;
+        self.frame.set_depths(width > 0.0);
         for &(_, mode, retrace_edges) in variants {
             self.frame.render(tracer, camera, w, h, Options { mode, retrace_edges });
         }
@@ -117,8 +121,8 @@ impl Bench {
             for (m, &(_, mode, retrace_edges)) in results.iter_mut().zip(variants) {
                 let mut stats = self.frame.render(tracer, camera, w, h, Options { mode, retrace_edges });
                 // The scene's outlines, each eye's timed with that eye.
-                let width = scene.render.cues.outline as f32;
                 if width > 0.0 {
+                    stats.right.ms += stats.stages.depth;
                     for (eye, ms) in [(Eye::Left, &mut stats.left.ms), (Eye::Right, &mut stats.right.ms)] {
                         let t = std::time::Instant::now();
                         self.outlined.draw(tracer, &self.frame, eye, width);
