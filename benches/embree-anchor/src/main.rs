@@ -20,13 +20,15 @@ use embree::{Device, Quality, Spheres};
 use whitted::Whitted;
 
 const USAGE: &str = "\
-embree-anchor [--spheres N,N,...] [--scene PATH ...] [--width W --height H] [--frames N]
+embree-anchor [--spheres N,N,...] [--deep N,N,...] [--scene PATH ...]
+              [--width W --height H] [--frames N]
               [--threads T] [--no-single] [--seed S] [--quality low|medium|high]
               [--tnear T] [--no-ftz] [--depth D] [--csv FILE] [--only ours|embree]
 
 Traces the left eye of each scene with stereotrace and with Embree 3 (the same rays), and
 prints markdown tables. Without --spheres or --scene: seed, many and thousand.toml and
-fields of 1k, 10k and 100k spheres. --depth overrides the scenes' reflection depth; --csv
+fields of 1k, 10k and 100k spheres; --deep adds deep fields (non-overlapping spheres
+filling the view frustum, src/field.rs). --depth overrides the scenes' reflection depth; --csv
 appends each scene's medians to a file (to take medians over runs); --only ours|embree
 times one side alone (for a profiler), skipping the other and the per-pixel comparison.";
 
@@ -40,6 +42,8 @@ enum Only {
 
 struct Args {
     spheres: Vec<usize>,
+    /// Deep fields' sizes (`field::deep`).
+    deep: Vec<usize>,
     scenes: Vec<PathBuf>,
     width: u32,
     height: u32,
@@ -62,8 +66,21 @@ fn parse_args() -> Result<Args, String> {
     fn num<T: std::str::FromStr>(s: &str, flag: &str) -> Result<T, String> {
         s.parse().map_err(|_| format!("{flag}: not a number: {s}"))
     }
+    fn sizes(list: &str, flag: &str) -> Result<Vec<usize>, String> {
+        list.split(',')
+            .map(|n| {
+                let n = n.trim().to_lowercase();
+                let (digits, scale) = match n.strip_suffix('k') {
+                    Some(d) => (d, 1_000),
+                    None => n.strip_suffix('m').map_or((n.as_str(), 1), |d| (d, 1_000_000)),
+                };
+                Ok(num::<usize>(digits, flag)? * scale)
+            })
+            .collect()
+    }
     let mut args = Args {
         spheres: Vec::new(),
+        deep: Vec::new(),
         scenes: Vec::new(),
         width: 1280,
         height: 720,
@@ -82,19 +99,8 @@ fn parse_args() -> Result<Args, String> {
     let value = |it: &mut dyn Iterator<Item = String>, flag: &str| it.next().ok_or(format!("{flag} needs a value"));
     while let Some(a) = it.next() {
         match a.as_str() {
-            "--spheres" => {
-                for n in value(&mut it, &a)?.split(',') {
-                    let n = n.trim().to_lowercase();
-                    let (digits, scale) = match n.strip_suffix('k') {
-                        Some(d) => (d.to_string(), 1_000),
-                        None => match n.strip_suffix('m') {
-                            Some(d) => (d.to_string(), 1_000_000),
-                            None => (n.clone(), 1),
-                        },
-                    };
-                    args.spheres.push(num::<usize>(&digits, &a)? * scale);
-                }
-            }
+            "--spheres" => args.spheres.extend(sizes(&value(&mut it, &a)?, &a)?),
+            "--deep" => args.deep.extend(sizes(&value(&mut it, &a)?, &a)?),
             "--scene" => args.scenes.push(value(&mut it, &a)?.into()),
             "--width" => args.width = num(&value(&mut it, &a)?, &a)?,
             "--height" => args.height = num(&value(&mut it, &a)?, &a)?,
@@ -125,7 +131,7 @@ fn parse_args() -> Result<Args, String> {
             _ => return Err(format!("unknown argument {a}\n\n{USAGE}")),
         }
     }
-    if args.spheres.is_empty() && args.scenes.is_empty() {
+    if args.spheres.is_empty() && args.deep.is_empty() && args.scenes.is_empty() {
         let scenes = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../assets/scenes");
         args.scenes = ["seed.toml", "many.toml", "thousand.toml"].iter().map(|s| scenes.join(s)).collect();
         args.spheres = vec![1_000, 10_000, 100_000];
@@ -626,6 +632,17 @@ fn main() -> ExitCode {
         let scene = field::field(n, args.seed);
         eprintln!("[field {}] generated in {:.0} ms", spheres_label(n), ms(t));
         rows.push(run(format!("field {}", spheres_label(n)), &scene, &args, &device, (&multi, &single)));
+    }
+    for &n in &args.deep {
+        let t = Instant::now();
+        let (scene, tries) = field::deep(n, args.seed);
+        let label = format!("deep {}", spheres_label(n));
+        let placed = scene.spheres.len();
+        eprintln!("[{label}] generated in {:.0} ms: {placed} spheres placed from {tries} candidates", ms(t));
+        if placed < n {
+            eprintln!("[{label}] note: only {placed} of {n} spheres fit");
+        }
+        rows.push(run(label, &scene, &args, &device, (&multi, &single)));
     }
     let v = device.version();
     println!("## stereotrace against Embree {}.{}.{}, same machine, same rays\n", v / 10000, v / 100 % 100, v % 100);
