@@ -188,7 +188,7 @@ mod tests {
             .iter()
             .map(|s| match s.motion {
                 Motion::Static(c) => (c, s.radius),
-                _ => unreachable!("deep fields are static"),
+                Motion::Orbit { .. } => unreachable!("deep fields are static"),
             })
             .collect();
         for (i, &(c, r)) in s.iter().enumerate() {
