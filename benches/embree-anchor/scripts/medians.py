@@ -8,6 +8,8 @@ Per scene: the median over runs of each run's median frame times (ours, and each
 configuration that ran: point1, point8, user1, user8), and of each run's ratios (ours ÷ that
 configuration's time). Embree best is the configuration with the lowest median wall time
 over the runs; its ratios (wall, CPU, one thread) and the range of its wall ratio follow.
+A second table gives the process-CPU-time ratios, ours ÷ each configuration (steadier than
+wall time on a shared machine), and the configuration with the least CPU time.
 Files from before the configurations (an `embree_ms` column: sphere points, single rays) read
 as point1.
 """
@@ -56,6 +58,16 @@ def main():
             f"| {fmt(rate(best), '.1f') if best else '–'} | {cell(best, 'ms_1')} "
             f"| {fmt(min(wall_best), '.2f')}–{fmt(max(wall_best), '.2f')} |".replace(",", "\u202f")
         )
+    print()
+    print("| scene | runs | CPU: ours ÷ point1 | CPU: ours ÷ point8 | CPU: ours ÷ user1 | CPU: ours ÷ user8 | least CPU time |")
+    print("|---|---:|---:|---:|---:|---:|---|")
+    for (scene, _, _, _), rows in by_scene.items():
+        f = lambda r, k: float(r[k]) if r.get(k) else float("nan")
+        ran = [c for c in CONFIGS if all(r.get(f"{c}_cpu_ms") for r in rows)]
+        cpu = {c: st.median(f(r, "ours_cpu_ms") / f(r, f"{c}_cpu_ms") for r in rows) for c in ran}
+        least = max(ran, key=lambda c: cpu[c]) if ran else "–"
+        cells = " | ".join(fmt(cpu[c], ".2f") if c in ran else "–" for c in CONFIGS)
+        print(f"| {scene} | {len(rows)} | {cells} | {least} |")
 
 
 if __name__ == "__main__":
