@@ -6,10 +6,12 @@
 //! to the light's distance (`rtcOccluded1`); then, while the depth is below `max_depth` and
 //! the sphere reflects, the mirror ray `spawn_ray(p, n, reflect(d, n))` (`rtcIntersect1`).
 //! Nothing is shaded: a running count of hits and lit lights keeps the work observable.
+//! With packets, a row's primary rays go eight neighbouring pixels at a time
+//! (`rtcIntersect8`), and each pixel's shadow and mirror rays follow as single rays.
 
 use glam::Vec3;
 use rayon::prelude::*;
-use tracer::{reflect, spawn_ray, EyeView, Light, RayCounts, Tracer};
+use tracer::{reflect, spawn_ray, EyeView, Light, Ray, RayCounts, Tracer};
 
 use crate::embree::Spheres;
 
@@ -36,6 +38,8 @@ pub struct Whitted<'a> {
     tnear: f32,
     /// Whether rows are traced in flush-to-zero and denormals-are-zero mode, as Embree asks.
     ftz: bool,
+    /// Whether primary rays go in packets of 8 (`rtcIntersect8`).
+    packets: bool,
 }
 
 /// The thread's MXCSR with flush-to-zero and denormals-are-zero set, restored on drop:
@@ -64,9 +68,10 @@ impl Drop for FlushToZero {
 }
 
 impl<'a> Whitted<'a> {
-    /// The tracer over `spheres`, built from `tracer`'s snapshot.
+    /// The tracer over `spheres`, built from `tracer`'s snapshot; with `packets`, primary
+    /// rays go eight at a time.
     #[must_use]
-    pub fn new(spheres: &'a Spheres<'a>, tracer: &'a Tracer, tnear: f32, ftz: bool) -> Self {
+    pub fn new(spheres: &'a Spheres<'a>, tracer: &'a Tracer, tnear: f32, ftz: bool, packets: bool) -> Self {
         let s = tracer.snapshot();
         Self {
             spheres,
@@ -76,6 +81,7 @@ impl<'a> Whitted<'a> {
             max_depth: tracer.settings().max_depth,
             tnear,
             ftz,
+            packets,
         }
     }
 
@@ -83,14 +89,21 @@ impl<'a> Whitted<'a> {
     /// With `probe`, shadow rays are asked as closest hits (slower) to find self-hits.
     #[inline]
     fn pixel(&self, view: &EyeView, i: u32, j: u32, probe: Option<&mut PixelTree>) -> (RayCounts, u64) {
+        let ray = view.primary_ray(i, j);
+        self.tree(ray, self.spheres.intersect(&ray, 0.0, f32::INFINITY), probe)
+    }
+
+    /// The rest of a pixel's ray tree, from its primary ray `ray` and that ray's first hit.
+    #[inline]
+    fn tree(&self, ray: Ray, first: Option<(f32, u32)>, probe: Option<&mut PixelTree>) -> (RayCounts, u64) {
         let mut counts = RayCounts { primary: 1, ..RayCounts::default() };
         let mut sum = 0u64;
-        let mut ray = view.primary_ray(i, j);
-        let mut tnear = 0.0;
+        let mut ray = ray;
+        let mut hit = first;
         let mut from = u32::MAX;
         let mut depth = 0;
         let mut probe = probe;
-        while let Some((t, k)) = self.spheres.intersect(&ray, tnear, f32::INFINITY) {
+        while let Some((t, k)) = hit {
             if let Some(p) = probe.as_deref_mut() {
                 if depth == 0 {
                     p.first = k;
@@ -126,7 +139,7 @@ impl<'a> Whitted<'a> {
             }
             counts.reflection += 1;
             ray = spawn_ray(p, n, reflect(ray.dir, n));
-            tnear = self.tnear;
+            hit = self.spheres.intersect(&ray, self.tnear, f32::INFINITY);
             from = k;
             depth += 1;
         }
@@ -138,10 +151,23 @@ impl<'a> Whitted<'a> {
         let _ftz = self.ftz.then(FlushToZero::on);
         let mut counts = RayCounts::default();
         let mut sum = 0;
-        for i in 0..view.width {
-            let (c, s) = self.pixel(view, i, j, None);
-            counts += c;
-            sum += s;
+        if self.packets {
+            for i0 in (0..view.width).step_by(8) {
+                let lanes = (view.width - i0).min(8) as usize;
+                let rays: [Ray; 8] = std::array::from_fn(|k| view.primary_ray((i0 + k as u32).min(view.width - 1), j));
+                let hits = self.spheres.intersect8(&rays, lanes);
+                for (&ray, &hit) in rays.iter().zip(&hits).take(lanes) {
+                    let (c, s) = self.tree(ray, hit, None);
+                    counts += c;
+                    sum += s;
+                }
+            }
+        } else {
+            for i in 0..view.width {
+                let (c, s) = self.pixel(view, i, j, None);
+                counts += c;
+                sum += s;
+            }
         }
         (counts, sum)
     }
