@@ -12,20 +12,34 @@ use crate::frame::StereoFrame;
 
 /// The outlined eyes of a pair, and the planes they were drawn from, kept from frame to
 /// frame.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Outlined {
     rgb: [Vec<u32>; 2],
+    /// How much of an outlined pixel's light the lines take ([`Outline::ink`]).
+    ink: f32,
     /// Traces the planes (its screen bins kept).
     renderer: Renderer,
     object: Vec<u32>,
     z: Vec<f32>,
 }
 
+impl Default for Outlined {
+    fn default() -> Self {
+        Self { rgb: Default::default(), ink: 1.0, renderer: Renderer::new(), object: Vec::new(), z: Vec::new() }
+    }
+}
+
 impl Outlined {
-    /// Empty buffers.
+    /// Empty buffers; black lines.
     #[must_use]
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Lines that take `ink` of an outlined pixel's light ([`Outline::ink`]; 1, black, is
+    /// the default) from the next frame drawn on.
+    pub fn set_ink(&mut self, ink: f32) {
+        self.ink = ink;
     }
 
     /// `frame`'s eyes (traced by `tracer`) with outlines `width` pixels of the traced eyes
@@ -67,6 +81,7 @@ impl Outlined {
             (&self.object[..], &self.z[..])
         };
         let size = (view.width, view.height);
-        outline(&mut self.rgb[k], object, z, size, Outline::of_view(&view, width));
+        let style = Outline { ink: self.ink, ..Outline::of_view(&view, width) };
+        outline(&mut self.rgb[k], object, z, size, style);
     }
 }

@@ -14,6 +14,7 @@
 use rayon::prelude::*;
 
 use crate::camera::EyeView;
+use crate::color::{linear_to_srgb8, srgb8_to_linear, unpack_rgb};
 use crate::render::{Pixels, Renderer, Target};
 use crate::surface::NO_OBJECT;
 use crate::tracer::Tracer;
@@ -29,13 +30,18 @@ pub struct Outline {
     /// The distance d from the eye to the window, so that z + d is a pixel's distance
     /// along the view axis.
     pub window: f32,
+    /// How much of an outlined pixel's light the line takes, in linear light: 1 turns it
+    /// black; a coarse frame's sample, k × k pixels of the image, takes the share of its
+    /// area a line of the image's width covers (`width / k`), so that its lines are as dark
+    /// on average as the image's and no wider.
+    pub ink: f32,
 }
 
 impl Outline {
-    /// Outlines `width` pixels of `view`'s planes wide.
+    /// Black outlines `width` pixels of `view`'s planes wide.
     #[must_use]
     pub fn of_view(view: &EyeView, width: f32) -> Self {
-        Self { width, window: view.distance }
+        Self { width, window: view.distance, ink: 1.0 }
     }
 }
 
@@ -81,10 +87,22 @@ pub fn outline(rgb: &mut [u32], object: &[u32], z: &[f32], (w, h): (u32, u32), s
                 }
             }
             for l in crate::bits::ones(&[drawn]) {
-                row[c0 + l as usize] = 0;
+                let out = &mut row[c0 + l as usize];
+                *out = inked(*out, style.ink);
             }
         }
     });
+}
+
+/// An outlined pixel's colour: black, or with `ink` below 1 its colour with that share of
+/// its linear light taken.
+fn inked(rgb: u32, ink: f32) -> u32 {
+    if ink >= 1.0 {
+        return 0;
+    }
+    let keep = 1.0 - ink.max(0.0);
+    let [r, g, b] = unpack_rgb(rgb).map(|v| u32::from(linear_to_srgb8(srgb8_to_linear(v) * keep)));
+    (r << 16) | (g << 8) | b
 }
 
 /// Pixels of a row drawn at once, a bit each of a word.

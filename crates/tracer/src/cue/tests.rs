@@ -176,12 +176,29 @@ fn outlines_fall_behind_a_silhouette_and_not_on_a_crease() {
     let object = [1, 1, 2, 2, 3, 3, crate::surface::NO_OBJECT].repeat(3);
     let z = [1.0, 1.0, 1.0, 1.0, 50.0, 50.0, f32::INFINITY].repeat(3);
     let mut rgb = vec![0x00ff_ffff; 21];
-    outline(&mut rgb, &object, &z, (7, 3), Outline { width: 1.0, window: 10.0 });
+    outline(&mut rgb, &object, &z, (7, 3), Outline { width: 1.0, window: 10.0, ink: 1.0 });
     let row: Vec<bool> = rgb[7..14].iter().map(|&c| c == 0).collect();
     assert_eq!(row, [false, false, false, false, true, false, true], "behind object 2, and the background");
     let mut wide = vec![0x00ff_ffff; 21];
-    outline(&mut wide, &object, &z, (7, 3), Outline { width: 2.0, window: 10.0 });
+    outline(&mut wide, &object, &z, (7, 3), Outline { width: 2.0, window: 10.0, ink: 1.0 });
     assert_eq!(wide[7..14].iter().filter(|&&c| c == 0).count(), 3, "two pixels behind object 2, one before the sky");
+}
+
+#[test]
+fn an_inked_outline_takes_its_share_of_the_light() {
+    // The silhouette of the test above with ink 1/4: the outlined pixels keep 3/4 of their
+    // linear light, the others all of it.
+    let object = [1, 1, 2, 2, 3, 3, crate::surface::NO_OBJECT].repeat(3);
+    let z = [1.0, 1.0, 1.0, 1.0, 50.0, 50.0, f32::INFINITY].repeat(3);
+    let grey = 0x00b4_b4b4;
+    let mut rgb = vec![grey; 21];
+    outline(&mut rgb, &object, &z, (7, 3), Outline { width: 1.0, window: 10.0, ink: 0.25 });
+    let kept = u32::from(crate::color::linear_to_srgb8(crate::color::srgb8_to_linear(0xb4) * 0.75));
+    assert!(kept < 0xb4 && kept > 0x80, "{kept:#x}");
+    let row = &rgb[7..14];
+    assert_eq!(row[4], kept * 0x0001_0101, "behind object 2");
+    assert_eq!(row[6], kept * 0x0001_0101, "the background");
+    assert_eq!(row[0..4], [grey; 4], "in front and on the crease");
 }
 
 #[test]
@@ -196,7 +213,7 @@ fn outlines_drawn_by_chunks_are_the_plain_definition_pixel_by_pixel() {
         let z: Vec<f32> =
             object.iter().map(|&o| if o == NO_OBJECT { f32::INFINITY } else { rng.range(0.0, 40.0) }).collect();
         for width in [0.5, 1.0, 1.5, 2.0, 3.0, 4.5, 8.0] {
-            let style = Outline { width, window: 10.0 };
+            let style = Outline { width, window: 10.0, ink: 1.0 };
             let mut rgb = vec![0x00ff_ffff; n];
             outline(&mut rgb, &object, &z, (w as u32, h as u32), style);
             let (reach, r2) = (width.floor() as isize, width * width);

@@ -162,6 +162,7 @@ impl Job {
         let guard = (guard.0.div_ceil(density), guard.1.div_ceil(density));
         let stats = self.frame.render_banded(&self.tracer, &request.camera, samples, guard, request.opts);
         self.outline = outline_width(self.scene.render.cues.outline, samples, eye);
+        self.outlined.set_ink(outline_ink(self.scene.render.cues.outline, density));
         let rgb = self.outlined.eyes(&self.tracer, &self.frame, self.outline);
         self.back.fill_from((&self.frame, rgb), &request, &mut self.cut);
         let quality = request.psnr.then(|| {
@@ -187,6 +188,14 @@ impl Job {
     }
 }
 
+/// The share of an outlined sample's light its line takes, for outlines `px` pixels wide
+/// traced at one sample per `density` × `density` pixels: the share of the sample's area a
+/// line `px` pixels wide covers (all of it in a full frame), so that a coarse frame's lines
+/// are as dark on average as the image's, not `density` pixels wide and black.
+fn outline_ink(px: u32, density: u32) -> f32 {
+    (px as f32 / density.max(1) as f32).min(1.0)
+}
+
 /// The outline width, in samples, for outlines `px` pixels wide on an eye of `eye` pixels
 /// traced at `samples`: `px` times the supersampling, as `render` draws them; a coarse
 /// frame's at least one sample, so that they do not come and go as the head moves.
@@ -198,4 +207,21 @@ fn outline_width(px: u32, samples: (u32, u32), eye: (u32, u32)) -> f32 {
         return 1.0;
     }
     (px * (samples.0 / eye.0.max(1))) as f32
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_coarse_frames_outline_is_one_sample_wide_and_as_dark_as_its_share() {
+        // A full frame: black lines of the scene's width, times the supersampling.
+        assert_eq!((outline_width(1, (800, 600), (800, 600)), outline_ink(1, 1)), (1.0, 1.0));
+        assert_eq!(outline_width(2, (1600, 1200), (800, 600)), 4.0);
+        // One sample per 4 × 4 pixels: a line of one sample, a quarter of its light taken.
+        assert_eq!((outline_width(1, (200, 150), (800, 600)), outline_ink(1, 4)), (1.0, 0.25));
+        assert_eq!(outline_ink(2, 16), 0.125);
+        assert_eq!(outline_ink(3, 2), 1.0, "never more than all of it");
+        assert_eq!(outline_width(0, (200, 150), (800, 600)), 0.0, "none");
+    }
 }
