@@ -34,13 +34,18 @@
 //!
 //! **Bins or the BVH.** Binning costs every sphere's bound, every frame, whatever the
 //! pixels: on a 2.9M-atom capsid ~0.5 s an eye even at 50 × 38. A BVH query per ray
-//! costs the rays. So a view with more than [`BINS_SPHERES_PER_RAY`] spheres a traced
-//! pixel is not binned: each primary ray goes through the aggregate's BVH instead
+//! costs the rays. Between the two, a view of up to [`SLICED_SPHERES_PER_RAY`] spheres a
+//! pixel bins only the nearest ([`SLICED_KEPT_PER_RAY`] a pixel, by their distance from
+//! the eye, cut at a histogram's bin edge): a hit nearer than the cut is the first hit,
+//! since no other sphere begins before it, and only the other rays go through the BVH.
+//! Beyond that (or above [`SLICED_MAX_SPHERES`]), a view is not binned at all: each
+//! primary ray goes through the aggregate's BVH instead
 //! ([`Aggregate::first_hit_in`]), which breaks ties as the bins do (of equal `t`, the lowest
 //! sphere id), so the pixels are the same bit for bit (`render/both_ways.rs` tests it). The
 //! ratio is where the measured crossover lies (`docs/performance-notes.md`, benchmark
 //! `first_hits`): the bundled scenes stay on the bins at every size down to 50 × 38, a
-//! structure goes to the BVH at small sizes, the capsid at every size.
+//! structure goes to the sliced bins or the BVH at small sizes, the capsid to the BVH at
+//! every size.
 
 #![expect(
     clippy::inline_always,
@@ -49,6 +54,7 @@
 
 use fearless_simd::{prelude::*, Simd};
 use glam::{DVec3, Vec3};
+use rayon::prelude::*;
 
 use super::Aggregate;
 use crate::camera::EyeView;
@@ -68,6 +74,9 @@ pub(crate) enum Search {
     /// Through the screen bins: each tile's spheres tested in lanes.
     #[default]
     Bins,
+    /// Through screen bins of the nearest spheres alone ([`ScreenBins::build`]), and for
+    /// the rays that meet none of them nearer than the rest can be, the BVH.
+    Sliced,
     /// Through the aggregate's BVH, one ray at a time ([`Aggregate::first_hit_in`]).
     Bvh,
 }
@@ -77,13 +86,28 @@ impl Search {
     /// doc): the bins up to [`BINS_SPHERES_PER_RAY`] spheres a ray, the BVH beyond.
     #[must_use]
     pub(crate) fn cheaper(spheres: usize, rays: u64) -> Self {
-        if spheres as f64 > BINS_SPHERES_PER_RAY * rays as f64 {
-            Self::Bvh
-        } else {
+        let per_ray = spheres as f64 / rays.max(1) as f64;
+        if per_ray <= BINS_SPHERES_PER_RAY {
             Self::Bins
+        } else if per_ray <= SLICED_SPHERES_PER_RAY && spheres <= SLICED_MAX_SPHERES {
+            Self::Sliced
+        } else {
+            Self::Bvh
         }
     }
 }
+
+/// Spheres per primary ray up to which the nearest spheres are binned and the other rays go
+/// through the BVH ([`Search::Sliced`]).
+pub(crate) const SLICED_SPHERES_PER_RAY: f64 = 2.0;
+
+/// Spheres per primary ray a sliced view bins, the nearest (at most half of them):
+/// measured on the deep field of a million spheres at 1280×720 (0.05–0.6 tried; 0.2 the
+/// fastest, `benches/embree-anchor`).
+pub(crate) const SLICED_KEPT_PER_RAY: f64 = 0.2;
+
+/// Most spheres a view slices: its bins keep a rectangle of 8 bytes for every sphere.
+pub(crate) const SLICED_MAX_SPHERES: usize = 1 << 21;
 
 /// Spheres per primary ray above which the BVH finds an eye's first hits faster than
 /// binning every sphere for the frame would (measured: `docs/performance-notes.md`).
@@ -107,7 +131,18 @@ pub(crate) struct ScreenBins {
     rects: Vec<[u16; 4]>,
     /// Scratch: spheres placed so far in each tile.
     fill: Vec<u32>,
+    /// With [`Search::Sliced`], the distance from the eye beyond which no binned sphere
+    /// begins (+∞ when every sphere is binned): a hit nearer than it (with a margin) is the
+    /// first, any other ray goes through the BVH.
+    cut: f32,
 }
+
+/// Distance bins of the sliced search's histogram of the spheres' nearest distances.
+const SLICES: usize = 1024;
+
+/// A hit nearer than this share of the cut is nearer than any unbinned sphere can be hit,
+/// whatever the rounding of either.
+const CUT_MARGIN: f32 = 1.0 - 1e-4;
 
 /// The tile rectangle of a sphere no primary ray can hit.
 const NO_RECT: [u16; 4] = [u16::MAX; 4];
@@ -195,14 +230,26 @@ impl ScreenBins {
     /// sends every primary ray through the BVH.
     pub(crate) fn build(&mut self, (centers, radii): (&[Vec3], &[f32]), view: &EyeView, search: Search) {
         self.search = search;
+        self.cut = f32::INFINITY;
         if search == Search::Bvh {
             return;
         }
         self.tiles_x = view.width.div_ceil(TILE);
         let tiles_y = view.height.div_ceil(TILE);
         let tiles = (self.tiles_x * tiles_y) as usize;
+        if search == Search::Sliced {
+            let rays = f64::from(view.width) * f64::from(view.height);
+            let keep = ((SLICED_KEPT_PER_RAY * rays) as usize).min(centers.len() / 2);
+            self.cut = nearest_cut((centers, radii), view.origin, keep);
+        }
+        let cut = self.cut;
         self.rects.clear();
-        self.rects.extend(centers.iter().zip(radii).map(|(&c, &r)| tile_rect(view, c, r)));
+        self.rects.resize(centers.len(), NO_RECT);
+        self.rects.par_iter_mut().zip(centers.par_iter().zip(radii)).for_each(|(rect, (&c, &r))| {
+            if cut == f32::INFINITY || nearest(view.origin, c, r) < cut {
+                *rect = tile_rect(view, c, r);
+            }
+        });
         // Counting sort of the spheres into tiles.
         self.fill.clear();
         self.fill.resize(tiles, 0);
@@ -255,15 +302,15 @@ impl ScreenBins {
     #[inline]
     #[must_use]
     pub(crate) fn is_empty_at(&self, i: u32, j: u32) -> bool {
-        self.search == Search::Bins && self.bin_is_empty_at(i, j)
+        self.search != Search::Bvh && self.bin_is_empty_at(i, j)
     }
 
     /// [`ScreenBins::is_empty_at`] for bins built ([`Search::Bins`]).
     #[inline]
     #[must_use]
     pub(crate) fn bin_is_empty_at(&self, i: u32, j: u32) -> bool {
-        debug_assert_eq!(self.search, Search::Bins, "bins built");
-        self.spheres_at(i, j).is_empty()
+        debug_assert_ne!(self.search, Search::Bvh, "bins built");
+        self.cut == f32::INFINITY && self.spheres_at(i, j).is_empty()
     }
 
     /// The first hits of the primary rays of `view` (for which the bins were built) through
@@ -313,8 +360,62 @@ impl ScreenBins {
             t_best = nearer.select(t, t_best);
             best = nearer.select(U::<S>::splat(simd, k), best);
         }
+        if self.cut < f32::INFINITY {
+            // Sliced: the lanes whose hit is not surely nearer than every unbinned sphere
+            // search again, through the BVH (from scratch: its answer is the whole one).
+            let open = t_best.simd_ge(F::<S>::splat(simd, self.cut * CUT_MARGIN)).to_bitmask() as u32;
+            let open = open & mask & ((1u64 << F::<S>::LEN) - 1) as u32;
+            if open != 0 {
+                let n = F::<S>::LEN;
+                let mut dirs = [[0f32; 16]; 3];
+                for (a, lanes) in dirs.iter_mut().enumerate() {
+                    d[a].store_slice(&mut lanes[..n]);
+                }
+                let (t, ids) = bvh_hits(accel, o, &dirs, open);
+                let (mut tb, mut bb) = ([0f32; 16], [0u32; 16]);
+                t_best.store_slice(&mut tb[..n]);
+                best.store_slice(&mut bb[..n]);
+                for l in crate::bits::ones(&[u64::from(open)]).map(|l| l as usize) {
+                    (tb[l], bb[l]) = (t[l], ids[l]);
+                }
+                return (F::<S>::from_slice(simd, &tb[..n]), U::<S>::from_slice(simd, &bb[..n]), d);
+            }
+        }
         (t_best, best, d)
     }
+}
+
+/// How near the eye at `origin` the sphere (`c`, `r`) begins: no ray from there meets it
+/// at a smaller `t`.
+fn nearest(origin: Vec3, c: Vec3, r: f32) -> f32 {
+    ((c.as_dvec3() - origin.as_dvec3()).length() - f64::from(r)) as f32
+}
+
+/// A distance from `origin` within which at most `keep` of the spheres begin (about that
+/// many: a histogram's bin edge): the sliced search's cut.
+fn nearest_cut((centers, radii): (&[Vec3], &[f32]), origin: Vec3, keep: usize) -> f32 {
+    let near = |(&c, &r): (&Vec3, &f32)| nearest(origin, c, r);
+    let (lo, hi) = centers
+        .iter()
+        .zip(radii)
+        .map(near)
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), d| (lo.min(d), hi.max(d)));
+    if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
+        return f32::INFINITY;
+    }
+    let scale = SLICES as f32 / (hi - lo);
+    let mut counts = [0u32; SLICES];
+    for d in centers.iter().zip(radii).map(near) {
+        counts[(((d - lo) * scale) as usize).min(SLICES - 1)] += 1;
+    }
+    let mut total = 0usize;
+    for (k, &n) in counts.iter().enumerate() {
+        total += n as usize;
+        if total > keep {
+            return lo + k as f32 / scale;
+        }
+    }
+    f32::INFINITY
 }
 
 /// The first hits through the BVH of the rays from `o` along `dirs` (per lane) that `mask`

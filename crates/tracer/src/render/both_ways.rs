@@ -42,6 +42,7 @@ fn every_target(
 fn assert_alike(name: &str, tracer: &Tracer, view: &EyeView, swept: &Swept) -> usize {
     let bins = every_target(tracer, view, swept, FirstHits::Bins);
     let bvh = every_target(tracer, view, swept, FirstHits::Bvh);
+    assert_eq!(every_target(tracer, view, swept, FirstHits::Sliced), bvh, "{name}: the sliced bins, then BVH");
     let (w, h) = (view.width, view.height);
     let (a, b) = (&bins.0, &bvh.0);
     for k in 0..a.0.len() {
@@ -171,6 +172,7 @@ fn selections_and_batches_are_alike_through_the_bins_and_the_bvh() {
                 (planes(&film), only, rows, counts, tests, missed)
             };
             assert_eq!(run(FirstHits::Bins), run(FirstHits::Bvh), "{name} {w}×{h}");
+            assert_eq!(run(FirstHits::Sliced), run(FirstHits::Bvh), "{name} {w}×{h}: sliced");
         }
     }
 }
@@ -184,5 +186,7 @@ fn the_cheaper_search_is_the_bins_for_the_bundled_scenes_and_the_bvh_for_crowds(
         assert_eq!(search, Search::Bins, "{name} at 50×38");
     }
     assert_eq!(Search::cheaper(2_900_000, 800 * 600), Search::Bvh, "a capsid at 800×600");
+    assert_eq!(Search::cheaper(1_000_000, 1280 * 720), Search::Sliced, "a million spheres at 1280×720");
+    assert_eq!(Search::cheaper(2_900_000, 1920 * 1080), Search::Bvh, "a capsid: too many to slice");
     assert_eq!(Search::cheaper(1_000, 1), Search::Bvh, "a thousand spheres for one pixel");
 }

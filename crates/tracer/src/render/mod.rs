@@ -53,6 +53,9 @@ pub enum FirstHits {
     Cheaper,
     /// Always the screen bins.
     Bins,
+    /// Always screen bins of the nearest spheres (at most half of them), the BVH for the
+    /// rays that meet none of those nearer than the others begin.
+    Sliced,
     /// Always the BVH, a ray at a time.
     Bvh,
 }
@@ -63,6 +66,7 @@ impl FirstHits {
         match self {
             Self::Cheaper => Search::cheaper(tracer.scene.centers.len(), rays),
             Self::Bins => Search::Bins,
+            Self::Sliced => Search::Sliced,
             Self::Bvh => Search::Bvh,
         }
     }
