@@ -340,22 +340,8 @@ unsafe extern "C" fn user_intersect(args: *const ffi::RTCIntersectFunctionNArgum
         if unsafe { *args.valid.add(i) } == 0 {
             continue;
         }
-        let (o, d, tnear, tfar) = unsafe {
-            (
-                Vec3::new(*at(0, i), *at(1, i), *at(2, i)),
-                Vec3::new(*at(4, i), *at(5, i), *at(6, i)),
-                *at(3, i),
-                *at(8, i),
-            )
-        };
-        let Some((t0, t1)) = sphere_roots(o, d, c, r) else { continue };
-        let t = if tnear <= t0 && t0 <= tfar {
-            t0
-        } else if tnear <= t1 && t1 <= tfar {
-            t1
-        } else {
-            continue;
-        };
+        let (o, d) = unsafe { ray_of(f, n, i) };
+        let Some(t) = (unsafe { hit_within(f, n, i, (c, r)) }) else { continue };
         let ng = o + d * t - c;
         unsafe {
             *at(8, i) = t;
@@ -381,25 +367,34 @@ unsafe extern "C" fn user_occluded(args: *const ffi::RTCOccludedFunctionNArgumen
     let [x, y, z, r] = spheres.spheres[args.prim_id as usize];
     let c = Vec3::new(x, y, z);
     let f = args.ray.cast::<f32>();
-    let at = |k: usize, i: usize| unsafe { f.add(k * n + i) };
     for i in 0..n {
-        if unsafe { *args.valid.add(i) } == 0 {
-            continue;
-        }
-        let (o, d, tnear, tfar) = unsafe {
-            (
-                Vec3::new(*at(0, i), *at(1, i), *at(2, i)),
-                Vec3::new(*at(4, i), *at(5, i), *at(6, i)),
-                *at(3, i),
-                *at(8, i),
-            )
-        };
-        if let Some((t0, t1)) = sphere_roots(o, d, c, r) {
-            if (tnear <= t0 && t0 <= tfar) || (tnear <= t1 && t1 <= tfar) {
-                unsafe { *at(8, i) = f32::NEG_INFINITY };
-            }
+        if unsafe { *args.valid.add(i) } != 0 && unsafe { hit_within(f, n, i, (c, r)) }.is_some() {
+            unsafe { *f.add(8 * n + i) = f32::NEG_INFINITY };
         }
     }
+}
+
+/// Ray `i` of `n` in SoA layout at `f` (`RTCRayN`): its origin and direction.
+///
+/// # Safety
+///
+/// `f` points at `n` rays' fields, and `i < n`.
+unsafe fn ray_of(f: *const f32, n: usize, i: usize) -> (Vec3, Vec3) {
+    let at = |k: usize| unsafe { *f.add(k * n + i) };
+    (Vec3::new(at(0), at(1), at(2)), Vec3::new(at(4), at(5), at(6)))
+}
+
+/// Where ray `i` of `n` (SoA at `f`) meets the sphere (`c`, `r`) within its [tnear, tfar]:
+/// the entry if there, else the exit.
+///
+/// # Safety
+///
+/// As [`ray_of`].
+unsafe fn hit_within(f: *const f32, n: usize, i: usize, (c, r): (Vec3, f32)) -> Option<f32> {
+    let (o, d) = unsafe { ray_of(f, n, i) };
+    let (tnear, tfar) = unsafe { (*f.add(3 * n + i), *f.add(8 * n + i)) };
+    let (t0, t1) = sphere_roots(o, d, c, r)?;
+    [t0, t1].into_iter().find(|&t| tnear <= t && t <= tfar)
 }
 
 /// The BVH's build quality (`RTCBuildQuality`).
