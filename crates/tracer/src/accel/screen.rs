@@ -83,7 +83,8 @@ pub(crate) enum Search {
 
 impl Search {
     /// The cheaper search for `spheres` spheres and `rays` primary rays (see the module
-    /// doc): the bins up to [`BINS_SPHERES_PER_RAY`] spheres a ray, the BVH beyond.
+    /// doc): the bins up to [`BINS_SPHERES_PER_RAY`] spheres a ray, the sliced bins up to
+    /// [`SLICED_SPHERES_PER_RAY`] (and [`SLICED_MAX_SPHERES`]), the BVH beyond.
     #[must_use]
     pub(crate) fn cheaper(spheres: usize, rays: u64) -> Self {
         let per_ray = spheres as f64 / rays.max(1) as f64;
