@@ -12,7 +12,7 @@ use crate::cli::timewarp::median;
 use crate::setup::FrameSetup;
 
 /// The CSV's header.
-pub const HEADER: &str = "frame,t_s,phase,seq,age_ms,guessed_share,warped,density,spp,converged,yaw_deg,pitch_deg,x,y,z,psnr_db,share_over_2_255";
+pub const HEADER: &str = "frame,t_s,phase,seq,age_ms,guessed_share,warped,density,spp,converged,yaw_deg,pitch_deg,x,y,z,psnr_db,share_over_2_255,fresh_psnr_db";
 
 /// The value at the nearest rank `p` (0..=1) of `v` (+∞ sorts last); NaN when empty.
 pub fn percentile(mut v: Vec<f64>, p: f64) -> f64 {
@@ -47,6 +47,9 @@ pub struct Stats {
     pub density_median: f64,
     pub spp_median: f64,
     pub converged_share: f64,
+    /// The scored frames' poses traced fresh at one sample a pixel (`score.rs`).
+    pub fresh_median: f64,
+    pub fresh_p10: f64,
 }
 
 impl Stats {
@@ -55,6 +58,7 @@ impl Stats {
         let frames: Vec<&Frame> = which.iter().map(|&k| &recording.frames[k]).collect();
         let quality: Vec<_> = which.iter().filter_map(|&k| scored.quality[k]).collect();
         let psnr = || quality.iter().map(|q| q.psnr_db).collect::<Vec<_>>();
+        let fresh = || which.iter().filter_map(|&k| scored.fresh[k]).map(|q| q.psnr_db).collect::<Vec<_>>();
         let of = |f: fn(&Frame) -> f64| frames.iter().map(|&fr| f(fr)).collect::<Vec<_>>();
         let converged = frames.iter().filter(|f| f.sampling.converged).count();
         Self {
@@ -69,6 +73,8 @@ impl Stats {
             density_median: median(of(|f| f64::from(f.sampling.density))),
             spp_median: median(of(|f| f64::from(f.sampling.spp))),
             converged_share: converged as f64 / frames.len().max(1) as f64,
+            fresh_median: median(fresh()),
+            fresh_p10: percentile(fresh(), 0.1),
         }
     }
 
@@ -80,6 +86,7 @@ impl Stats {
             "share_over_2_255": {"median": finite(self.over_median)},
             "age_ms": {"median": finite(self.age_median), "p90": finite(self.age_p90)},
             "guessed_share": {"median": finite(self.guessed_median)},
+            "fresh": {"psnr_db": {"median": finite(self.fresh_median), "p10": finite(self.fresh_p10)}},
             "sampling": {
                 "density": {"median": finite(self.density_median)},
                 "spp": {"median": finite(self.spp_median)},
@@ -196,8 +203,8 @@ impl<'a> Summary<'a> {
         );
         let _ = writeln!(
             out,
-            "{:<9} {:>7} {:>7} {:>9} {:>8} {:>8} {:>9} {:>9} {:>9}",
-            "part", "frames", "scored", "PSNR dB", "p10", ">2/255", "age ms", "age p90", "guessed"
+            "{:<9} {:>7} {:>7} {:>9} {:>8} {:>8} {:>9} {:>9} {:>9} {:>9}",
+            "part", "frames", "scored", "PSNR dB", "p10", ">2/255", "age ms", "age p90", "guessed", "fresh dB"
         );
         // No frames: a dash; an infinite PSNR (identical): inf.
         let num = |v: f64, f: &dyn Fn(f64) -> String| if v.is_nan() { "-".into() } else { f(v) };
@@ -207,7 +214,7 @@ impl<'a> Summary<'a> {
         for (name, s) in [("all", &self.all), ("moving", &self.moving), ("resting", &self.resting)] {
             let _ = writeln!(
                 out,
-                "{name:<9} {:>7} {:>7} {:>9} {:>8} {:>8} {:>9} {:>9} {:>9}",
+                "{name:<9} {:>7} {:>7} {:>9} {:>8} {:>8} {:>9} {:>9} {:>9} {:>9}",
                 s.frames,
                 s.scored,
                 db(s.psnr_median),
@@ -215,7 +222,8 @@ impl<'a> Summary<'a> {
                 percent(s.over_median),
                 ms(s.age_median),
                 ms(s.age_p90),
-                percent(s.guessed_median)
+                percent(s.guessed_median),
+                db(s.fresh_median)
             );
         }
         let s = a.max_supersample;
@@ -253,9 +261,14 @@ pub fn csv(recording: &Recording, scored: &Scored) -> String {
             Some(q) => ("inf".into(), format!("{:.6}", q.share_over_2_255)),
             None => (String::new(), String::new()),
         };
+        let fresh = match scored.fresh[k] {
+            Some(q) if q.psnr_db.is_finite() => format!("{:.3}", q.psnr_db),
+            Some(_) => "inf".into(),
+            None => String::new(),
+        };
         let _ = writeln!(
             out,
-            "{k},{:.4},{},{},{:.3},{:.6},{},{},{},{},{},{},{},{},{},{psnr},{over}",
+            "{k},{:.4},{},{},{:.3},{:.6},{},{},{},{},{},{},{},{},{},{psnr},{over},{fresh}",
             f.tick.t,
             if f.tick.moving { "moving" } else { "resting" },
             f.seq,

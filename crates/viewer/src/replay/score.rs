@@ -10,6 +10,12 @@
 //! their reference is a whole stereo frame at S, one reused for every pose (`run` checks
 //! that it fits in memory). A reference is traced again only when the pose changes: a
 //! resting head's frames share one.
+//!
+//! Each scored frame's pose is also traced fresh at one sample a pixel, in the same mode,
+//! and scored against the same reference: the score of a frame of no age with nothing
+//! guessed, the best any policy that shows one sample a pixel can do at that pose
+//! (`fresh` in the reports). Only samples beyond one a pixel, and only at rest the
+//! refinement's, score above it.
 
 use std::sync::atomic::{AtomicU32, Ordering};
 
@@ -33,6 +39,8 @@ pub struct Reference {
     frame: StereoFrame,
     /// Each eye at the eye size.
     eyes: [Vec<u32>; 2],
+    /// Each eye traced at one sample a pixel.
+    fresh: [Vec<u32>; 2],
     /// The pose `eyes` are of.
     at: Option<Camera>,
 }
@@ -52,8 +60,28 @@ impl Reference {
             traced: Vec::new(),
             frame: StereoFrame::new(),
             eyes: Default::default(),
+            fresh: Default::default(),
             at: None,
         }
+    }
+
+    /// The scores of both eyes traced at `pose` at one sample a pixel, in the reference's
+    /// mode, against the converged picture there.
+    pub fn fresh(&mut self, pose: &Camera) -> Quality {
+        self.at(pose);
+        let ((w, h), [left, right]) = (self.eye, &mut self.fresh);
+        if self.opts.mode == Mode::Full {
+            for (eye, out) in [(Eye::Left, left), (Eye::Right, right)] {
+                let view = pose.view(eye, w, h);
+                self.renderer.render(&self.tracer, &view, Pixels::All, Target::colour(out));
+            }
+        } else {
+            self.frame.render(&self.tracer, pose, w, h, self.opts);
+            left.clone_from(&self.frame.left().rgb);
+            right.clone_from(&self.frame.right().rgb);
+        }
+        let (fresh, eyes) = (&self.fresh, &self.eyes);
+        both_eyes(Quality::compare(&fresh[0], &eyes[0]), Quality::compare(&fresh[1], &eyes[1]))
     }
 
     /// Both eyes of the converged picture at `pose`, at the eye size.
@@ -82,6 +110,8 @@ impl Reference {
 pub struct Scored {
     /// Per presented frame, its scores when it was scored.
     pub quality: Vec<Option<Quality>>,
+    /// Per scored frame, the scores of a fresh trace at one sample a pixel at its pose.
+    pub fresh: Vec<Option<Quality>>,
     /// Seconds from the head's stop to the first presented pair equal to the converged
     /// picture at the rest pose; `None` if none was.
     pub converge_s: Option<f64>,
@@ -101,7 +131,8 @@ pub fn score(setup: &FrameSetup, args: &ReplayArgs, recording: &Recording, press
     let time = if setup.scene.is_animated() { args.frame.time } else { 0.0 };
     let opts = Options { mode: args.mode, retrace_edges: false };
     let mut reference = Reference::new(setup, (time, setup.scene.render.max_depth), opts, eye, args.max_supersample);
-    let mut scored = Scored { quality: vec![None; recording.frames.len()], ..Scored::default() };
+    let n = recording.frames.len();
+    let mut scored = Scored { quality: vec![None; n], fresh: vec![None; n], ..Scored::default() };
     let todo = recording.frames.iter().filter(|f| f.kept.is_some()).count();
     let bar = indicatif::ProgressBar::new(todo as u64).with_style(
         indicatif::ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} frames scored")
@@ -125,7 +156,9 @@ pub fn score(setup: &FrameSetup, args: &ReplayArgs, recording: &Recording, press
             );
         }
         let kept = &recording.kept[index];
-        let [left, right] = reference.at(&frame.tick.pose);
+        let pose = &frame.tick.pose;
+        scored.fresh[k] = Some(reference.fresh(pose));
+        let [left, right] = reference.at(pose);
         scored.quality[k] = Some(both_eyes(Quality::compare(&kept.left, left), Quality::compare(&kept.right, right)));
         done += 1;
         bar.inc(1);

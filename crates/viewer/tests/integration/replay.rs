@@ -7,7 +7,7 @@ use serde_json::Value;
 
 use crate::common::{interrupted, read_rgb_png, stereotrace, tmp, with_flag};
 
-const HEADER: &str = "frame,t_s,phase,seq,age_ms,guessed_share,warped,density,spp,converged,yaw_deg,pitch_deg,x,y,z,psnr_db,share_over_2_255";
+const HEADER: &str = "frame,t_s,phase,seq,age_ms,guessed_share,warped,density,spp,converged,yaw_deg,pitch_deg,x,y,z,psnr_db,share_over_2_255,fresh_psnr_db";
 
 /// `replay` on the seed scene at a tiny size with `extra` arguments.
 fn replay(extra: &[&str]) -> std::process::Output {
@@ -30,6 +30,9 @@ fn number_or_null(v: &Value, path: &str) {
 fn check_part(p: &Value, name: &str) {
     for (key, tail) in [("psnr_db", "median"), ("psnr_db", "p10"), ("share_over_2_255", "median")] {
         number_or_null(&p[key][tail], &format!("{name}.{key}.{tail}"));
+    }
+    for tail in ["median", "p10"] {
+        number_or_null(&p["fresh"]["psnr_db"][tail], &format!("{name}.fresh.psnr_db.{tail}"));
     }
     for (key, tail) in [("age_ms", "median"), ("age_ms", "p90"), ("guessed_share", "median")] {
         let v = p[key][tail].as_f64().unwrap_or_else(|| panic!("{name}.{key}.{tail} is not a number: {p}"));
@@ -80,6 +83,8 @@ fn a_resting_head_converges_to_the_reference() {
     let r = json(&[&still[..], &["--policy", "fixed", "--max-supersample", "2"]].concat());
     assert_eq!(r["converge_s"], Value::Null, "one sample a pixel is not the 2 × 2 picture: {r}");
     assert!(r["resting"]["psnr_db"]["median"].is_number(), "{r}");
+    // At rest, `fixed` shows the pose traced at one sample a pixel: `fresh`'s own score.
+    assert_eq!(r["resting"]["psnr_db"], r["resting"]["fresh"]["psnr_db"], "{r}");
     // The progressive policy refines the resting pose to 2 × 2 samples a pixel: the
     // reference, byte for byte.
     let r = json(&[&still[..], &["--policy", "progressive", "--max-supersample", "2"]].concat());
@@ -124,6 +129,7 @@ fn the_csv_has_a_row_per_presented_frame_and_the_plot_is_drawn() {
         last_t = t;
         assert_eq!(row[2], if t < 0.3 { "moving" } else { "resting" }, "{row:?}");
         assert_eq!(row[15].is_empty(), k % 3 != 0, "every 3rd frame scored: {row:?}");
+        assert_eq!(row[17].is_empty(), row[15].is_empty(), "a scored frame's fresh trace too: {row:?}");
     }
     let (w, h, rgb) = read_rgb_png(&plot);
     assert_eq!((w, h), (1000, 760), "the plot's size");
