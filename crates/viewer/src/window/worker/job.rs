@@ -93,7 +93,22 @@ impl Job {
         if density > 1 || !only_time {
             self.progress.measured(&request, density, info.wall_ms);
         }
-        self.progress.traced((request, posted), (density, self.scene.render.cues.outline), info.wall_ms, self.memory);
+        if only_time && self.progress.advance((request, posted), &self.tracer) {
+            // The resting pair's refinement follows the orbits to this instant; what is
+            // shown is its pair, the next part of its work done first, so that it also
+            // refines while the orbits keep posting requests.
+            self.progress.refine.step(&self.tracer);
+            self.progress.paint(&self.tracer, &mut self.back.eyes, (request.anaglyph, request.swap));
+            let sampling = self.progress.sampling(&request, 1);
+            let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+            for info in [&mut self.back.info, &mut self.last].into_iter().flatten() {
+                (info.sampling, info.wall_ms) = (sampling, wall_ms);
+            }
+            return;
+        }
+        let follow = followed(&self.scene, &request).map(|scene| (scene, &self.tracer));
+        let outline = self.scene.render.cues.outline;
+        self.progress.traced((request, posted), (density, outline), info.wall_ms, self.memory, follow);
     }
 
     /// No newer request: the resting request's next step, in full, then pass by pass (in
@@ -106,7 +121,9 @@ impl Job {
             self.prepare(shared, &request);
             let info = self.trace_at(request, posted, 1, started);
             self.progress.measured(&request, 1, info.wall_ms);
-            self.progress.traced((request, posted), (1, self.scene.render.cues.outline), info.wall_ms, self.memory);
+            let follow = followed(&self.scene, &request).map(|scene| (scene, &self.tracer));
+            let outline = self.scene.render.cues.outline;
+            self.progress.traced((request, posted), (1, outline), info.wall_ms, self.memory, follow);
             return true;
         }
         let Some(last) = self.last else { return false };
@@ -186,6 +203,14 @@ impl Job {
         self.last = Some(info);
         info
     }
+}
+
+/// `scene`, when `request`'s refinement can follow its orbiting spheres: the request reuses
+/// what a new instant leaves unchanged, and the scene has no occlusion rays, which temporal
+/// reuse's marks do not follow (`stereo::StereoFrame::set_reuse`).
+fn followed<'a>(scene: &'a Scene, request: &Request) -> Option<&'a Scene> {
+    let marked = scene.is_animated() && !scene.render.cues.ambient_occlusion.is_on();
+    (request.reuse && marked).then_some(scene)
 }
 
 /// The share of an outlined sample's light its line takes, for outlines `px` pixels wide

@@ -8,17 +8,19 @@
 //!   when nothing newer comes) is traced in full, then refined to S × S samples a pixel
 //!   (`refine.rs`), converging to `render --supersample S` byte for byte.
 //! - Any new request (the head, a slider, the mode, a reload) restarts: the refinement
-//!   stops and the new request is traced from scratch.
+//!   stops and the new request is traced from scratch. A new instant of orbiting spheres
+//!   alone does not: the refinement traces again the samples that can have changed
+//!   ([`Refine::advance`]), and the rest keep accumulating.
 //!
 //! Without the policy (`--no-progressive`, `replay --policy fixed`), every request is traced
 //! at its samples, as before it existed.
 
 use std::time::Instant;
 
-use tracer::Tracer;
+use tracer::{Scene, Tracer};
 
 use super::budget::{self, Budget};
-use super::refine::Refine;
+use super::refine::{self, Refine};
 use super::{Eyes, Request, Sampling};
 
 /// The policy's state between frames.
@@ -50,15 +52,36 @@ impl Progress {
 
     /// The density to trace `request` at: the budget's while the head moves (a pose not
     /// only a scene time away from the last), else every sample. A new trace stops the
-    /// refinement of the last pose.
+    /// refinement of the last pose, unless the refinement can follow it to its instant
+    /// ([`Progress::advance`]).
     pub fn density(&mut self, request: &Request, only_time: bool) -> u32 {
-        self.refine.stop();
+        if !(only_time && self.follows(request)) {
+            self.refine.stop();
+        }
         match request.progressive {
             Some(p) if request.moving && !only_time && refinable(request) => {
                 self.budget.choose((request.width, request.height), f64::from(p.target_age_ms))
             }
             _ => 1,
         }
+    }
+
+    /// Whether `request` is the resting request at another instant of the scene, and the
+    /// refinement can follow it there.
+    fn follows(&self, request: &Request) -> bool {
+        let resting = self.resting.is_some_and(|(r, _)| Request { time: request.time, ..r } == *request);
+        resting && !self.coarse && self.refine.follows()
+    }
+
+    /// `request`, posted at `posted`, is the resting request at a new instant of its scene,
+    /// which `tracer` is at: the refinement moves its samples there and rests on it
+    /// ([`Refine::advance`]). Returns false, changing nothing, when it cannot.
+    pub fn advance(&mut self, (request, posted): (Request, Instant), tracer: &Tracer) -> bool {
+        if !self.follows(&request) || !self.refine.advance(tracer) {
+            return false;
+        }
+        self.resting = Some((request, posted));
+        true
     }
 
     /// Remembers that `request`'s pair at `density` took `ms`.
@@ -70,13 +93,15 @@ impl Progress {
 
     /// `request`, posted at `posted`, was traced at `density` in `ms`: what comes next for
     /// it if no newer request comes. The refinement's buffers fit in `memory` (`None`: no
-    /// limit).
+    /// limit). With `follow` (the scene with its orbiting spheres, when the request reuses,
+    /// and the tracer at its instant), the refinement follows the scene's time.
     pub fn traced(
         &mut self,
         (request, posted): (Request, Instant),
         (density, outline): (u32, u32),
         ms: f64,
         memory: Option<u64>,
+        follow: Option<(&Scene, &Tracer)>,
     ) {
         self.refine.stop();
         (self.resting, self.coarse) = (None, false);
@@ -91,11 +116,11 @@ impl Progress {
         if density == 1 {
             let eye = (request.width, request.height);
             let pixels = u64::from(eye.0) * u64::from(eye.1);
-            // Two eyes of S² samples at four bytes, and their sums.
-            let fits = |s: u32| memory.is_none_or(|m| (8 * u64::from(s * s) + 24) * pixels <= m);
+            let following = follow.is_some() && outline == 0;
+            let fits = |s: u32| memory.is_none_or(|m| refine::bytes_per_pixel(s, following) * pixels <= m);
             let s = (1..=p.max_supersample).rev().find(|&s| fits(s)).unwrap_or(1);
             if s > 1 {
-                self.refine.start(&request.camera, eye, (s, outline), ms);
+                self.refine.start(&request.camera, eye, (s, outline), ms, follow);
             }
         }
     }
@@ -204,6 +229,30 @@ mod tests {
             assert_eq!(eyes(f), want, "{mode}, timewarp {timewarp}: render --supersample 3's pair");
             assert_ne!(want[0], want[1], "the eyes differ, so a swap would show");
             assert_eq!(info.views.camera, request.camera, "shown as traced at the resting pose");
+        }
+    }
+
+    /// While the seed scene's spheres orbit, a resting head's new instants do not restart
+    /// the refinement: it keeps its passes, traces again what the orbits changed, and
+    /// converges to `render --supersample 2` at each new instant.
+    #[test]
+    fn orbiting_spheres_keep_the_refinement_and_it_converges_at_each_instant() {
+        let scene = scene("seed.toml");
+        let mut worker = Worker::spawn_with_memory(scene.clone(), None).unwrap();
+        let first = request(&scene, Mode::Exact, 2, true);
+        assert!(first.reuse && scene.is_animated());
+        worker.post(first);
+        let mut seq = wait(&mut worker, 0, |f| f.info.is_some_and(|i| i.sampling.converged)).info.unwrap().seq;
+        for time in [0.3, 0.7] {
+            let next = Request { time, ..first };
+            worker.post(next);
+            let f = wait(&mut worker, seq, |f| f.info.is_some_and(|i| i.request.time == time && i.sampling.converged));
+            assert_eq!(eyes(f), supersampled(&scene, &next, 2), "t = {time}: render --supersample 2's pair there");
+            // A restart would take five frames: the pair at one sample a pixel, then four
+            // passes. Following, the pair and at most three more repairs of what changed.
+            let frames = f.info.unwrap().seq - seq;
+            assert!(frames <= 4, "t = {time}: {frames} frames to converge again");
+            seq += frames;
         }
     }
 

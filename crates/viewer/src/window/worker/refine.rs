@@ -22,15 +22,32 @@
 //! to move waits for a part, not for a pass (a pass of 2BTV's assembly at 800 × 600 takes
 //! seconds). Only a whole pass is shown.
 //!
+//! While spheres orbit, a new instant of the scene does not restart the refinement: only
+//! the samples that can have changed are traced again, by temporal reuse's marks
+//! (`follow.rs`), and the rest keep accumulating.
+//!
 //! Memory: the sample images, 4 · S² bytes per eye pixel and eye, the running sums, 12
 //! bytes per eye pixel and eye, and one bit per sample for the pass's selection: 152 bytes
-//! a pixel of both eyes at S = 4.
+//! a pixel of both eyes at S = 4; while following orbiting spheres, also their marks,
+//! 12.25 bytes a sample (392 bytes a pixel of both eyes at S = 4).
+
+mod follow;
 
 use std::time::Instant;
 
 use rayon::prelude::*;
 use stereo::StereoViews;
-use tracer::{Camera, PixelBits, Pixels, Renderer, Target, Tracer};
+use tracer::{Camera, PixelBits, Pixels, Renderer, Scene, Tracer};
+
+use follow::Follow;
+
+/// Bytes a pixel of both eyes the refinement keeps at S × S samples a pixel, following
+/// orbiting spheres or not (the module doc): what the memory check weighs.
+#[must_use]
+pub fn bytes_per_pixel(s: u32, following: bool) -> u64 {
+    let samples = u64::from(s * s);
+    2 * (4 * samples + 12) + if following { 2 * samples * 13 } else { 0 }
+}
 
 /// Largest S the viewer refines to (`--max-supersample`): 8 × 8 samples a pixel.
 pub const MAX_SUPERSAMPLE: u32 = 8;
@@ -81,13 +98,25 @@ pub struct Refine {
     /// passes.
     sums: [Vec<[f32; 3]>; 2],
     summed: usize,
+    /// The marks that let the samples follow the scene's time.
+    follow: Follow,
 }
 
 impl Refine {
     /// Starts refining the pair of `camera` at an eye of `eye` to `s` × `s` samples a pixel,
     /// with outlines `outline` pixels wide; the pair took `frame_ms` to trace at one sample a
-    /// pixel, about what a pass takes.
-    pub fn start(&mut self, camera: &Camera, eye: (u32, u32), (s, outline): (u32, u32), frame_ms: f64) {
+    /// pixel, about what a pass takes. With `follow` (the scene, whose orbiting spheres the
+    /// samples then follow, and the tracer at its instant), a new instant traces again only
+    /// what can have changed ([`Refine::advance`]); outlines are drawn from first hits the
+    /// marks do not follow, so with them the samples do not.
+    pub fn start(
+        &mut self,
+        camera: &Camera,
+        eye: (u32, u32),
+        (s, outline): (u32, u32),
+        frame_ms: f64,
+        follow: Option<(&Scene, &Tracer)>,
+    ) {
         let s = s.clamp(1, MAX_SUPERSAMPLE);
         let size = (eye.0 * s, eye.1 * s);
         self.views = Some(StereoViews::new(camera, size, (0, 0)));
@@ -103,11 +132,12 @@ impl Refine {
             eye.resize(n, 0);
         }
         self.bits.resize(size.0, size.1);
+        self.follow.start(follow.filter(|_| outline == 0), size, s);
     }
 
     /// Stops refining: nothing is left to do until the next [`Refine::start`].
     pub fn stop(&mut self) {
-        self.views = None;
+        (self.views, self.done, self.summed) = (None, 0, 0);
         for (object, z) in &mut self.planes {
             object.clear();
             z.clear();
@@ -117,7 +147,7 @@ impl Refine {
     /// Whether a pass is left to trace.
     #[must_use]
     pub fn pending(&self) -> bool {
-        self.views.is_some() && self.done < self.order.len()
+        self.views.is_some() && (self.done < self.order.len() || self.follow.has_stale())
     }
 
     /// Samples a pixel traced so far.
@@ -129,7 +159,7 @@ impl Refine {
     /// Whether every pass is done: the pair is `render --supersample S`'s.
     #[must_use]
     pub fn converged(&self) -> bool {
-        self.views.is_some() && self.done == self.order.len()
+        self.views.is_some() && self.done == self.order.len() && !self.follow.has_stale()
     }
 
     /// Bytes of the buffers kept: the sample images, the sums, the selection and the
@@ -138,7 +168,21 @@ impl Refine {
     pub fn bytes(&self) -> usize {
         let sums: usize = self.sums.iter().map(|e| e.capacity() * 12).sum();
         let samples: usize = self.samples.iter().map(|e| e.capacity() * 4).sum();
-        samples + sums + self.bits.words().len() * 8 + self.renderer.memory()
+        samples + sums + self.bits.words().len() * 8 + self.renderer.memory() + self.follow.bytes()
+    }
+
+    /// Whether a new instant of the scene can move the samples to it ([`Refine::advance`]).
+    #[must_use]
+    pub fn follows(&self) -> bool {
+        self.views.is_some() && self.follow.is_on()
+    }
+
+    /// Moves the refinement to the instant `tracer` is at (the scene's spheres orbit; the
+    /// head and everything else are as at [`Refine::start`]): the samples that can have
+    /// changed become stale, and the rest keep accumulating (`follow.rs`). Returns false,
+    /// changing nothing, when it does not follow ([`Refine::follows`]).
+    pub fn advance(&mut self, tracer: &Tracer) -> bool {
+        self.views.is_some() && self.follow.advance(tracer, self.s)
     }
 
     /// Traces the next part of the next pass, both eyes: a band of the eye's rows, so
@@ -146,6 +190,9 @@ impl Refine {
     /// Returns whether that completed the pass.
     pub fn step(&mut self, tracer: &Tracer) -> bool {
         let Some(views) = self.views.filter(|_| self.pending()) else { return false };
+        if self.done == self.order.len() {
+            return self.repair(tracer, &views);
+        }
         let started = Instant::now();
         if self.part == 0 {
             // As many parts as a pass took budgets, as last measured.
@@ -169,10 +216,10 @@ impl Refine {
             let at = (y * s + sy as usize) * stride;
             words.copy_within(first..first + stride, at);
         }
-        let Self { samples: [left, right], renderer, bits, .. } = self;
+        let Self { samples: [left, right], renderer, bits, follow, .. } = self;
         let [lv, rv] = &views.eyes;
-        renderer.render(tracer, lv, Pixels::Only(bits), Target::colour(left));
-        renderer.render(tracer, rv, Pixels::Only(bits), Target::colour(right));
+        renderer.render(tracer, lv, Pixels::Only(bits), follow.target(0, left));
+        renderer.render(tracer, rv, Pixels::Only(bits), follow.target(1, right));
         self.part_ms += started.elapsed().as_secs_f64() * 1e3;
         self.part += 1;
         if self.part < self.parts {
@@ -180,6 +227,30 @@ impl Refine {
         }
         (self.pass_ms, self.part_ms, self.part) = (self.part_ms, 0.0, 0);
         self.done += 1;
+        true
+    }
+
+    /// With every pass done, traces the stale samples of one sub-pixel position again
+    /// (`follow.rs`), and sums anew the pixels that have none left.
+    fn repair(&mut self, tracer: &Tracer, views: &StereoViews) -> bool {
+        let Self { follow, renderer, samples, sums, order, summed, s, .. } = self;
+        if !follow.repair((tracer, renderer), views, samples, (order, *s)) {
+            return false;
+        }
+        let (w, s) = (self.eye.0 as usize, *s as usize);
+        for (e, sums) in sums.iter_mut().enumerate().filter(|(_, sums)| !sums.is_empty()) {
+            for &(x, y) in follow.fresh_pixels(e) {
+                let (x, y) = (x as usize, y as usize);
+                let mut sum = [0.0f32; 3];
+                for &(sx, sy) in &order[..*summed] {
+                    let k = (y * s + sy as usize) * w * s + x * s + sx as usize;
+                    for (c, v) in sum.iter_mut().zip(tracer::unpack_rgb(samples[e][k])) {
+                        *c += tracer::srgb8_to_linear(v);
+                    }
+                }
+                sums[y * w + x] = sum;
+            }
+        }
         true
     }
 
@@ -201,30 +272,51 @@ impl Refine {
         }
         let (w, h, s) = (self.eye.0 as usize, self.eye.1 as usize, self.s as usize);
         let new = &self.order[self.summed..self.done];
+        let (all, follow) = (&self.order[..self.done], &self.follow);
         let scale = 1.0 / self.done.max(1) as f32;
         let [left, right] = out;
-        for ((samples, sums), out) in self.samples.iter().zip(&mut self.sums).zip([&mut *left, &mut *right]) {
-            if converged {
-                stereo::downsample(samples, views.shown, out, self.eye);
-                continue;
-            }
+        let eyes = self.samples.iter().zip(&mut self.sums).zip([&mut *left, &mut *right]).enumerate();
+        for (e, ((samples, sums), out)) in eyes {
             sums.resize(w * h, [0.0; 3]);
             if self.summed == 0 {
                 sums.fill([0.0; 3]);
             }
             out.resize(w * h, 0);
+            let stale = follow.stale_pixels(e);
             out.par_chunks_mut(w).zip(sums.par_chunks_mut(w)).enumerate().for_each(|(y, (row, sums))| {
                 for (x, (px, sum)) in row.iter_mut().zip(sums).enumerate() {
-                    for &(sx, sy) in new {
-                        let k = (y * s + sy as usize) * w * s + x * s + sx as usize;
-                        for (c, v) in sum.iter_mut().zip(tracer::unpack_rgb(samples[k])) {
+                    let at = |(sx, sy): (u32, u32)| (x * s + sx as usize, y * s + sy as usize);
+                    for &p in new {
+                        let (i, j) = at(p);
+                        for (c, v) in sum.iter_mut().zip(tracer::unpack_rgb(samples[j * w * s + i])) {
                             *c += tracer::srgb8_to_linear(v);
                         }
                     }
-                    let [r, g, b] = sum.map(|c| u32::from(tracer::linear_to_srgb8(c * scale)));
-                    *px = (r << 16) | (g << 8) | b;
+                    if stale.is_some_and(|stale| stale.get(x as u32, y as u32)) {
+                        // Its samples that are not stale, or, with none, the pixel as the
+                        // pair traced at this instant shows it (already in `out`).
+                        let mut fresh = (0u32, [0.0f32; 3]);
+                        for (i, j) in all.iter().map(|&p| at(p)) {
+                            if !follow.is_stale(e, (i as u32, j as u32)) {
+                                fresh.0 += 1;
+                                for (c, v) in fresh.1.iter_mut().zip(tracer::unpack_rgb(samples[j * w * s + i])) {
+                                    *c += tracer::srgb8_to_linear(v);
+                                }
+                            }
+                        }
+                        if fresh.0 > 0 {
+                            *px = pack(fresh.1.map(|c| c / fresh.0 as f32));
+                        }
+                        continue;
+                    }
+                    *px = pack(sum.map(|c| c * scale));
                 }
             });
+            // The sums stay up to date when converged too: a new instant of orbiting spheres
+            // shows them again ([`Refine::advance`]).
+            if converged {
+                stereo::downsample(samples, views.shown, out, self.eye);
+            }
         }
         self.summed = self.done;
         if self.outline > 0 && !converged {
@@ -251,6 +343,12 @@ impl Refine {
         }
         self.outlined = true;
     }
+}
+
+/// A colour in linear light, packed in sRGB `0x00RRGGBB`.
+fn pack(linear: [f32; 3]) -> u32 {
+    let [r, g, b] = linear.map(|c| u32::from(tracer::linear_to_srgb8(c)));
+    (r << 16) | (g << 8) | b
 }
 
 /// The rank of sub-pixel position (x, y) in the order the passes trace them (module doc):
@@ -290,7 +388,7 @@ mod tests {
     fn every_position_is_traced_once_and_the_first_four_spread_over_the_pixel() {
         let order_of = |s: u32| {
             let mut refine = Refine::default();
-            refine.start(&Camera::default(), (1, 1), (s, 0), 0.0);
+            refine.start(&Camera::default(), (1, 1), (s, 0), 0.0, None);
             refine.order
         };
         for s in 1..=MAX_SUPERSAMPLE {
@@ -314,7 +412,7 @@ mod tests {
         let tracer = Tracer::new(&scene, 0.0);
         let eye = (24, 18);
         let mut refine = Refine::default();
-        refine.start(&scene.camera, eye, (2, 0), 0.0);
+        refine.start(&scene.camera, eye, (2, 0), 0.0, None);
         let (mut left, mut right) = (Vec::new(), Vec::new());
         assert!(refine.step(&tracer), "one part: a whole pass");
         refine.eyes(&tracer, [&mut left, &mut right]);
@@ -346,7 +444,7 @@ mod tests {
         let tracer = Tracer::new(&scene, 0.0);
         let (eye, camera) = ((24, 18), scene.camera);
         let mut refine = Refine::default();
-        refine.start(&camera, eye, (2, 0), 1e4);
+        refine.start(&camera, eye, (2, 0), 1e4, None);
         let mut steps = 0;
         while !refine.converged() {
             // Every pass as slow as six parts: three eye rows a part.
@@ -365,5 +463,83 @@ mod tests {
         stereo::downsample(&frame.left().rgb, (48, 36), &mut want_left, eye);
         stereo::downsample(&frame.right().rgb, (48, 36), &mut want_right, eye);
         assert_eq!((left, right), (want_left, want_right));
+    }
+
+    /// The pair `refine` shows, traced so far.
+    fn shown(refine: &mut Refine, tracer: &Tracer) -> [Vec<u32>; 2] {
+        let (mut left, mut right) = (Vec::new(), Vec::new());
+        refine.eyes(tracer, [&mut left, &mut right]);
+        [left, right]
+    }
+
+    /// While the seed scene's spheres orbit, a refinement that follows them keeps the
+    /// samples no orbit can have changed: after a new instant, every pixel without a stale
+    /// sample shows what a refinement started there shows after as many passes, byte for
+    /// byte; and once its repairs are done, it is `render --supersample 2` at that instant.
+    #[test]
+    fn a_refinement_follows_orbiting_spheres_to_the_supersampled_render() {
+        let scene = tracer::testing::scene("seed.toml");
+        assert!(scene.is_animated());
+        let (eye, camera) = ((24, 18), scene.camera);
+        let mut tracer = Tracer::new(&scene, 0.0);
+        let mut refine = Refine::default();
+        refine.start(&camera, eye, (2, 0), 0.0, Some((&scene, &tracer)));
+        assert!(refine.follows());
+        for _ in 0..2 {
+            assert!(refine.step(&tracer));
+        }
+        shown(&mut refine, &tracer);
+        for time in [0.4, 0.9, 1.3] {
+            tracer.advance(&scene, time);
+            assert!(refine.advance(&tracer));
+            let stale = refine.follow.stale_count();
+            let traced = 2 * 48 * 36 * refine.spp() as u64 / 4;
+            assert!(stale > 0 && stale < traced / 2, "t = {time}: {stale} of {traced} samples stale");
+            let mut fresh = Refine::default();
+            fresh.start(&camera, eye, (2, 0), 0.0, None);
+            for _ in 0..refine.spp() {
+                assert!(fresh.step(&tracer));
+            }
+            let (got, want) = (shown(&mut refine, &tracer), shown(&mut fresh, &tracer));
+            for e in 0..2 {
+                let stale = refine.follow.stale_pixels(e).unwrap();
+                let kept = (0..eye.0 * eye.1).filter(|&k| !stale.get(k % eye.0, k / eye.0));
+                let kept: Vec<u32> = kept.collect();
+                assert!(kept.len() > (eye.0 * eye.1) as usize / 2, "t = {time}");
+                for k in kept {
+                    assert_eq!(got[e][k as usize], want[e][k as usize], "t = {time}, eye {e}, pixel {k}");
+                }
+            }
+            while refine.pending() {
+                assert!(refine.step(&tracer));
+            }
+            assert!(refine.converged() && refine.follow.stale_count() == 0);
+            let mut frame = stereo::StereoFrame::new();
+            let opts = stereo::Options { mode: stereo::Mode::Full, retrace_edges: false };
+            frame.render(&tracer, &camera, 48, 36, opts);
+            let (mut want_left, mut want_right) = (Vec::new(), Vec::new());
+            stereo::downsample(&frame.left().rgb, (48, 36), &mut want_left, eye);
+            stereo::downsample(&frame.right().rgb, (48, 36), &mut want_right, eye);
+            assert_eq!(shown(&mut refine, &tracer), [want_left, want_right], "t = {time}");
+        }
+    }
+
+    /// A still scene, or outlines, and the refinement does not follow: a new instant
+    /// restarts it, as any change does.
+    #[test]
+    fn still_scenes_and_outlines_are_not_followed() {
+        let scene = tracer::testing::scene("seed.toml");
+        let tracer = Tracer::new(&scene, 0.0);
+        let mut refine = Refine::default();
+        refine.start(&scene.camera, (8, 6), (2, 1), 0.0, Some((&scene, &tracer)));
+        assert!(!refine.follows() && !refine.advance(&tracer), "outlines");
+        let still = Scene::from_toml(
+            "[[lights]]\nposition = [0.0, 5.0, 0.0]\n[[spheres]]\ncenter = [0.0, 0.0, 12.0]\nradius = 2.0\n",
+            "still.toml",
+        )
+        .unwrap();
+        let tracer = Tracer::new(&still, 0.0);
+        refine.start(&still.camera, (8, 6), (2, 0), 0.0, Some((&still, &tracer)));
+        assert!(!refine.follows() && refine.follow.bytes() == 0, "nothing orbits");
     }
 }
