@@ -100,6 +100,10 @@ pub struct Refine {
     summed: usize,
     /// The marks that let the samples follow the scene's time.
     follow: Follow,
+    /// Each eye as last shown, but for the pixels with a stale sample, and the passes and
+    /// convergence it shows (`None`: to be made again).
+    picture: [Vec<u32>; 2],
+    picture_of: Option<(usize, bool)>,
 }
 
 impl Refine {
@@ -120,7 +124,7 @@ impl Refine {
         let s = s.clamp(1, MAX_SUPERSAMPLE);
         let size = (eye.0 * s, eye.1 * s);
         self.views = Some(StereoViews::new(camera, size, (0, 0)));
-        (self.s, self.eye, self.done, self.summed) = (s, eye, 0, 0);
+        (self.s, self.eye, self.done, self.summed, self.picture_of) = (s, eye, 0, 0, None);
         (self.part, self.part_ms, self.pass_ms) = (0, 0.0, frame_ms);
         (self.outline, self.outlined) = (outline, false);
         self.shown_views = Some(StereoViews::new(camera, eye, (0, 0)));
@@ -137,7 +141,7 @@ impl Refine {
 
     /// Stops refining: nothing is left to do until the next [`Refine::start`].
     pub fn stop(&mut self) {
-        (self.views, self.done, self.summed) = (None, 0, 0);
+        (self.views, self.done, self.summed, self.picture_of) = (None, 0, 0, None);
         for (object, z) in &mut self.planes {
             object.clear();
             z.clear();
@@ -233,8 +237,10 @@ impl Refine {
     /// With every pass done, traces the stale samples of one sub-pixel position again
     /// (`follow.rs`), and sums anew the pixels that have none left.
     fn repair(&mut self, tracer: &Tracer, views: &StereoViews) -> bool {
-        let Self { follow, renderer, samples, sums, order, summed, s, .. } = self;
-        if !follow.repair((tracer, renderer), views, samples, (order, *s)) {
+        let Self { follow, renderer, samples, sums, order, summed, s, picture, picture_of, .. } = self;
+        // A quarter of the eye's pixels a repair, about an eighth of a pair's rays.
+        let budget = u64::from(self.eye.0) * u64::from(self.eye.1) / 4;
+        if !follow.repair((tracer, renderer), views, samples, (order, *s, budget.max(1))) {
             return false;
         }
         let (w, s) = (self.eye.0 as usize, *s as usize);
@@ -249,6 +255,9 @@ impl Refine {
                     }
                 }
                 sums[y * w + x] = sum;
+                if *picture_of == Some((*summed, false)) {
+                    picture[e][y * w + x] = pack(sum.map(|c| c / *summed as f32));
+                }
             }
         }
         true
@@ -274,50 +283,69 @@ impl Refine {
         let new = &self.order[self.summed..self.done];
         let (all, follow) = (&self.order[..self.done], &self.follow);
         let scale = 1.0 / self.done.max(1) as f32;
+        let again = self.picture_of != Some((self.done, converged));
         let [left, right] = out;
-        let eyes = self.samples.iter().zip(&mut self.sums).zip([&mut *left, &mut *right]).enumerate();
-        for (e, ((samples, sums), out)) in eyes {
-            sums.resize(w * h, [0.0; 3]);
-            if self.summed == 0 {
-                sums.fill([0.0; 3]);
-            }
-            out.resize(w * h, 0);
+        let eyes = self.samples.iter().zip(&mut self.sums).zip(&mut self.picture).zip([&mut *left, &mut *right]);
+        for (e, (((samples, sums), picture), out)) in eyes.enumerate() {
             let stale = follow.stale_pixels(e);
-            out.par_chunks_mut(w).zip(sums.par_chunks_mut(w)).enumerate().for_each(|(y, (row, sums))| {
-                for (x, (px, sum)) in row.iter_mut().zip(sums).enumerate() {
-                    let at = |(sx, sy): (u32, u32)| (x * s + sx as usize, y * s + sy as usize);
-                    for &p in new {
-                        let (i, j) = at(p);
-                        for (c, v) in sum.iter_mut().zip(tracer::unpack_rgb(samples[j * w * s + i])) {
-                            *c += tracer::srgb8_to_linear(v);
-                        }
-                    }
-                    if stale.is_some_and(|stale| stale.get(x as u32, y as u32)) {
-                        // Its samples that are not stale, or, with none, the pixel as the
-                        // pair traced at this instant shows it (already in `out`).
-                        let mut fresh = (0u32, [0.0f32; 3]);
-                        for (i, j) in all.iter().map(|&p| at(p)) {
-                            if !follow.is_stale(e, (i as u32, j as u32)) {
-                                fresh.0 += 1;
-                                for (c, v) in fresh.1.iter_mut().zip(tracer::unpack_rgb(samples[j * w * s + i])) {
-                                    *c += tracer::srgb8_to_linear(v);
-                                }
+            let is_stale = |x: usize, y: usize| stale.is_some_and(|stale| stale.get(x as u32, y as u32));
+            if again {
+                sums.resize(w * h, [0.0; 3]);
+                if self.summed == 0 {
+                    sums.fill([0.0; 3]);
+                }
+                picture.resize(w * h, 0);
+                let rows = picture.par_chunks_mut(w).zip(sums.par_chunks_mut(w));
+                rows.enumerate().for_each(|(y, (row, sums))| {
+                    for (x, (px, sum)) in row.iter_mut().zip(sums).enumerate() {
+                        for &(sx, sy) in new {
+                            let k = (y * s + sy as usize) * w * s + x * s + sx as usize;
+                            for (c, v) in sum.iter_mut().zip(tracer::unpack_rgb(samples[k])) {
+                                *c += tracer::srgb8_to_linear(v);
                             }
                         }
-                        if fresh.0 > 0 {
-                            *px = pack(fresh.1.map(|c| c / fresh.0 as f32));
+                        if !is_stale(x, y) {
+                            *px = pack(sum.map(|c| c * scale));
                         }
+                    }
+                });
+                // The sums stay up to date when converged too: a new instant of orbiting
+                // spheres shows them again ([`Refine::advance`]).
+                if converged {
+                    stereo::downsample(samples, views.shown, picture, self.eye);
+                }
+            }
+            // The picture, but a pixel with a stale sample shows its samples that are not
+            // stale, or, with none, the pixel as the pair traced at this instant shows it
+            // (already in `out`).
+            out.resize(w * h, 0);
+            out.par_chunks_mut(w).zip(picture.par_chunks(w)).enumerate().for_each(|(y, (row, picture))| {
+                if stale.is_none_or(|stale| stale.row(y as u32).iter().all(|&word| word == 0)) {
+                    row.copy_from_slice(picture);
+                    return;
+                }
+                for (x, (px, &shown)) in row.iter_mut().zip(picture).enumerate() {
+                    if !is_stale(x, y) {
+                        *px = shown;
                         continue;
                     }
-                    *px = pack(sum.map(|c| c * scale));
+                    let mut fresh = (0u32, [0.0f32; 3]);
+                    for &(sx, sy) in all {
+                        let (i, j) = (x * s + sx as usize, y * s + sy as usize);
+                        if !follow.is_stale(e, (i as u32, j as u32)) {
+                            fresh.0 += 1;
+                            for (c, v) in fresh.1.iter_mut().zip(tracer::unpack_rgb(samples[j * w * s + i])) {
+                                *c += tracer::srgb8_to_linear(v);
+                            }
+                        }
+                    }
+                    if fresh.0 > 0 {
+                        *px = pack(fresh.1.map(|c| c / fresh.0 as f32));
+                    }
                 }
             });
-            // The sums stay up to date when converged too: a new instant of orbiting spheres
-            // shows them again ([`Refine::advance`]).
-            if converged {
-                stereo::downsample(samples, views.shown, out, self.eye);
-            }
         }
+        self.picture_of = Some((self.done, converged));
         self.summed = self.done;
         if self.outline > 0 && !converged {
             // Before the samples have theirs, the mean gets the eye's outlines at its size.

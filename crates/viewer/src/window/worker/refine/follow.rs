@@ -11,8 +11,9 @@
 //! (`docs/design/reuse-exactness.md`). A pixel shows the mean of its samples that are not
 //! stale, or, with none, the pair traced at the new instant at one sample a pixel. Once
 //! every pass is done, repairs trace the stale samples again, one sub-pixel position at a
-//! time (a pass's share of the work at most, so that the orbits keep their pace), and a
-//! pair with nothing stale is `render --supersample S`'s at its instant, byte for byte.
+//! time, and at most as many a repair as a quarter of the eye's pixels, so that the orbits
+//! keep their pace (where they keep moving, pixels hold fewer than S² samples). A pair with
+//! nothing stale is `render --supersample S`'s at its instant, byte for byte.
 //!
 //! Memory: the marks, a [`Touch`] (12 bytes) and two bits a sample, and a bit a sample for
 //! staleness, per eye.
@@ -143,28 +144,32 @@ impl Follow {
 
     /// Traces again, at the instant `tracer` is at and through `views`, the stale samples
     /// of one sub-pixel position of `positions` (the next with any, from where the last
-    /// repair stopped), marking them. Returns whether it traced any; the pixels whose
+    /// repair stopped), at most `budget` an eye, marking them. Returns whether it traced any; the pixels whose
     /// samples are all fresh again are then [`Follow::fresh_pixels`].
     pub(super) fn repair(
         &mut self,
         (tracer, renderer): (&Tracer, &mut Renderer),
         views: &StereoViews,
         samples: &mut [Vec<u32>; 2],
-        (positions, s): (&[(u32, u32)], u32),
+        (positions, s, budget): (&[(u32, u32)], u32, u64),
     ) -> bool {
         let Self { swept: Some(swept), marks, stale, stale_pixels, selected, repair, fresh, .. } = self else {
             return false;
         };
         for _ in 0..positions.len() {
-            let (sx, sy) = positions[*repair % positions.len()];
-            *repair = (*repair + 1) % positions.len();
-            let mut any = false;
+            let at = *repair % positions.len();
+            let (sx, sy) = positions[at];
+            let (mut any, mut cut) = (false, false);
             for e in 0..2 {
                 fresh[e].clear();
                 selected.clear();
                 let mut n = 0;
-                for j in (sy..stale[e].height()).step_by(s as usize) {
+                'rows: for j in (sy..stale[e].height()).step_by(s as usize) {
                     for i in bits::ones(stale[e].row(j)).filter(|i| i % s == sx) {
+                        if n == budget {
+                            cut = true;
+                            break 'rows;
+                        }
                         selected.set(i, j, true);
                         n += 1;
                     }
@@ -189,6 +194,10 @@ impl Follow {
                         }
                     }
                 }
+            }
+            // A position cut short by the budget is taken up again by the next repair.
+            if !cut {
+                *repair = (at + 1) % positions.len();
             }
             if any {
                 return true;
