@@ -69,7 +69,8 @@ pub(super) fn statistics(ui: &mut egui::Ui, s: &Settings, r: &Readout<'_>) {
 
 /// Recent frame times as lines, one per series, with the scale in the label and a legend.
 /// The progressive policy's readout: "1/16 · 31 ms old" for a coarse frame (one sample per
-/// 4 × 4 pixels), "4×4 · converged" at rest, "5 of 16 samples" while refining.
+/// 4 × 4 pixels), "4×4 · converged" at rest, "5 samples a pixel" while refining (and "16
+/// samples a pixel" while orbiting spheres' samples are traced again).
 pub(crate) fn sampling(s: crate::window::worker::Sampling, age_ms: Option<f64>) -> String {
     let old = age_ms.map_or_else(String::new, |a| format!(" · {a:.0} ms old"));
     if s.density > 1 {
