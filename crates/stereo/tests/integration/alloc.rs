@@ -199,6 +199,62 @@ fn warm_coarse_frames_and_refinement_passes_allocate_nothing() {
     assert!(fewest <= u64::from(frames) / 8, "rounds of {frames} warm frames and passes allocated {rounds:?} times");
 }
 
+/// A resting refinement that follows orbiting spheres (`viewer/src/window/worker/refine/`):
+/// its passes mark the samples they trace, each new instant selects the samples that can
+/// have changed by those marks, and those are traced again, marking them anew.
+#[test]
+fn warm_followed_refinement_steps_allocate_nothing() {
+    let pool = CountingPool::new();
+    let scene = scene("many.toml");
+    let (eye, s) = ((160u32, 90u32), 2u32);
+    let mut tracer = Tracer::new(&scene, 0.0);
+    let views = stereo::StereoViews::new(&scene.camera, (eye.0 * s, eye.1 * s), (0, 0));
+    let swept = tracer::reuse::Swept::of(&scene);
+    let (mut wedges, mut next) = (Vec::new(), Vec::new());
+    swept.wedges(tracer.snapshot(), &mut wedges);
+    let mut marks = [(); 2].map(|()| tracer::reuse::Marks::new(eye.0 * s, eye.1 * s));
+    let mut samples = [Vec::new(), Vec::new()];
+    let mut renderer = Renderer::default();
+    let (mut bits, mut selected) = (tracer::PixelBits::new(eye.0 * s, eye.1 * s), tracer::PixelBits::default());
+    for pass in 0..s * s {
+        bits.clear();
+        for j in (pass / s..eye.1 * s).step_by(s as usize) {
+            for i in (pass % s..eye.0 * s).step_by(s as usize) {
+                bits.set(i, j, true);
+            }
+        }
+        for ((marks, out), view) in marks.iter_mut().zip(&mut samples).zip(&views.eyes) {
+            renderer.render(&tracer, view, Pixels::Only(&bits), Target::colour(out).marking(marks, &swept));
+        }
+    }
+    let mut steps = |frames: std::ops::Range<u32>| {
+        let mut traced = 0;
+        for k in frames {
+            tracer.advance(&scene, k as f32 / 30.0);
+            swept.wedges(tracer.snapshot(), &mut next);
+            for ((marks, out), view) in marks.iter_mut().zip(&mut samples).zip(&views.eyes) {
+                let n = marks.select([&wedges, &next], &mut selected);
+                traced += n;
+                if n > 0 {
+                    renderer.render(&tracer, view, Pixels::Only(&selected), Target::colour(out).marking(marks, &swept));
+                }
+            }
+            std::mem::swap(&mut wedges, &mut next);
+        }
+        traced
+    };
+    assert!(pool.run(|| steps(1..4)) > 0, "the orbits change some samples");
+    let rounds: Vec<u64> = (1..4)
+        .map(|round| {
+            pool.allocations(|| {
+                steps(3 * round + 1..3 * round + 4);
+            })
+        })
+        .collect();
+    let fewest = rounds.iter().copied().min().unwrap_or(0);
+    assert!(fewest <= 1, "rounds of 3 warm steps allocated {rounds:?} times");
+}
+
 #[test]
 fn a_warm_reused_frame_allocates_nothing() {
     let pool = CountingPool::new();
