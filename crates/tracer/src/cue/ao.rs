@@ -2,7 +2,7 @@
 //! ChimeraX's ambient shadows, QuteMol's per-atom occlusion made per pixel).
 //!
 //! At point p (unit outward normal n) of sphere k, hit by the primary ray of pixel (x, y)
-//! of the traced view, ray s = 0..N leaves p as a shadow ray does ([`spawn_ray`]) along a
+//! of the traced view, ray s = 0..N leaves p as a shadow ray does ([`crate::spawn_ray`]) along a
 //! cosine-weighted direction about n (Malley's method), and asks the aggregate whether any
 //! sphere lies within `distance` (an any-hit query, sphere k left out as for any ray that
 //! leaves it outwards). The fraction that meet one estimates the cosine-weighted occluded
@@ -17,9 +17,8 @@
 
 use glam::Vec3;
 
-use crate::accel::Origin;
+use crate::accel::PACKET;
 use crate::camera::EyeView;
-use crate::ray::spawn_ray;
 use crate::stats::RayCounts;
 use crate::tracer::Tracer;
 
@@ -145,12 +144,16 @@ impl Tracer {
         if !ao.is_on() {
             return 0.0;
         }
-        let from = Origin::Surface { sphere: object, normal: n };
+        // The rays in packets of one origin, each answered as on its own
+        // ([`crate::accel::Aggregate::occluded_from`]).
         let directions = Directions::new(n, pixel);
-        let mut blocked = 0u32;
-        for s in 0..ao.samples {
-            let ray = spawn_ray(p, n, directions.get(s));
-            blocked += u32::from(self.accel.occluded(&ray, ao.distance, from));
+        let (mut blocked, mut dirs) = (0u32, [Vec3::ZERO; PACKET]);
+        for start in (0..ao.samples).step_by(PACKET) {
+            let count = (ao.samples - start).min(PACKET as u32) as usize;
+            for (s, dir) in (start..).zip(&mut dirs[..count]) {
+                *dir = directions.get(s);
+            }
+            blocked += self.accel.occluded_from(object, (p, n), &dirs[..count], ao.distance).count_ones();
         }
         counts.shadow += u64::from(ao.samples);
         blocked as f32 / ao.samples as f32
