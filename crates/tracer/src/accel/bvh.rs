@@ -46,7 +46,7 @@ mod shared;
 mod slab;
 
 use build::BinNode;
-pub(crate) use shared::PACKET;
+pub(crate) use shared::{Packet, PACKET};
 use slab::BoxRay;
 
 /// Children per node, and spheres per leaf.

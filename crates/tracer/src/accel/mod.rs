@@ -42,7 +42,7 @@ use crate::scene::Light;
 use crate::simd::{lane3, F, U};
 use crate::surface::{Hit, NO_OBJECT};
 
-pub(crate) use bvh::PACKET;
+pub(crate) use bvh::{Packet, PACKET};
 pub(crate) use flat::ALL_SPHERES_MAX;
 pub(crate) use lights::Cell;
 
@@ -186,32 +186,15 @@ impl Aggregate {
         self.bvh.occluded_in(simd, ray, t_max, skip)
     }
 
-    /// Which of the rays along `dirs` (at most [`PACKET`]) from point `p` (outward normal
-    /// `n`) of sphere `sphere`, each spawned by [`crate::spawn_ray`], something blocks before
-    /// `t_max`: bit i for `dirs[i]`, each [`Aggregate::occluded`]'s answer from
-    /// [`Origin::Surface`], in one dispatch. The rays that leave outwards share an origin and
-    /// the sphere left out, and go through the BVH as one packet (`bvh/shared.rs`); those
-    /// that go in (none, for directions about `n`) as another.
+    /// Which rays of `packet` something blocks before `t_max`, bit i for `dirs[i]`: each
+    /// [`Aggregate::occluded`]'s answer from [`Origin::Surface`], for rays spawned by
+    /// [`crate::spawn_ray`] in groups that leave one point to one side (one origin, one
+    /// sphere left out), inside a lane kernel. One walk down the BVH (`bvh/shared.rs`).
+    #[inline(always)]
     #[must_use]
-    pub(crate) fn occluded_from(&self, sphere: u32, (p, n): (Vec3, Vec3), dirs: &[Vec3], t_max: f32) -> u8 {
-        dispatch!(crate::simd::level(), simd => simd.vectorize(
-            #[inline(always)]
-            || {
-                let (mut outwards, mut blocked) = (0u8, 0u8);
-                for (i, &dir) in dirs.iter().enumerate() {
-                    outwards |= u8::from(leaves_outwards(n, dir)) << i;
-                }
-                let all = ((1u16 << dirs.len()) - 1) as u8;
-                for rays in [outwards, all & !outwards] {
-                    if rays != 0 {
-                        let first = dirs[rays.trailing_zeros() as usize];
-                        let (origin, skip) = (crate::ray::spawn_ray(p, n, first).origin, skipped(sphere, n, first));
-                        blocked |= self.bvh.occluded_packet_in(simd, (origin, dirs), rays, t_max, skip);
-                    }
-                }
-                blocked
-            },
-        ))
+    pub(crate) fn occluded_packet_in<S: Simd>(&self, simd: S, packet: Packet<'_>, t_max: f32) -> u8 {
+        let rays = ((1u16 << packet.dirs.len()) - 1) as u8;
+        self.bvh.occluded_packet_in(simd, packet, rays, t_max)
     }
 
     /// The origin of a shadow ray towards light `k` (at `light`) from the point `p` of
