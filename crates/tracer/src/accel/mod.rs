@@ -192,8 +192,8 @@ impl Aggregate {
     /// sphere left out), inside a lane kernel. One walk down the BVH (`bvh/shared.rs`).
     #[inline(always)]
     #[must_use]
-    pub(crate) fn occluded_packet_in<S: Simd>(&self, simd: S, packet: Packet<'_>, t_max: f32) -> u8 {
-        let rays = ((1u16 << packet.dirs.len()) - 1) as u8;
+    pub(crate) fn occluded_packet_in<S: Simd>(&self, simd: S, packet: Packet<'_>, t_max: f32) -> u16 {
+        let rays = ((1u32 << packet.dirs.len()) - 1) as u16;
         self.bvh.occluded_packet_in(simd, packet, rays, t_max)
     }
 

@@ -146,7 +146,7 @@ const HITS_MAX: usize = 16;
 /// leave to one side (one origin, one sphere left out), with the hit and side of each.
 struct Gathered {
     dirs: [Vec3; PACKET],
-    groups: [(Vec3, u32, u8); PACKET],
+    groups: [(Vec3, u32, u16); PACKET],
     owner: [(usize, bool); PACKET],
     rays: usize,
     group_count: usize,

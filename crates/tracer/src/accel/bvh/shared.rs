@@ -12,7 +12,7 @@
 //! leaves every mask, and the walk stops when none is left. Each ray therefore meets
 //! exactly the leaves its single-ray traversal ([`Bvh::occluded_in`]) would, in the same
 //! order (children in lane order, the same stack), and its answer is that traversal's, bit
-//! for bit. Measured on 1TII (4 rays a hit, two hits a packet): `docs/design/cues.md`.
+//! for bit. Measured on 1TII (4 rays a hit, four hits a packet): `docs/design/cues.md`.
 
 #![expect(
     clippy::inline_always,
@@ -26,9 +26,9 @@ use super::slab::{enter, relative, slabs};
 use super::{Bvh, Leaf, Link, Root, LEAF, MEDIUM_DEPTH, MEDIUM_STACK, SHALLOW_DEPTH, SHALLOW_STACK, STACK, WIDTH};
 use crate::simd::{each3, load, nearest_root, origin_terms, splat3, F, U};
 
-/// Most rays in one packet: the bits of its `u8` masks, one a byte of a node's `u64` of
-/// rays by child ([`by_child`]).
-pub(crate) const PACKET: usize = 8;
+/// Most rays in one packet: the bits of its `u16` masks; rays 0–7 and 8–15 each a byte of
+/// one of a node's two `u64`s of rays by child ([`by_child`]).
+pub(crate) const PACKET: usize = 16;
 
 /// A packet's rays: the unit directions (at most [`PACKET`]), in groups that share an
 /// origin and the sphere left out (a hit's rays; a packet may hold several hits').
@@ -37,7 +37,7 @@ pub(crate) struct Packet<'a> {
     /// Ray i's direction.
     pub(crate) dirs: &'a [Vec3],
     /// Per group: its rays' origin, the sphere they leave out, and the bits of its rays.
-    pub(crate) groups: &'a [(Vec3, u32, u8)],
+    pub(crate) groups: &'a [(Vec3, u32, u16)],
 }
 
 impl Bvh {
@@ -45,7 +45,7 @@ impl Bvh {
     /// other than its group's blocks before `t_max`: per ray [`Bvh::occluded_in`]'s answer,
     /// inside a function dispatched at `simd`'s level.
     #[inline(always)]
-    pub(crate) fn occluded_packet_in<S: Simd>(&self, simd: S, at: Packet<'_>, rays: u8, t_max: f32) -> u8 {
+    pub(crate) fn occluded_packet_in<S: Simd>(&self, simd: S, at: Packet<'_>, rays: u16, t_max: f32) -> u16 {
         debug_assert!(
             at.dirs.len() <= PACKET && u64::from(rays) < 1 << at.dirs.len(),
             "rays {rays:b} of {}",
@@ -62,7 +62,7 @@ impl Bvh {
 
     /// [`Bvh::occluded_packet_in`] of a tree deeper than [`MEDIUM_DEPTH`], out of line.
     #[inline(never)]
-    fn packet_deep(&self, at: Packet<'_>, rays: u8, t_max: f32) -> u8 {
+    fn packet_deep(&self, at: Packet<'_>, rays: u16, t_max: f32) -> u16 {
         dispatch!(crate::simd::level(), simd => simd.vectorize(
             #[inline(always)]
             || self.packet_with::<_, STACK>(simd, at, rays, t_max),
@@ -72,7 +72,7 @@ impl Bvh {
     /// The packet traversal with a stack of `N` entries, `N` > 7 × `self.depth` (a node
     /// pushes at most its eight children, as for one ray).
     #[inline(always)]
-    fn packet_with<S: Simd, const N: usize>(&self, simd: S, at: Packet<'_>, rays: u8, t_max: f32) -> u8 {
+    fn packet_with<S: Simd, const N: usize>(&self, simd: S, at: Packet<'_>, rays: u16, t_max: f32) -> u16 {
         let dirs = at.dirs;
         let mut slab = [(Vec3::ZERO, [0usize; 3]); PACKET];
         let mut each = rays;
@@ -83,7 +83,7 @@ impl Bvh {
         }
         // The rays not yet blocked.
         let mut open = rays;
-        let mut stack = [(0 as Link, 0u8); N];
+        let mut stack = [(0 as Link, 0u16); N];
         stack[0] = (0, rays);
         let mut sp = 1;
         while sp > 0 {
@@ -97,7 +97,7 @@ impl Bvh {
             // Byte 7 − k: the rays that enter child k, each ray's own slab test's bits
             // spread out ([`by_child`]): no branch per ray and child. The node's corners
             // less each group's origin once for its rays.
-            let mut into = 0u64;
+            let mut into = [0u64; 2];
             for &(origin, _, members) in at.groups {
                 let mut each = each & members;
                 if each == 0 {
@@ -110,16 +110,17 @@ impl Bvh {
                     let (inv, side) = slab[i as usize];
                     let inv = each3(|a| f32x8::splat(simd, inv[a]));
                     let (_, hit) = enter(&rel, (inv, side), node.lanes, t_max);
-                    into |= by_child(hit) << i;
+                    into[i as usize / 8] |= by_child(hit) << (i % 8);
                 }
             }
             // The children in lane order, as one ray's traversal meets them: child k's
             // byte is the highest left.
-            while into != 0 {
-                let lane = into.leading_zeros() / 8;
+            while into[0] | into[1] != 0 {
+                let lane = (into[0] | into[1]).leading_zeros() / 8;
                 let byte = 8 * (7 - lane);
-                let entering = (into >> byte) as u8 & open;
-                into &= !(0xff << byte);
+                let entering = (u16::from((into[1] >> byte) as u8) << 8 | u16::from((into[0] >> byte) as u8)) & open;
+                into[0] &= !(0xff << byte);
+                into[1] &= !(0xff << byte);
                 if entering == 0 {
                     continue;
                 }
@@ -142,7 +143,7 @@ impl Bvh {
     /// before `t_max`: per ray [`Bvh::leaf_blocks`]'s answer, the terms of each sphere that
     /// do not depend on the direction made once a group.
     #[inline(always)]
-    fn leaf_blocks_packet<S: Simd>(simd: S, leaf: &Leaf, at: Packet<'_>, rays: u8, t_max: f32) -> u8 {
+    fn leaf_blocks_packet<S: Simd>(simd: S, leaf: &Leaf, at: Packet<'_>, rays: u16, t_max: f32) -> u16 {
         let (inf, reach) = (F::<S>::splat(simd, f32::INFINITY), F::<S>::splat(simd, t_max));
         let mut blocked = 0;
         // Plain loops, not iterator folds, which may not be inlined (see `leaf_blocks`).
@@ -199,7 +200,7 @@ mod tests {
     }
 
     proptest! {
-        /// On random scenes (overlapping, nested spheres), packets of up to eight rays in up
+        /// On random scenes (overlapping, nested spheres), packets of up to sixteen rays in up
         /// to three groups, each from its own origin (on a sphere's surface with that sphere
         /// left out, or anywhere): the packet's answer for each ray is the single-ray
         /// traversal's, at the level's lanes and at 4, with every stack; and through the
@@ -222,22 +223,22 @@ mod tests {
             aggregate.build((&centers, &radii), &[], spawn_bound(120.0));
             for (k, (points, raw, reach, seed)) in packets.iter().enumerate() {
                 let dirs = units(raw);
-                let all = ((1u16 << dirs.len()) - 1) as u8;
-                let rays = (*seed as u8 & all).max(1);
+                let all = ((1u32 << dirs.len()) - 1) as u16;
+                let rays = (*seed as u16 & all).max(1);
                 // Group g's origin and the sphere it leaves out: on a sphere's surface (normal
                 // `units(points)[g]`) when the seed says so, else anywhere.
                 let normals = units(points);
                 let on = |g: usize| {
                     (!centers.is_empty() && seed >> (8 + g) & 1 != 0).then(|| (seed >> 12) as usize * (g + 1) % centers.len())
                 };
-                let mut groups: Vec<(Vec3, u32, u8)> = (0..points.len())
+                let mut groups: Vec<(Vec3, u32, u16)> = (0..points.len())
                     .map(|g| match on(g) {
                         Some(s) => (centers[s] + radii[s] * normals[g], s as u32, 0),
                         None => (Vec3::from(points[g]), crate::surface::NO_OBJECT, 0),
                     })
                     .collect();
                 for i in 0..dirs.len() {
-                    groups[(seed >> (16 + 2 * i % 16)) as usize % points.len()].2 |= 1 << i;
+                    groups[(seed >> (16 + i % 16)) as usize % points.len()].2 |= 1 << i;
                 }
                 let packet = Packet { dirs: &dirs, groups: &groups };
                 let one = bvh_one(&bvh, packet, rays, *reach);
@@ -261,14 +262,14 @@ mod tests {
                 if centers.is_empty() {
                     continue;
                 }
-                let (mut spawned, mut want) = (Vec::<(Vec3, u32, u8)>::new(), 0u8);
+                let (mut spawned, mut want) = (Vec::<(Vec3, u32, u16)>::new(), 0u16);
                 let mut keys = Vec::new();
                 for (i, &dir) in dirs.iter().enumerate() {
-                    let g = (seed >> (16 + 2 * i % 16)) as usize % points.len();
+                    let g = (seed >> (16 + i % 16)) as usize % points.len();
                     let s = on(g).unwrap_or(g % centers.len());
                     let (p, n) = (centers[s] + radii[s] * normals[g], normals[g]);
                     let ray = spawn_ray(p, n, dir);
-                    want |= u8::from(aggregate.occluded(&ray, *reach, Origin::Surface { sphere: s as u32, normal: n })) << i;
+                    want |= u16::from(aggregate.occluded(&ray, *reach, Origin::Surface { sphere: s as u32, normal: n })) << i;
                     let key = (g, crate::ray::leaves_outwards(n, dir));
                     let at = keys.iter().position(|&k| k == key).unwrap_or_else(|| {
                         keys.push(key);
@@ -286,12 +287,12 @@ mod tests {
     }
 
     /// The single-ray answers of the rays `rays` names, as a packet's bits.
-    fn bvh_one(bvh: &Bvh, packet: Packet<'_>, rays: u8, reach: f32) -> u8 {
+    fn bvh_one(bvh: &Bvh, packet: Packet<'_>, rays: u16, reach: f32) -> u16 {
         let mut bits = 0;
         for &(origin, skip, members) in packet.groups {
             for i in (0..packet.dirs.len()).filter(|&i| (rays & members) >> i & 1 != 0) {
                 let ray = crate::ray::Ray { origin, dir: packet.dirs[i] };
-                bits |= u8::from(bvh.occluded(&ray, reach, skip)) << i;
+                bits |= u16::from(bvh.occluded(&ray, reach, skip)) << i;
             }
         }
         bits
