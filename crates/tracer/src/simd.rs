@@ -187,10 +187,20 @@ pub(crate) fn spheres_t<S: Simd, V: SimdFloat<S, Element = f32>>(
     (c, r): ([V; 3], V),
     t_max: V,
 ) -> V {
+    let (oc, r2, cc) = origin_terms(o, (c, r));
+    nearest_root(simd, oc, d, r2, cc, t_max)
+}
+
+/// The terms of [`spheres_t`] that do not depend on the direction, as [`nearest_root`]
+/// takes them: `oc` = o − c, r², |oc|² − r²; made once for the rays of a shared origin.
+#[inline(always)]
+pub(crate) fn origin_terms<V>(o: [V; 3], (c, r): ([V; 3], V)) -> ([V; 3], V, V)
+where
+    V: Copy + std::ops::Add<Output = V> + std::ops::Sub<Output = V> + std::ops::Mul<Output = V>,
+{
     let oc = each3(|a| o[a] - c[a]);
     let r2 = r * r;
-    let cc = dot3(oc, oc) - r2;
-    nearest_root(simd, oc, d, r2, cc, t_max)
+    (oc, r2, dot3(oc, oc) - r2)
 }
 
 /// glam's `Vec3::dot` over any lanes: `(x·x' + y·y') + z·z'`.

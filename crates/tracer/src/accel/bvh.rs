@@ -35,16 +35,19 @@
     reason = "the traversal is inlined into the dispatched lane kernels, whose target features it needs"
 )]
 
-use fearless_simd::{dispatch, f32x8, prelude::*, Simd};
-use glam::Vec3;
+use fearless_simd::{dispatch, prelude::*, Simd};
 
 use crate::ray::Ray;
 use crate::simd::{each3, load, spheres_t, splat3, F, U};
 use crate::surface::Hit;
 
 mod build;
+mod shared;
+mod slab;
 
 use build::BinNode;
+pub(crate) use shared::{Packet, PACKET};
+use slab::BoxRay;
 
 /// Children per node, and spheres per leaf.
 const WIDTH: usize = 8;
@@ -134,53 +137,6 @@ pub(crate) struct Bvh {
     depth: usize,
     /// Scratch: the binary build tree.
     bin: Vec<BinNode>,
-}
-
-/// A ray prepared for box tests, splatted across the eight child lanes.
-struct BoxRay<S: Simd> {
-    origin: [f32x8<S>; 3],
-    inv_dir: [f32x8<S>; 3],
-    /// Per axis, which corner of a box the ray meets first: 0 (minimum) where the
-    /// direction is positive, 1 where it is negative.
-    near_side: [usize; 3],
-}
-
-impl<S: Simd> BoxRay<S> {
-    #[inline(always)]
-    fn new(simd: S, ray: &Ray) -> Self {
-        // A zero direction component becomes ±10⁻³⁰: its slabs stay finite (±10³⁰·gap, or
-        // 0 for an origin on the plane) instead of ∞ and 0·∞ = NaN.
-        let safe = |x: f32| if x.abs() < 1e-30 { 1e-30f32.copysign(x) } else { x };
-        let dir = Vec3::new(safe(ray.dir.x), safe(ray.dir.y), safe(ray.dir.z));
-        let inv = dir.recip();
-        let side = |x: f32| usize::from(x.is_sign_negative());
-        let splat = |v: Vec3| [v.x, v.y, v.z].map(|x| f32x8::splat(simd, x));
-        Self { origin: splat(ray.origin), inv_dir: splat(inv), near_side: [side(dir.x), side(dir.y), side(dir.z)] }
-    }
-
-    /// The slab test against a node's eight child boxes: per lane the entry distance, and
-    /// the bits of the children the ray meets before `t_max`.
-    ///
-    /// Per axis the slab is entered at the corner `near_side` names and left at the other
-    /// (Williams et al. 2005, "An efficient and robust ray–box intersection algorithm"):
-    /// the same two distances a min/max of both would order, one operation fewer each.
-    /// Every value is finite (see [`BoxRay::new`]), so `min` and `max` need no NaN rule.
-    #[inline(always)]
-    fn enter(&self, node: &Node, t_max: f32) -> (f32x8<S>, u32) {
-        let simd = self.origin[0].simd;
-        let mut near = f32x8::splat(simd, 0.0);
-        let mut far = f32x8::splat(simd, t_max);
-        for a in 0..3 {
-            let side = self.near_side[a];
-            let t_in = (f32x8::from_slice(simd, &node.bounds[side][a]) - self.origin[a]) * self.inv_dir[a];
-            let t_out = (f32x8::from_slice(simd, &node.bounds[1 - side][a]) - self.origin[a]) * self.inv_dir[a];
-            near = t_in.max(near);
-            far = t_out.min(far);
-        }
-        #[expect(clippy::cast_possible_truncation, reason = "eight lanes: the mask has eight bits")]
-        let hit = near.simd_le(far).to_bitmask() as u32;
-        (near, hit & node.lanes)
-    }
 }
 
 /// A child of a node in one word: an interior node's index, or [`LEAF`] | a leaf's index.
@@ -456,6 +412,8 @@ impl Bvh {
 
 #[cfg(test)]
 mod tests {
+    use glam::Vec3;
+
     use super::*;
     use crate::sphere::intersect_sphere;
     use crate::surface::NO_OBJECT;

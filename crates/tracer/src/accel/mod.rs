@@ -42,6 +42,7 @@ use crate::scene::Light;
 use crate::simd::{lane3, F, U};
 use crate::surface::{Hit, NO_OBJECT};
 
+pub(crate) use bvh::{Packet, PACKET};
 pub(crate) use flat::ALL_SPHERES_MAX;
 pub(crate) use lights::Cell;
 
@@ -183,6 +184,17 @@ impl Aggregate {
             Origin::Light(LightRay { cell: None, skip }) => skip,
         };
         self.bvh.occluded_in(simd, ray, t_max, skip)
+    }
+
+    /// Which rays of `packet` something blocks before `t_max`, bit i for `dirs[i]`: each
+    /// [`Aggregate::occluded`]'s answer from [`Origin::Surface`], for rays spawned by
+    /// [`crate::spawn_ray`] in groups that leave one point to one side (one origin, one
+    /// sphere left out), inside a lane kernel. One walk down the BVH (`bvh/shared.rs`).
+    #[inline(always)]
+    #[must_use]
+    pub(crate) fn occluded_packet_in<S: Simd>(&self, simd: S, packet: Packet<'_>, t_max: f32) -> u16 {
+        let rays = ((1u32 << packet.dirs.len()) - 1) as u16;
+        self.bvh.occluded_packet_in(simd, packet, rays, t_max)
     }
 
     /// The origin of a shadow ray towards light `k` (at `light`) from the point `p` of

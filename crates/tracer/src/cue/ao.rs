@@ -15,11 +15,17 @@
 //! however it is made, and an eye traced in parts (exact mode, a progressive viewer) casts
 //! the very rays of a whole one. Both shading paths call [`Tracer::ambient_factor`].
 
+#![expect(
+    clippy::inline_always,
+    reason = "the packets are made and sent inside the dispatched lane kernel, whose target features they need"
+)]
+
+use fearless_simd::{dispatch, Simd};
 use glam::Vec3;
 
-use crate::accel::Origin;
+use crate::accel::{skipped, Packet, PACKET};
 use crate::camera::EyeView;
-use crate::ray::spawn_ray;
+use crate::ray::{leaves_outwards, spawn_ray};
 use crate::stats::RayCounts;
 use crate::tracer::Tracer;
 
@@ -129,6 +135,49 @@ pub(crate) fn sample_direction(n: Vec3, pixel: (u32, u32), s: u32) -> Vec3 {
     Directions::new(n, pixel).get(s)
 }
 
+/// A primary hit whose occlusion is wanted: its sphere, its point and unit outward normal,
+/// and its pixel of the traced view (the seed).
+pub(crate) type AoHit = (u32, (Vec3, Vec3), (u32, u32));
+
+/// Most hits [`Tracer::occluded_shares_in`] takes at once: the widest lanes.
+const HITS_MAX: usize = 16;
+
+/// Occlusion rays gathered into a packet: directions, and groups of one hit's rays that
+/// leave to one side (one origin, one sphere left out), with the hit and side of each.
+struct Gathered {
+    dirs: [Vec3; PACKET],
+    groups: [(Vec3, u32, u16); PACKET],
+    owner: [(usize, bool); PACKET],
+    rays: usize,
+    group_count: usize,
+}
+
+impl Gathered {
+    /// The group of the rays of hit and side `side` in the packet, opened (with the origin
+    /// and sphere left out `spawn` gives) if it has none yet.
+    #[inline(always)]
+    fn group_of(&mut self, side: (usize, bool), spawn: impl FnOnce() -> (Vec3, u32)) -> usize {
+        self.owner[..self.group_count].iter().rposition(|&o| o == side).unwrap_or_else(|| {
+            let (g, (origin, skip)) = (self.group_count, spawn());
+            (self.groups[g], self.owner[g]) = ((origin, skip, 0), side);
+            self.group_count += 1;
+            g
+        })
+    }
+
+    /// Sends the packet down the BVH, adds each group's blocked rays to its hit's count in
+    /// `blocked`, and empties it.
+    #[inline(always)]
+    fn flush<S: Simd>(&mut self, simd: S, tracer: &Tracer, t_max: f32, blocked: &mut [u32; HITS_MAX]) {
+        let (dirs, groups) = (&self.dirs[..self.rays], &self.groups[..self.group_count]);
+        let hit = tracer.accel.occluded_packet_in(simd, Packet { dirs, groups }, t_max);
+        for (&(_, _, members), &(h, _)) in groups.iter().zip(&self.owner) {
+            blocked[h] += (hit & members).count_ones();
+        }
+        (self.rays, self.group_count) = (0, 0);
+    }
+}
+
 impl Tracer {
     /// The share of occlusion rays from point `p` (unit outward normal `n`) of sphere
     /// `object`, hit by the primary ray of `pixel` of the traced view, that meet a sphere
@@ -141,19 +190,61 @@ impl Tracer {
         pixel: (u32, u32),
         counts: &mut RayCounts,
     ) -> f32 {
+        let mut share = [0.0];
+        dispatch!(crate::simd::level(), simd => simd.vectorize(
+            #[inline(always)]
+            || self.occluded_shares_in(simd, &[(object, (p, n), pixel)], &mut share, counts),
+        ));
+        share[0]
+    }
+
+    /// [`Tracer::occluded_share`] of each of `hits` (at most 16) into `shares`, inside a
+    /// lane kernel: the hits' rays go down the BVH in packets of [`PACKET`], several hits'
+    /// to a packet, each ray answered as on its own
+    /// ([`crate::accel::Aggregate::occluded_packet_in`]).
+    #[inline(always)]
+    pub(crate) fn occluded_shares_in<S: Simd>(
+        &self,
+        simd: S,
+        hits: &[AoHit],
+        shares: &mut [f32],
+        counts: &mut RayCounts,
+    ) {
+        debug_assert!(hits.len() <= HITS_MAX && shares.len() == hits.len(), "{} hits", hits.len());
         let ao = self.scene.settings.cues.ambient_occlusion;
         if !ao.is_on() {
-            return 0.0;
+            shares.fill(0.0);
+            return;
         }
-        let from = Origin::Surface { sphere: object, normal: n };
-        let directions = Directions::new(n, pixel);
-        let mut blocked = 0u32;
-        for s in 0..ao.samples {
-            let ray = spawn_ray(p, n, directions.get(s));
-            blocked += u32::from(self.accel.occluded(&ray, ao.distance, from));
+        let mut blocked = [0u32; HITS_MAX];
+        let mut packet = Gathered {
+            dirs: [Vec3::ZERO; PACKET],
+            groups: [(Vec3::ZERO, 0, 0); PACKET],
+            owner: [(0, false); PACKET],
+            rays: 0,
+            group_count: 0,
+        };
+        for (h, &(object, (p, n), pixel)) in hits.iter().enumerate() {
+            let directions = Directions::new(n, pixel);
+            for s in 0..ao.samples {
+                let dir = directions.get(s);
+                let side = (h, leaves_outwards(n, dir));
+                let g = packet.group_of(side, || (spawn_ray(p, n, dir).origin, skipped(object, n, dir)));
+                packet.groups[g].2 |= 1 << packet.rays;
+                packet.dirs[packet.rays] = dir;
+                packet.rays += 1;
+                if packet.rays == PACKET {
+                    packet.flush(simd, self, ao.distance, &mut blocked);
+                }
+            }
         }
-        counts.shadow += u64::from(ao.samples);
-        blocked as f32 / ao.samples as f32
+        if packet.rays > 0 {
+            packet.flush(simd, self, ao.distance, &mut blocked);
+        }
+        for (share, &blocked) in shares.iter_mut().zip(&blocked) {
+            *share = blocked as f32 / ao.samples as f32;
+        }
+        counts.shadow += u64::from(ao.samples) * hits.len() as u64;
     }
 
     /// The ambient term at a primary hit: the scene's ambient scaled by
@@ -166,11 +257,20 @@ impl Tracer {
         pixel: (u32, u32),
         counts: &mut RayCounts,
     ) -> f32 {
+        if !self.scene.settings.cues.ambient_occlusion.is_on() {
+            return self.scene.settings.ambient;
+        }
+        let share = self.occluded_share(object, (p, n), pixel, counts);
+        self.ambient_of(share)
+    }
+
+    /// The ambient term of a primary hit whose occluded share is `share` (0 when occlusion
+    /// is off): [`Tracer::ambient_at`]'s formula.
+    pub(crate) fn ambient_of(&self, share: f32) -> f32 {
         let settings = &self.scene.settings;
         if !settings.cues.ambient_occlusion.is_on() {
             return settings.ambient;
         }
-        let share = self.occluded_share(object, (p, n), pixel, counts);
         settings.ambient * (1.0 - settings.cues.ambient_occlusion.strength * share)
     }
 }

@@ -137,8 +137,8 @@ pub(super) fn shade<S: Simd>(
 }
 
 /// The ambient term of the vector of level-0 entries from `j` (their hit points and
-/// normals stored), on row `row`: [`Tracer::ambient_at`] per lane, whose occlusion rays go
-/// one by one through the aggregate's any-hit query.
+/// normals stored), on row `row`: [`Tracer::ambient_at`] per lane, the lanes' occlusion rays
+/// in packets ([`Tracer::occluded_shares_in`]).
 #[inline(always)]
 fn ambient_lanes<S: Simd>(
     simd: S,
@@ -147,13 +147,19 @@ fn ambient_lanes<S: Simd>(
     (j, row): (usize, SeedRow),
     counts: &mut RayCounts,
 ) -> F<S> {
-    let mut ambient = [0f32; 16];
-    for (l, a) in ambient[..F::<S>::LEN].iter_mut().enumerate() {
+    let lanes = F::<S>::LEN;
+    let mut hits = [(0, (glam::Vec3::ZERO, glam::Vec3::ZERO), (0, 0)); 16];
+    for (l, hit) in hits[..lanes].iter_mut().enumerate() {
         let e = j + l;
         let (p, n) = (super::get3(&level.p, e), super::get3(&level.n, e));
-        *a = tracer.ambient_at(level.object[e], (p, n), row.shown(level.pixel(e, row.row)), counts);
+        *hit = (level.object[e], (p, n), row.shown(level.pixel(e, row.row)));
     }
-    F::<S>::from_slice(simd, &ambient[..F::<S>::LEN])
+    let mut ambient = [0f32; 16];
+    tracer.occluded_shares_in(simd, &hits[..lanes], &mut ambient[..lanes], counts);
+    for a in &mut ambient[..lanes] {
+        *a = tracer.ambient_of(*a);
+    }
+    F::<S>::from_slice(simd, &ambient[..lanes])
 }
 
 /// Stage 2 of the vector of entries from `j`: light bits (shadow rays per vector or per

@@ -1,0 +1,308 @@
+//! Any-hit packets of rays in groups of one origin: the occlusion rays of a vector of hits
+//! traced through the BVH together (Wald et al. 2001, "Interactive rendering with coherent
+//! ray tracing": packets of rays down one traversal; Boulos et al. 2007, "Packet-based
+//! Whitted and distribution ray tracing": shadow and ambient-occlusion rays from a shared
+//! origin as packets).
+//!
+//! The stack holds a node and the mask of the rays that entered it. A node is loaded once
+//! for all its rays, and made relative to each group's origin once for the group's rays;
+//! each ray of the mask then runs its own slab test against the eight boxes (`slab.rs`,
+//! the single-ray arithmetic), a leaf is tested only for the rays whose own test entered it
+//! (the sphere terms that do not depend on the direction made once a group), a blocked ray
+//! leaves every mask, and the walk stops when none is left. Each ray therefore meets
+//! exactly the leaves its single-ray traversal ([`Bvh::occluded_in`]) would, in the same
+//! order (children in lane order, the same stack), and its answer is that traversal's, bit
+//! for bit. Measured on 1TII (4 rays a hit, four hits a packet): `docs/design/cues.md`.
+
+#![expect(
+    clippy::inline_always,
+    reason = "the traversal is inlined into the dispatched function, whose target features it needs"
+)]
+
+use fearless_simd::{dispatch, f32x8, prelude::*, Simd};
+use glam::Vec3;
+
+use super::slab::{enter, relative, slabs};
+use super::{Bvh, Leaf, Link, Root, LEAF, MEDIUM_DEPTH, MEDIUM_STACK, SHALLOW_DEPTH, SHALLOW_STACK, STACK, WIDTH};
+use crate::simd::{each3, load, nearest_root, origin_terms, splat3, F, U};
+
+/// Most rays in one packet: the bits of its `u16` masks; rays 0–7 and 8–15 each a byte of
+/// one of a node's two `u64`s of rays by child ([`by_child`]).
+pub(crate) const PACKET: usize = 16;
+
+/// A packet's rays: the unit directions (at most [`PACKET`]), in groups that share an
+/// origin and the sphere left out (a hit's rays; a packet may hold several hits').
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Packet<'a> {
+    /// Ray i's direction.
+    pub(crate) dirs: &'a [Vec3],
+    /// Per group: its rays' origin, the sphere they leave out, and the bits of its rays.
+    pub(crate) groups: &'a [(Vec3, u32, u16)],
+}
+
+impl Bvh {
+    /// Which of the rays `rays` names (bit i: `dirs[i]` from its group's origin) any sphere
+    /// other than its group's blocks before `t_max`: per ray [`Bvh::occluded_in`]'s answer,
+    /// inside a function dispatched at `simd`'s level.
+    #[inline(always)]
+    pub(crate) fn occluded_packet_in<S: Simd>(&self, simd: S, at: Packet<'_>, rays: u16, t_max: f32) -> u16 {
+        debug_assert!(
+            at.dirs.len() <= PACKET && u64::from(rays) < 1 << at.dirs.len(),
+            "rays {rays:b} of {}",
+            at.dirs.len()
+        );
+        match self.root {
+            Root::Empty => 0,
+            Root::Leaf => Self::leaf_blocks_packet(simd, &self.leaves[0], at, rays, t_max),
+            Root::Node if self.depth <= SHALLOW_DEPTH => self.packet_with::<S, SHALLOW_STACK>(simd, at, rays, t_max),
+            Root::Node if self.depth <= MEDIUM_DEPTH => self.packet_with::<S, MEDIUM_STACK>(simd, at, rays, t_max),
+            Root::Node => self.packet_deep(at, rays, t_max),
+        }
+    }
+
+    /// [`Bvh::occluded_packet_in`] of a tree deeper than [`MEDIUM_DEPTH`], out of line.
+    #[inline(never)]
+    fn packet_deep(&self, at: Packet<'_>, rays: u16, t_max: f32) -> u16 {
+        dispatch!(crate::simd::level(), simd => simd.vectorize(
+            #[inline(always)]
+            || self.packet_with::<_, STACK>(simd, at, rays, t_max),
+        ))
+    }
+
+    /// The packet traversal with a stack of `N` entries, `N` > 7 × `self.depth` (a node
+    /// pushes at most its eight children, as for one ray).
+    #[inline(always)]
+    fn packet_with<S: Simd, const N: usize>(&self, simd: S, at: Packet<'_>, rays: u16, t_max: f32) -> u16 {
+        let dirs = at.dirs;
+        let mut slab = [(Vec3::ZERO, [0usize; 3]); PACKET];
+        let mut each = rays;
+        while each != 0 {
+            let i = each.trailing_zeros() as usize;
+            each &= each - 1;
+            slab[i] = slabs(dirs[i]);
+        }
+        // The rays not yet blocked.
+        let mut open = rays;
+        let mut stack = [(0 as Link, 0u16); N];
+        stack[0] = (0, rays);
+        let mut sp = 1;
+        while sp > 0 {
+            sp -= 1;
+            let (link, entered) = stack[sp];
+            let each = entered & open;
+            if each == 0 {
+                continue;
+            }
+            let node = &self.nodes[link as usize];
+            // Byte 7 − k: the rays that enter child k, each ray's own slab test's bits
+            // spread out ([`by_child`]): no branch per ray and child. The node's corners
+            // less each group's origin once for its rays.
+            let mut into = [0u64; 2];
+            for &(origin, _, members) in at.groups {
+                let mut each = each & members;
+                if each == 0 {
+                    continue;
+                }
+                let rel = relative(simd, node, &each3(|a| f32x8::splat(simd, origin[a])));
+                while each != 0 {
+                    let i = each.trailing_zeros();
+                    each &= each - 1;
+                    let (inv, side) = slab[i as usize];
+                    let inv = each3(|a| f32x8::splat(simd, inv[a]));
+                    let (_, hit) = enter(&rel, (inv, side), node.lanes, t_max);
+                    into[i as usize / 8] |= by_child(hit) << (i % 8);
+                }
+            }
+            // The children in lane order, as one ray's traversal meets them: child k's
+            // byte is the highest left.
+            while into[0] | into[1] != 0 {
+                let lane = (into[0] | into[1]).leading_zeros() / 8;
+                let byte = 8 * (7 - lane);
+                let entering = (u16::from((into[1] >> byte) as u8) << 8 | u16::from((into[0] >> byte) as u8)) & open;
+                into[0] &= !(0xff << byte);
+                into[1] &= !(0xff << byte);
+                if entering == 0 {
+                    continue;
+                }
+                let link = node.child[lane as usize];
+                if link & LEAF == 0 {
+                    stack[sp] = (link, entering);
+                    sp += 1;
+                    continue;
+                }
+                open &= !Self::leaf_blocks_packet(simd, self.leaf_at(link), at, entering, t_max);
+                if open == 0 {
+                    return rays;
+                }
+            }
+        }
+        rays & !open
+    }
+
+    /// Which of the rays `rays` names one of a leaf's spheres other than its group's blocks
+    /// before `t_max`: per ray [`Bvh::leaf_blocks`]'s answer, the terms of each sphere that
+    /// do not depend on the direction made once a group.
+    #[inline(always)]
+    fn leaf_blocks_packet<S: Simd>(simd: S, leaf: &Leaf, at: Packet<'_>, rays: u16, t_max: f32) -> u16 {
+        let (inf, reach) = (F::<S>::splat(simd, f32::INFINITY), F::<S>::splat(simd, t_max));
+        let mut blocked = 0;
+        // Plain loops, not iterator folds, which may not be inlined (see `leaf_blocks`).
+        let mut base = 0;
+        while base < WIDTH && rays & !blocked != 0 {
+            let center = each3(|a| load(simd, &leaf.center[a], base));
+            let radius = load(simd, &leaf.radius, base);
+            let ids = U::<S>::from_slice(simd, &leaf.ids[base..base + F::<S>::LEN]);
+            for &(origin, skip, members) in at.groups {
+                let mut each = rays & !blocked & members;
+                if each == 0 {
+                    continue;
+                }
+                let (oc, r2, cc) = origin_terms(splat3(simd, origin), (center, radius));
+                let others = ids.simd_ne(U::<S>::splat(simd, skip));
+                while each != 0 {
+                    let i = each.trailing_zeros() as usize;
+                    each &= each - 1;
+                    let t = nearest_root(simd, oc, splat3(simd, at.dirs[i]), r2, cc, reach);
+                    if (t.simd_lt(inf) & others).any_true() {
+                        blocked |= 1 << i;
+                    }
+                }
+            }
+            base += F::<S>::LEN;
+        }
+        blocked
+    }
+}
+
+/// A ray's eight child bits spread one a byte, bit k to the lowest bit of byte 7 − k: the
+/// eight copies the product makes, nine bits apart, never overlap, and copy 7 − k puts bit
+/// k at bit 8 (7 − k) + 7.
+#[inline(always)]
+fn by_child(hit: u32) -> u64 {
+    (u64::from(hit).wrapping_mul(0x8040_2010_0804_0201) >> 7) & 0x0101_0101_0101_0101
+}
+
+#[cfg(test)]
+mod tests {
+    use fearless_simd::{dispatch, prelude::*, Level};
+    use glam::Vec3;
+    use proptest::prelude::*;
+
+    use super::{by_child, Bvh, Packet, Root, MEDIUM_STACK, PACKET, STACK};
+    use crate::accel::{skipped, Aggregate, Origin};
+    use crate::ray::{spawn_bound, spawn_ray};
+
+    /// Unit directions from raw triples, a short one taken as +z.
+    fn units(raw: &[[f32; 3]]) -> Vec<Vec3> {
+        raw.iter()
+            .map(|&d| Vec3::from(d).try_normalize().filter(|_| Vec3::from(d).length() > 1e-2).unwrap_or(Vec3::Z))
+            .collect()
+    }
+
+    proptest! {
+        /// On random scenes (overlapping, nested spheres), packets of up to sixteen rays in up
+        /// to three groups, each from its own origin (on a sphere's surface with that sphere
+        /// left out, or anywhere): the packet's answer for each ray is the single-ray
+        /// traversal's, at the level's lanes and at 4, with every stack; and through the
+        /// aggregate, rays spawned from points on spheres, grouped by point and side as the
+        /// occlusion rays are, answer as [`Aggregate::occluded`] answers each.
+        #[test]
+        fn a_packet_answers_as_its_rays_one_by_one(
+            spheres in proptest::collection::vec((proptest::array::uniform3(-30.0f32..30.0), 0.05f32..4.0), 0..400),
+            packets in proptest::collection::vec((
+                proptest::collection::vec(proptest::array::uniform3(-40.0f32..40.0), 1..=3),
+                proptest::collection::vec(proptest::array::uniform3(-1.0f32..1.0), 1..=PACKET),
+                0.5f32..80.0,
+                any::<u32>(),
+            ), 1..24),
+        ) {
+            let (centers, radii): (Vec<Vec3>, Vec<f32>) = spheres.iter().map(|&(c, r)| (Vec3::from(c), r)).unzip();
+            let mut bvh = Bvh::default();
+            bvh.build(&centers, &radii);
+            let mut aggregate = Aggregate::default();
+            aggregate.build((&centers, &radii), &[], spawn_bound(120.0));
+            for (k, (points, raw, reach, seed)) in packets.iter().enumerate() {
+                let dirs = units(raw);
+                let all = ((1u32 << dirs.len()) - 1) as u16;
+                let rays = (*seed as u16 & all).max(1);
+                // Group g's origin and the sphere it leaves out: on a sphere's surface (normal
+                // `units(points)[g]`) when the seed says so, else anywhere.
+                let normals = units(points);
+                let on = |g: usize| {
+                    (!centers.is_empty() && seed >> (8 + g) & 1 != 0).then(|| (seed >> 12) as usize * (g + 1) % centers.len())
+                };
+                let mut groups: Vec<(Vec3, u32, u16)> = (0..points.len())
+                    .map(|g| match on(g) {
+                        Some(s) => (centers[s] + radii[s] * normals[g], s as u32, 0),
+                        None => (Vec3::from(points[g]), crate::surface::NO_OBJECT, 0),
+                    })
+                    .collect();
+                for i in 0..dirs.len() {
+                    groups[(seed >> (16 + i % 16)) as usize % points.len()].2 |= 1 << i;
+                }
+                let packet = Packet { dirs: &dirs, groups: &groups };
+                let one = bvh_one(&bvh, packet, rays, *reach);
+                for level in [crate::simd::level(), Level::baseline()] {
+                    let (got, stacks) = dispatch!(level, simd => simd.vectorize(|| {
+                        // The stacks of deeper trees, on a tree with interior nodes.
+                        let stacks = if matches!(bvh.root, Root::Node) { [
+                            bvh.packet_with::<_, MEDIUM_STACK>(simd, packet, rays, *reach),
+                            bvh.packet_with::<_, STACK>(simd, packet, rays, *reach),
+                        ] } else { [one; 2] };
+                        (bvh.occluded_packet_in(simd, packet, rays, *reach), stacks)
+                    }));
+                    prop_assert_eq!(got, one, "packet {}, rays {:08b}, {:?}", k, rays, level);
+                    prop_assert_eq!(stacks, [one; 2], "packet {}: the medium and long stacks", k);
+                }
+                if matches!(bvh.root, Root::Node) {
+                    prop_assert_eq!(bvh.packet_deep(packet, rays, *reach), one, "packet {}: out of line", k);
+                }
+                // Through the aggregate: each ray spawned from its group's point, the groups
+                // split by the side each ray leaves to.
+                if centers.is_empty() {
+                    continue;
+                }
+                let (mut spawned, mut want) = (Vec::<(Vec3, u32, u16)>::new(), 0u16);
+                let mut keys = Vec::new();
+                for (i, &dir) in dirs.iter().enumerate() {
+                    let g = (seed >> (16 + i % 16)) as usize % points.len();
+                    let s = on(g).unwrap_or(g % centers.len());
+                    let (p, n) = (centers[s] + radii[s] * normals[g], normals[g]);
+                    let ray = spawn_ray(p, n, dir);
+                    want |= u16::from(aggregate.occluded(&ray, *reach, Origin::Surface { sphere: s as u32, normal: n })) << i;
+                    let key = (g, crate::ray::leaves_outwards(n, dir));
+                    let at = keys.iter().position(|&k| k == key).unwrap_or_else(|| {
+                        keys.push(key);
+                        spawned.push((ray.origin, skipped(s as u32, n, dir), 0));
+                        keys.len() - 1
+                    });
+                    spawned[at].2 |= 1 << i;
+                }
+                let got = dispatch!(crate::simd::level(), simd => simd.vectorize(|| {
+                    aggregate.occluded_packet_in(simd, Packet { dirs: &dirs, groups: &spawned }, *reach)
+                }));
+                prop_assert_eq!(got, want, "packet {} through the aggregate", k);
+            }
+        }
+    }
+
+    /// The single-ray answers of the rays `rays` names, as a packet's bits.
+    fn bvh_one(bvh: &Bvh, packet: Packet<'_>, rays: u16, reach: f32) -> u16 {
+        let mut bits = 0;
+        for &(origin, skip, members) in packet.groups {
+            for i in (0..packet.dirs.len()).filter(|&i| (rays & members) >> i & 1 != 0) {
+                let ray = crate::ray::Ray { origin, dir: packet.dirs[i] };
+                bits |= u16::from(bvh.occluded(&ray, reach, skip)) << i;
+            }
+        }
+        bits
+    }
+
+    #[test]
+    fn a_rays_child_bits_spread_one_a_byte() {
+        for hit in 0..256u32 {
+            let want = (0..8).filter(|k| hit >> k & 1 != 0).fold(0u64, |w, k| w | 1 << (8 * (7 - k)));
+            assert_eq!(by_child(hit), want, "hit {hit:08b}");
+        }
+    }
+}
