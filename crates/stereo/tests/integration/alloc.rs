@@ -179,12 +179,7 @@ fn warm_coarse_frames_and_refinement_passes_allocate_nothing() {
                 stereo::downsample_mask_kept_banded(frame.mask(), None, (size, (2, 2)), &mut mask, eye);
             }
             for pass in 0..s * s {
-                bits.clear();
-                for j in (pass / s..eye.1 * s).step_by(s as usize) {
-                    for i in (pass % s..eye.0 * s).step_by(s as usize) {
-                        bits.set(i, j, true);
-                    }
-                }
+                select_pass(&mut bits, pass, s, eye);
                 for ((renderer, out), view) in renderers.iter_mut().zip(&mut samples).zip(&views.eyes) {
                     renderer.render(&tracer, view, Pixels::Only(&bits), Target::colour(out));
                 }
@@ -197,6 +192,17 @@ fn warm_coarse_frames_and_refinement_passes_allocate_nothing() {
     let rounds: Vec<u64> = (1..4).map(|round| pool.allocations(|| frames_at(3 * round..3 * round + 3))).collect();
     let fewest = rounds.iter().copied().min().unwrap_or(0);
     assert!(fewest <= u64::from(frames) / 8, "rounds of {frames} warm frames and passes allocated {rounds:?} times");
+}
+
+/// Selects in `bits` refinement pass `pass`'s samples of an eye of `eye` pixels at `s` × `s`
+/// samples a pixel: sub-pixel (pass mod s, pass / s) of every pixel.
+fn select_pass(bits: &mut tracer::PixelBits, pass: u32, s: u32, eye: (u32, u32)) {
+    bits.clear();
+    for j in (pass / s..eye.1 * s).step_by(s as usize) {
+        for i in (pass % s..eye.0 * s).step_by(s as usize) {
+            bits.set(i, j, true);
+        }
+    }
 }
 
 /// A resting refinement that follows orbiting spheres (`viewer/src/window/worker/refine/`):
@@ -217,12 +223,7 @@ fn warm_followed_refinement_steps_allocate_nothing() {
     let mut renderer = Renderer::default();
     let (mut bits, mut selected) = (tracer::PixelBits::new(eye.0 * s, eye.1 * s), tracer::PixelBits::default());
     for pass in 0..s * s {
-        bits.clear();
-        for j in (pass / s..eye.1 * s).step_by(s as usize) {
-            for i in (pass % s..eye.0 * s).step_by(s as usize) {
-                bits.set(i, j, true);
-            }
-        }
+        select_pass(&mut bits, pass, s, eye);
         for ((marks, out), view) in marks.iter_mut().zip(&mut samples).zip(&views.eyes) {
             renderer.render(&tracer, view, Pixels::Only(&bits), Target::colour(out).marking(marks, &swept));
         }

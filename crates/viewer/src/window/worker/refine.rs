@@ -482,15 +482,18 @@ mod tests {
             assert_eq!(whole, steps % 6 == 0, "step {steps}: a pass in 6 parts");
         }
         assert_eq!(steps, 4 * 6);
-        let (mut left, mut right) = (Vec::new(), Vec::new());
-        refine.eyes(&tracer, [&mut left, &mut right]);
+        assert_eq!(shown(&mut refine, &tracer), supersampled(&tracer, &camera, eye));
+    }
+
+    /// `render --mode full --supersample 2`'s pair of `camera` at an eye of `eye`.
+    fn supersampled(tracer: &Tracer, camera: &Camera, eye: (u32, u32)) -> [Vec<u32>; 2] {
         let mut frame = stereo::StereoFrame::new();
         let opts = stereo::Options { mode: stereo::Mode::Full, retrace_edges: false };
-        frame.render(&tracer, &camera, 48, 36, opts);
-        let (mut want_left, mut want_right) = (Vec::new(), Vec::new());
-        stereo::downsample(&frame.left().rgb, (48, 36), &mut want_left, eye);
-        stereo::downsample(&frame.right().rgb, (48, 36), &mut want_right, eye);
-        assert_eq!((left, right), (want_left, want_right));
+        frame.render(tracer, camera, 2 * eye.0, 2 * eye.1, opts);
+        let (mut left, mut right) = (Vec::new(), Vec::new());
+        stereo::downsample(&frame.left().rgb, (2 * eye.0, 2 * eye.1), &mut left, eye);
+        stereo::downsample(&frame.right().rgb, (2 * eye.0, 2 * eye.1), &mut right, eye);
+        [left, right]
     }
 
     /// The pair `refine` shows, traced so far.
@@ -542,13 +545,7 @@ mod tests {
                 assert!(refine.step(&tracer));
             }
             assert!(refine.converged() && refine.follow.stale_count() == 0);
-            let mut frame = stereo::StereoFrame::new();
-            let opts = stereo::Options { mode: stereo::Mode::Full, retrace_edges: false };
-            frame.render(&tracer, &camera, 48, 36, opts);
-            let (mut want_left, mut want_right) = (Vec::new(), Vec::new());
-            stereo::downsample(&frame.left().rgb, (48, 36), &mut want_left, eye);
-            stereo::downsample(&frame.right().rgb, (48, 36), &mut want_right, eye);
-            assert_eq!(shown(&mut refine, &tracer), [want_left, want_right], "t = {time}");
+            assert_eq!(shown(&mut refine, &tracer), supersampled(&tracer, &camera, eye), "t = {time}");
         }
     }
 
