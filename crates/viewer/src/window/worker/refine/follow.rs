@@ -11,9 +11,10 @@
 //! (`docs/design/reuse-exactness.md`). A pixel shows the mean of its samples that are not
 //! stale, or, with none, the pair traced at the new instant at one sample a pixel. Once
 //! every pass is done, repairs trace the stale samples again, one sub-pixel position at a
-//! time, and at most as many a repair as a quarter of the eye's pixels, so that the orbits
-//! keep their pace (where they keep moving, pixels hold fewer than S² samples). A pair with
-//! nothing stale is `render --supersample S`'s at its instant, byte for byte.
+//! time and, per eye, at most as many samples a repair as the eye has pixels over four, so
+//! that the orbits keep their pace (where they keep moving, pixels hold fewer than S²
+//! samples). A pair with nothing stale is `render --supersample S`'s at its instant, byte
+//! for byte.
 //!
 //! Memory: the marks, a [`Touch`] (12 bytes) and two bits a sample, and a bit a sample for
 //! staleness, per eye.
