@@ -111,8 +111,7 @@ impl StereoFrame {
     /// do not follow occlusion rays (`tracer`'s `cue/`), so a kept pixel could miss a
     /// sphere that moved into its occlusion rays' reach.
     pub fn set_reuse(&mut self, scene: Option<&Scene>) {
-        let moving = |s: &Scene| s.spheres.iter().any(|s| matches!(s.motion, tracer::Motion::Orbit { .. }));
-        self.reuse.set(scene.filter(|s| !(s.render.cues.ambient_occlusion.is_on() && moving(s))));
+        self.reuse.set(scene.filter(|s| !s.is_animated() || marks_cover(s)));
     }
 
     /// Whether reuse is on.
@@ -345,6 +344,15 @@ fn exact_in_one_pass(
     (stats.stages.reproject, stats.stages.reshade) = (ms * share, ms * (1.0 - share));
     stats.right.rays = cost.filled.rays;
     stats.sphere_tests = cost.filled.sphere_tests;
+}
+
+/// Whether temporal reuse's marks cover every ray of `scene`'s pixels, so that a pixel they
+/// leave unmarked is unchanged at another instant: not with ambient occlusion, whose rays
+/// they do not follow (`tracer`'s `cue/`). What [`StereoFrame::set_reuse`] and the viewer's
+/// refinement that follows orbiting spheres rest on.
+#[must_use]
+pub fn marks_cover(scene: &Scene) -> bool {
+    !scene.render.cues.ambient_occlusion.is_on()
 }
 
 #[cfg(test)]

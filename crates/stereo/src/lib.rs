@@ -95,7 +95,7 @@ mod views;
 mod warp;
 
 pub use downsample::{downsample, downsample_mask, downsample_mask_kept, downsample_mask_kept_banded};
-pub use frame::StereoFrame;
+pub use frame::{marks_cover, StereoFrame};
 pub use image::Image;
 pub use layout::{anaglyph_pixel, compose, Layout};
 pub use mask::{mask_color, mask_image, KEPT_COLOR, KEPT_LEGEND, MASK_LEGEND};

@@ -206,11 +206,10 @@ impl Job {
 }
 
 /// `scene`, when `request`'s refinement can follow its orbiting spheres: the request reuses
-/// what a new instant leaves unchanged, and the scene has no occlusion rays, which temporal
-/// reuse's marks do not follow (`stereo::StereoFrame::set_reuse`).
+/// what a new instant leaves unchanged, and temporal reuse's marks cover the scene's rays
+/// ([`stereo::marks_cover`]).
 fn followed<'a>(scene: &'a Scene, request: &Request) -> Option<&'a Scene> {
-    let marked = scene.is_animated() && !scene.render.cues.ambient_occlusion.is_on();
-    (request.reuse && marked).then_some(scene)
+    (request.reuse && scene.is_animated() && stereo::marks_cover(scene)).then_some(scene)
 }
 
 /// The share of an outlined sample's light its line takes, for outlines `px` pixels wide

@@ -9,7 +9,7 @@
 //!   (`refine.rs`), converging to `render --supersample S` byte for byte.
 //! - Any new request (the head, a slider, the mode, a reload) restarts: the refinement
 //!   stops and the new request is traced from scratch. A new instant of orbiting spheres
-//!   alone does not: the refinement traces again the samples that can have changed
+//!   alone does not: the samples that can have changed become stale and are traced again
 //!   ([`Refine::advance`]), and the rest keep accumulating.
 //!
 //! Without the policy (`--no-progressive`, `replay --policy fixed`), every request is traced
