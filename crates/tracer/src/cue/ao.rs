@@ -20,12 +20,13 @@
     reason = "the packets are made and sent inside the dispatched lane kernel, whose target features they need"
 )]
 
-use fearless_simd::{dispatch, Simd};
+use fearless_simd::{dispatch, prelude::*, Simd};
 use glam::Vec3;
 
 use crate::accel::{skipped, Packet, PACKET};
 use crate::camera::EyeView;
 use crate::ray::{leaves_outwards, spawn_ray};
+use crate::simd::{each3, F, U};
 use crate::stats::RayCounts;
 use crate::tracer::Tracer;
 
@@ -101,10 +102,35 @@ fn basis(n: Vec3) -> (Vec3, Vec3) {
 /// the point (u1, u2) of the unit square: a uniform point of the unit disc (radius √u1,
 /// angle 2π·u2) lifted to the hemisphere. u1 ≤ 1 − 2⁻²⁴ keeps it at least 2⁻¹² above the
 /// horizon, so it leaves outwards.
+#[cfg(test)]
 fn direction(n: Vec3, (t, b): (Vec3, Vec3), (u1, u2): (f32, f32)) -> Vec3 {
     let r = u1.sqrt();
-    let (sin, cos) = (std::f32::consts::TAU * u2).sin_cos();
+    let (cos, sin) = turn(u2);
     t * (r * cos) + b * (r * sin) + n * (1.0 - u1).sqrt()
+}
+
+/// (cos 2πu, sin 2πu) for u in [0, 1], within 10⁻⁶, in plain `f32` arithmetic (the same
+/// bits on every machine, where `libm`'s `sin_cos` is a call, and may differ): the nearest
+/// quarter turn q is split off exactly (4u is exact, and so is 4u − q), the rest, an angle
+/// x in [−π/4, π/4], goes through Taylor polynomials (the first terms left out below
+/// |x|¹¹/11! and |x|¹²/12!, under 10⁻⁸), and the quarter turns rotate the result.
+#[cfg(test)]
+pub(crate) fn turn(u: f32) -> (f32, f32) {
+    let four = 4.0 * u;
+    // The nearest quarter (a conversion, not `round`, which may be a call).
+    #[expect(clippy::cast_possible_truncation, clippy::cast_sign_loss, reason = "4u + ½ is 0.5 to 4.5")]
+    let q = (four + 0.5) as u32;
+    let x = (four - q as f32) * std::f32::consts::FRAC_PI_2;
+    let x2 = x * x;
+    let sin = x * (1.0 + x2 * (-1.0 / 6.0 + x2 * (1.0 / 120.0 + x2 * (-1.0 / 5040.0 + x2 * (1.0 / 362_880.0)))));
+    let cos =
+        1.0 + x2 * (-0.5 + x2 * (1.0 / 24.0 + x2 * (-1.0 / 720.0 + x2 * (1.0 / 40_320.0 + x2 * (-1.0 / 3_628_800.0)))));
+    match q & 3 {
+        0 => (cos, sin),
+        1 => (-sin, cos),
+        2 => (-cos, -sin),
+        _ => (sin, -cos),
+    }
 }
 
 /// A point's occlusion directions: those of one pixel about one normal, the pixel's
@@ -122,11 +148,82 @@ impl Directions {
         Self { n, basis: basis(n), scramble: scramble(pixel.0, pixel.1) }
     }
 
-    /// The direction of occlusion ray `s`.
+    /// The direction of occlusion ray `s`: the plain arithmetic that [`directions_in`]
+    /// runs across lanes.
+    #[cfg(test)]
     pub(crate) fn get(self, s: u32) -> Vec3 {
         let (a, b) = sobol2(s);
         direction(self.n, self.basis, (unit(a ^ self.scramble.0), unit(b ^ self.scramble.1)))
     }
+}
+
+/// Most samples a hit whose directions [`directions_in`] makes at once.
+pub(super) const BLOCK: usize = 16;
+
+/// The directions of samples `first..first + count` (`count` ≤ [`BLOCK`]) of each of
+/// `points` (at most 16) into `out[h][k]`: [`Directions::get`]'s arithmetic, operation for
+/// operation (so the same bits), across the lanes of a kernel, a lane a point.
+#[inline(always)]
+pub(super) fn directions_in<S: Simd>(
+    simd: S,
+    points: &[Directions],
+    (first, count): (u32, usize),
+    out: &mut [[Vec3; BLOCK]; HITS_MAX],
+) {
+    let lanes = F::<S>::LEN;
+    for (c, chunk) in points.chunks(lanes).enumerate() {
+        // Per lane: the normal and its basis, and the pixel's scramble.
+        let mut frame = [[0f32; HITS_MAX]; 9];
+        let mut scramble = [[0u32; HITS_MAX]; 2];
+        for (l, d) in chunk.iter().enumerate() {
+            for a in 0..3 {
+                (frame[a][l], frame[3 + a][l], frame[6 + a][l]) = (d.n[a], d.basis.0[a], d.basis.1[a]);
+            }
+            (scramble[0][l], scramble[1][l]) = d.scramble;
+        }
+        let column = |x: &[f32; HITS_MAX]| F::<S>::from_slice(simd, &x[..lanes]);
+        let (n, t, b) =
+            (each3(|a| column(&frame[a])), each3(|a| column(&frame[3 + a])), each3(|a| column(&frame[6 + a])));
+        for (k, s) in (first..).take(count).enumerate() {
+            let (sa, sb) = sobol2(s);
+            let mut square = [[0f32; HITS_MAX]; 2];
+            for l in 0..chunk.len() {
+                square[0][l] = unit(sa ^ scramble[0][l]);
+                square[1][l] = unit(sb ^ scramble[1][l]);
+            }
+            let (u1, u2) = (column(&square[0]), column(&square[1]));
+            let r = u1.sqrt();
+            let (cos, sin) = turn_lanes(simd, u2);
+            let up = (F::<S>::splat(simd, 1.0) - u1).sqrt();
+            let (rc, rs) = (r * cos, r * sin);
+            let mut dir = [[0f32; HITS_MAX]; 3];
+            for a in 0..3 {
+                (t[a] * rc + b[a] * rs + n[a] * up).store_slice(&mut dir[a][..lanes]);
+            }
+            for l in 0..chunk.len() {
+                out[c * lanes + l][k] = Vec3::new(dir[0][l], dir[1][l], dir[2][l]);
+            }
+        }
+    }
+}
+
+/// [`turn`] lane by lane, with the same operations (the quarter's rotation by selects).
+#[inline(always)]
+fn turn_lanes<S: Simd>(simd: S, u: F<S>) -> (F<S>, F<S>) {
+    let k = |x: f32| F::<S>::splat(simd, x);
+    let four = k(4.0) * u;
+    let q = U::<S>::truncate_from(four + k(0.5));
+    let x = (four - F::<S>::float_from(q)) * k(std::f32::consts::FRAC_PI_2);
+    let x2 = x * x;
+    let sin =
+        x * (k(1.0) + x2 * (k(-1.0 / 6.0) + x2 * (k(1.0 / 120.0) + x2 * (k(-1.0 / 5040.0) + x2 * k(1.0 / 362_880.0)))));
+    let cos = k(1.0)
+        + x2 * (k(-0.5)
+            + x2 * (k(1.0 / 24.0) + x2 * (k(-1.0 / 720.0) + x2 * (k(1.0 / 40_320.0) + x2 * k(-1.0 / 3_628_800.0)))));
+    let bit = |b: u32| (q & U::<S>::splat(simd, b)).simd_eq(U::<S>::splat(simd, b));
+    let (odd, half) = (bit(1), bit(2));
+    let (c, s) = (odd.select(-sin, cos), odd.select(cos, sin));
+    (half.select(-c, c), half.select(-s, s))
 }
 
 /// The direction of occlusion ray `s` of pixel `pixel` at a point of unit normal `n`.
@@ -140,7 +237,7 @@ pub(crate) fn sample_direction(n: Vec3, pixel: (u32, u32), s: u32) -> Vec3 {
 pub(crate) type AoHit = (u32, (Vec3, Vec3), (u32, u32));
 
 /// Most hits [`Tracer::occluded_shares_in`] takes at once: the widest lanes.
-const HITS_MAX: usize = 16;
+pub(super) const HITS_MAX: usize = 16;
 
 /// Occlusion rays gathered into a packet: directions, and groups of one hit's rays that
 /// leave to one side (one origin, one sphere left out), with the hit and side of each.
@@ -224,17 +321,24 @@ impl Tracer {
             rays: 0,
             group_count: 0,
         };
-        for (h, &(object, (p, n), pixel)) in hits.iter().enumerate() {
-            let directions = Directions::new(n, pixel);
-            for s in 0..ao.samples {
-                let dir = directions.get(s);
-                let side = (h, leaves_outwards(n, dir));
-                let g = packet.group_of(side, || (spawn_ray(p, n, dir).origin, skipped(object, n, dir)));
-                packet.groups[g].2 |= 1 << packet.rays;
-                packet.dirs[packet.rays] = dir;
-                packet.rays += 1;
-                if packet.rays == PACKET {
-                    packet.flush(simd, self, ao.distance, &mut blocked);
+        let mut points = [Directions { n: Vec3::Z, basis: (Vec3::X, Vec3::Y), scramble: (0, 0) }; HITS_MAX];
+        for (d, &(_, (_, n), pixel)) in points.iter_mut().zip(hits) {
+            *d = Directions::new(n, pixel);
+        }
+        let mut block = [[Vec3::ZERO; BLOCK]; HITS_MAX];
+        for first in (0..ao.samples).step_by(BLOCK) {
+            let count = BLOCK.min((ao.samples - first) as usize);
+            directions_in(simd, &points[..hits.len()], (first, count), &mut block);
+            for (h, &(object, (p, n), _)) in hits.iter().enumerate() {
+                for &dir in &block[h][..count] {
+                    let side = (h, leaves_outwards(n, dir));
+                    let g = packet.group_of(side, || (spawn_ray(p, n, dir).origin, skipped(object, n, dir)));
+                    packet.groups[g].2 |= 1 << packet.rays;
+                    packet.dirs[packet.rays] = dir;
+                    packet.rays += 1;
+                    if packet.rays == PACKET {
+                        packet.flush(simd, self, ao.distance, &mut blocked);
+                    }
                 }
             }
         }

@@ -334,3 +334,48 @@ fn a_view_with_a_guard_band_seeds_its_shown_part_as_one_without() {
         .collect();
     assert_eq!(shown, plain);
 }
+
+#[test]
+fn a_turn_is_cos_and_sin_of_two_pi_u_within_a_millionth() {
+    // Every 2⁻¹⁸ of a turn, the quarter turns themselves, and both ends.
+    let steps = (0..=1u32 << 18).map(|k| k as f32 / (1u32 << 18) as f32);
+    for u in steps.chain([0.125, 0.25 - f32::EPSILON, 0.375, 0.625, 0.875, 1.0 - f32::EPSILON / 2.0]) {
+        let (cos, sin) = ao::turn(u);
+        let angle = std::f64::consts::TAU * f64::from(u);
+        let err = (f64::from(cos) - angle.cos()).abs().max((f64::from(sin) - angle.sin()).abs());
+        assert!(err <= 1e-6, "u {u}: ({cos}, {sin}) against ({}, {}), off by {err}", angle.cos(), angle.sin());
+    }
+}
+
+#[test]
+fn directions_made_across_lanes_are_the_plain_directions_bit_for_bit() {
+    // Sixteen points of scattered normals and pixels, samples in blocks from 0 and from
+    // 1,000, at the process's lanes and at the baseline's.
+    let points: Vec<ao::Directions> = (0..ao::HITS_MAX as u32)
+        .map(|k| {
+            let f = k as f32;
+            let n =
+                Vec3::new((f * 1.7).sin(), (f * 0.3).cos() - 0.5, (f * 2.9).sin() + if k == 3 { -2.0 } else { 0.1 });
+            ao::Directions::new(n.normalize(), (k * 37 + 5, 1000 - k * 11))
+        })
+        .collect();
+    for level in [crate::simd::level(), Level::baseline()] {
+        for (first, count) in [(0, 4), (0, ao::BLOCK), (1000, 7)] {
+            for hits in [1, 5, ao::HITS_MAX] {
+                let mut out = [[Vec3::ZERO; ao::BLOCK]; ao::HITS_MAX];
+                dispatch!(level, simd => ao::directions_in(simd, &points[..hits], (first, count), &mut out));
+                for (h, point) in points[..hits].iter().enumerate() {
+                    for (k, got) in out[h][..count].iter().enumerate() {
+                        let want = point.get(first + k as u32);
+                        assert_eq!(
+                            got.to_array().map(f32::to_bits),
+                            want.to_array().map(f32::to_bits),
+                            "{level:?}, point {h}, sample {}",
+                            first + k as u32
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
