@@ -138,11 +138,18 @@ impl Bvh {
                 }
                 let (oc, r2, cc) = origin_terms(splat3(simd, origin), (center, radius));
                 let others = ids.simd_ne(U::<S>::splat(simd, skip));
+                // The sphere left out, and those wholly beyond the reach (by a margin far
+                // above the rounding), can answer nothing: a negative square radius makes
+                // them miss every ray, so that a leaf none of whose other spheres a ray's
+                // line meets is left at the first test.
+                let beyond = radius + reach;
+                let near = (cc + r2).simd_le(beyond * beyond * F::<S>::splat(simd, 1.0 + 1.0 / 1024.0));
+                let r2 = (others & near).select(r2, F::<S>::splat(simd, -1.0));
                 while each != 0 {
                     let i = each.trailing_zeros() as usize;
                     each &= each - 1;
                     let t = nearest_root(simd, oc, splat3(simd, at.dirs[i]), r2, cc, reach);
-                    if (t.simd_lt(inf) & others).any_true() {
+                    if t.simd_lt(inf).any_true() {
                         blocked |= 1 << i;
                     }
                 }
