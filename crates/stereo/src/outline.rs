@@ -3,8 +3,10 @@
 //! reused frame starts from them), and a right eye made by reprojection is outlined exactly
 //! as a fully traced one, since both eyes' planes are their own views' whatever the mode.
 //! The planes are the frame's where it kept them ([`StereoFrame::first_hits`]: the left
-//! film's, and the right eye's depth pass of a frame that keeps depths), else a first-hits
-//! pass of their own ([`tracer::first_hits`]), the same values.
+//! film's, and, in a frame that keeps depths, the right eye's, made by its own pass in full
+//! and exact modes and by a first-hits pass in copy and reshade), else a first-hits pass of
+//! their own ([`tracer::first_hits`]): the same values, bit for bit. The lines go onto the
+//! copy as it is made ([`tracer::outline_from`]).
 
 use tracer::{first_hits, outline_from, Eye, Outline, Renderer, Tracer};
 

@@ -115,7 +115,7 @@ pub use error::SceneError;
 pub use film::{Film, Record};
 pub use material::Material;
 pub use ray::{reflect, spawn_ray, Ray};
-pub use render::{BatchRow, FirstHits, PixelBatch, Pixels, Renderer, Target};
+pub use render::{BatchRow, FirstHits, HitsColumns, PixelBatch, Pixels, Renderer, Target};
 pub use scene::{
     AtomKind, Light, Motion, Records, RenderSettings, Scene, SceneSphere, Structure, MAX_DEPTH_LIMIT, MAX_LIGHTS,
 };

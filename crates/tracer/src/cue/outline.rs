@@ -7,11 +7,13 @@
 //! the view axis (z + d): the line falls on the far side of a silhouette, so the nearer
 //! object keeps its size, and a crease between touching spheres (no jump) is left alone.
 //! A miss is infinitely far. The planes are an eye's own ([`first_hits`]: its primary rays'
-//! first hits through the BVH), so a right eye made by reprojection is outlined exactly as
-//! a fully traced one. Supersampled, the outline is drawn on the samples, its width scaled
+//! first hits through the screen bins or the BVH; or the same planes, bit for bit, kept by
+//! the pass that shaded the eye: a film's, a `Target::colour_with_first_hits` render's,
+//! exact mode's `PixelBatch::shade_row`'s), so a right eye made by reprojection is outlined
+//! exactly as a fully traced one. Supersampled, the outline is drawn on the samples, its width scaled
 //! by the supersampling, before the filter. A row is drawn as a flag per pixel, OR-ed over
 //! the neighbour offsets in loops the compiler vectorises, then one pass that inks (and,
-//! drawn onto a copy, copies); [`drawn`], the definition pixel by pixel, is its test's
+//! drawn onto a copy, copies); `drawn`, the definition pixel by pixel, is its test's
 //! oracle.
 
 use rayon::prelude::*;
