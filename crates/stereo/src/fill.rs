@@ -16,14 +16,21 @@
 //! goes further and does stages 2 to 5 in one pass over bands of rows
 //! ([`reproject_and_fill_exact`]): a band is reprojected and classified, then made at once,
 //! while the left film's rows it reads are still in cache.
+//!
+//! Exact mode can keep the right eye's first-hit planes (object and head-space depth) as
+//! it makes each pixel ([`HitPlanes`]): a reprojected pixel's is the hit of its own ray on
+//! the sphere its source saw, a traced pixel's its trace's, and a pixel that takes the
+//! background colour sees background, bit for bit a first-hits pass of the right view,
+//! since exact mode's right eye is the full trace's.
 
 use std::cell::RefCell;
 use std::ops::Add;
 use std::time::Instant;
 
+use rayon::iter::Either;
 use rayon::prelude::*;
 use tracer::reuse::{Marks, MarksRow, Rewrite};
-use tracer::{EyeView, Film, PixelBatch, RayCounts, RowPlan, KEEP, NO_OBJECT, TRACE};
+use tracer::{EyeView, Film, HitsColumns, PixelBatch, RayCounts, RowPlan, KEEP, NO_OBJECT, TRACE};
 
 use crate::image::Image;
 use crate::mode::Mode;
@@ -67,6 +74,22 @@ impl Add for Filled {
     }
 }
 
+/// The right eye's first-hit planes, object and depth, that exact mode keeps as it makes
+/// the pixels (see the module doc); `None`: not kept.
+pub(crate) type HitPlanes<'a> = Option<(&'a mut [u32], &'a mut [f32])>;
+
+/// The rows of `planes`, `w` pixels wide, or `None` for each of `rows` rows without them.
+fn hit_rows(
+    planes: HitPlanes<'_>,
+    w: usize,
+    rows: usize,
+) -> impl IndexedParallelIterator<Item = Option<HitsColumns<'_>>> {
+    match planes {
+        Some((object, z)) => Either::Left(object.par_chunks_mut(w).zip(z.par_chunks_mut(w)).map(Some)),
+        None => Either::Right(rayon::iter::repeat_n((), rows).map(|()| None)),
+    }
+}
+
 /// One right row as stage 5 reads and writes it.
 struct Row<'a> {
     /// The row's index.
@@ -82,6 +105,8 @@ struct Row<'a> {
     /// Its marks, when the frame marks: where a pixel's own ray trees meet the moving
     /// spheres' swept volumes.
     marks: Option<MarksRow<'a>>,
+    /// Its first-hit planes, when kept (exact mode).
+    hits: Option<HitsColumns<'a>>,
 }
 
 /// Stage 5 over the image: every right pixel of `redo` that `mask` marks
@@ -89,34 +114,39 @@ struct Row<'a> {
 /// film (rendered for the view `lv`), as `how` says, by `right`, the right eye's view.
 /// For [`Fill::Reshade`], stage 4 has traced the other pixels and cleared the marks of
 /// `redo`'s pixels, and this sets those of the pixels it shades; [`Fill::Exact`] does
-/// stage 4's part itself (see the module doc).
+/// stage 4's part itself (see the module doc), and writes the first-hit planes `hits` of
+/// the pixels it makes, if given (only it keeps them).
 pub(crate) fn fill(
     right: PixelBatch<'_>,
     (lv, left): (&EyeView, &Film),
     how: Fill,
     (mask, src): (&mut [PixelClass], &[u32]),
-    out: &mut Image,
+    (out, hits): (&mut Image, HitPlanes<'_>),
     redo: Redo<'_>,
 ) -> Filled {
-    let w = out.width as usize;
+    let (w, h) = (out.width as usize, out.height as usize);
     debug_assert!(
-        mask.len() == out.rgb.len() && src.len() == out.rgb.len() && out.rgb.len() == w * out.height as usize,
+        mask.len() == out.rgb.len() && src.len() == out.rgb.len() && out.rgb.len() == w * h,
         "the mask, the source map and the image must have one size"
+    );
+    debug_assert!(
+        hits.as_ref().is_none_or(|(object, z)| how == Fill::Exact && object.len() == w * h && z.len() == w * h),
+        "first-hit planes of the image's size, in exact mode"
     );
     let (marks, only, mark) = redo.rows();
     out.rgb
         .par_chunks_mut(w)
         .zip(mask.par_chunks_mut(w))
         .zip(src.par_chunks(w))
-        .zip(marks)
+        .zip(marks.zip(hit_rows(hits, w, h)))
         .enumerate()
-        .map(|(j, (((rgb, mask), src), marks))| {
+        .map(|(j, (((rgb, mask), src), (marks, hits)))| {
             let (only, empty) = row_of(only, j);
             if empty {
                 // Nothing to make in this row.
                 return Filled::default();
             }
-            let row = Row { j: j as u32, rgb, mask, src, only, marks: mark.then_some(marks) };
+            let row = Row { j: j as u32, rgb, mask, src, only, marks: mark.then_some(marks), hits };
             match how {
                 Fill::Reshade => reshade_row(right, (lv, left), row),
                 Fill::Exact => exact_row(right, left, row, None),
@@ -172,7 +202,8 @@ fn list_row(
 
 /// One row of [`Fill::Reshade`]: the surfaces seen, re-shaded as one list.
 fn reshade_row(right: PixelBatch<'_>, (lv, left): (&EyeView, &Film), row: Row<'_>) -> Filled {
-    let Row { j, rgb, mask, src, only, mut marks } = row;
+    let Row { j, rgb, mask, src, only, mut marks, hits } = row;
+    debug_assert!(hits.is_none(), "reshade mode keeps no first hits");
     let mut rays = RayCounts::default();
     with_list(|list| {
         list_row(left, (mask, src), rgb, only, list);
@@ -186,8 +217,9 @@ fn reshade_row(right: PixelBatch<'_>, (lv, left): (&EyeView, &Film), row: Row<'_
 /// it misses are retraced and marked edges), every other pixel of the row traced afresh. A
 /// pixel whose source saw background takes its colour. `seen` holds, per column, the object
 /// of the pixel's source, where the caller has it at hand (`None`: read from the film here).
+/// The row's first-hit planes, if kept, are written for the pixels made.
 fn exact_row(right: PixelBatch<'_>, left: &Film, row: Row<'_>, seen: Option<&[u32]>) -> Filled {
-    let Row { j, rgb, mask, src, only, mut marks } = row;
+    let Row { j, rgb, mask, src, only, mut marks, hits } = row;
     if let Some(marks) = marks.as_mut() {
         marks.clear_only(only);
     }
@@ -213,7 +245,7 @@ fn exact_row(right: PixelBatch<'_>, left: &Film, row: Row<'_>, seen: Option<&[u3
             plan.source.iter().zip(plan.object).all(|(&s, &o)| s >= KEEP || left.object[s as usize] == o),
             "row {j}: the plan's objects are its sources'"
         );
-        let sphere_tests = right.shade_row(j, plan, (rgb, marks.as_mut()), &mut rays, missed);
+        let sphere_tests = right.shade_row(j, plan, ((rgb, marks.as_mut()), hits), &mut rays, missed);
         for &i in missed.iter() {
             mask[i as usize] = PixelClass::RetracedEdge;
         }
@@ -243,8 +275,8 @@ impl Add for FusedExact {
 
 /// Stages 2 to 5 of a fresh [`Fill::Exact`] frame in one pass over bands of rows: each
 /// band is reprojected and classified (`reproject.rs`: `src` and `class`, copied to `mask`)
-/// and at once made, row by row, as [`fill`] makes it (`exact_row`), into `out`, marking
-/// into `marks` if `mark`.
+/// and at once made, row by row, as [`fill`] makes it (`exact_row`), into `out` (and its
+/// first-hit planes `hits`, if given), marking into `marks` if `mark`.
 ///
 /// The result is [`reproject_and_classify`](crate::reproject::reproject_and_classify)
 /// followed by [`fill`], byte for byte: a band's rows depend only on the left film, and a
@@ -256,7 +288,7 @@ pub(crate) fn reproject_and_fill_exact(
     left: &Film,
     p: Reprojection,
     (src, class, mask): (&mut [u32], &mut [PixelClass], &mut [PixelClass]),
-    out: &mut Image,
+    (out, hits): (&mut Image, HitPlanes<'_>),
     (marks, mark): (&mut Marks, bool),
 ) -> FusedExact {
     let (w, h) = (out.width as usize, out.height as usize);
@@ -264,18 +296,24 @@ pub(crate) fn reproject_and_fill_exact(
         [src.len(), class.len(), mask.len(), left.z.len(), w * h].iter().all(|&n| n == out.rgb.len()),
         "the planes must have the image's size"
     );
+    debug_assert!(
+        hits.as_ref().is_none_or(|(object, z)| object.len() == w * h && z.len() == w * h),
+        "first-hit planes of the image's size"
+    );
     let band_pixels = (w * BAND).max(1);
+    let bands = out.rgb.len().div_ceil(band_pixels);
     out.rgb
         .par_chunks_mut(band_pixels)
         .zip(mask.par_chunks_mut(band_pixels))
         .zip(src.par_chunks_mut(band_pixels))
         .zip(class.par_chunks_mut(band_pixels))
-        .zip(marks.bands_mut(Rewrite::All, BAND))
+        .zip(marks.bands_mut(Rewrite::All, BAND).zip(hit_rows(hits, band_pixels, bands)))
         .enumerate()
-        .map(|(b, ((((rgb, mask), src), class), mut marks))| {
+        .map(|(b, ((((rgb, mask), src), class), (mut marks, hits)))| {
             let t = Instant::now();
             let mut reproject_s = 0.0;
             let (mut rows, mut marks) = (rgb.chunks_mut(w).zip(mask.chunks_mut(w)), marks.rows());
+            let mut hits = hits.map(|(object, z)| object.chunks_mut(w).zip(z.chunks_mut(w)));
             let mut filled = Filled::default();
             band_then(left, p, (b, h), (src, class), |k, src, class, seen| {
                 if k == 0 {
@@ -285,7 +323,8 @@ pub(crate) fn reproject_and_fill_exact(
                 if let (Some((rgb, mask)), marks) = (rows.next(), marks.next()) {
                     mask.copy_from_slice(class);
                     let j = (b * BAND + k) as u32;
-                    let row = Row { j, rgb, mask, src, only: None, marks: marks.filter(|_| mark) };
+                    let hits = hits.as_mut().and_then(Iterator::next);
+                    let row = Row { j, rgb, mask, src, only: None, marks: marks.filter(|_| mark), hits };
                     filled = filled + exact_row(right, left, row, Some(seen));
                 }
             });
@@ -331,7 +370,8 @@ mod tests {
     use crate::reproject::reproject_and_classify;
 
     /// The one pass of a fresh exact frame is the two passes it replaces (stages 2 and 3
-    /// over the image, then [`fill`]), byte for byte: colours, classes, sources and marks.
+    /// over the image, then [`fill`]), byte for byte: colours, classes, sources and marks;
+    /// and the first-hit planes both keep are a first-hits pass's of the right view.
     #[test]
     fn one_banded_pass_is_the_two_passes() {
         for (name, t) in [("seed.toml", 0.8), ("many.toml", 0.0), ("thousand.toml", 0.3)] {
@@ -345,11 +385,16 @@ mod tests {
             Renderer::new().render(&tracer, &lv, Pixels::All, target);
             let p = Reprojection::new(&tracer, &scene.camera, &rv, Options { mode: Mode::Exact, retrace_edges: false });
             let n = (w * h) as usize;
+            let (mut object, mut z) = (Vec::new(), Vec::new());
+            tracer::first_hits(&mut Renderer::new(), &tracer, &rv, &mut object, &mut z);
+            let bits = |z: &[f32]| z.iter().map(|z| z.to_bits()).collect::<Vec<_>>();
             for mark in [false, true] {
                 let mut renderer = Renderer::new();
                 let right = renderer.batch(&tracer, &rv).marking(mark.then_some(&swept));
                 let frame = || (vec![7u32; n], vec![PixelClass::Traced; n], vec![PixelClass::Traced; n]);
                 let image = || Image { width: w, height: h, rgb: vec![0; n] };
+                let planes = || (vec![7u32; n], vec![-1.0f32; n]);
+                let ((mut object1, mut z1), (mut object2, mut z2)) = (planes(), planes());
 
                 let ((mut src, mut class, mut mask), mut out, mut marks) = (frame(), image(), Marks::new(w, h));
                 let one = reproject_and_fill_exact(
@@ -357,7 +402,7 @@ mod tests {
                     &left,
                     p,
                     (&mut src, &mut class, &mut mask),
-                    &mut out,
+                    (&mut out, Some((&mut object1[..], &mut z1[..]))),
                     (&mut marks, mark),
                 );
 
@@ -365,7 +410,8 @@ mod tests {
                 reproject_and_classify(&left, p, &mut src2, &mut class2);
                 let mut mask2 = class2.clone();
                 let redo = Redo { only: None, marks: &mut marks2, mark };
-                let two = fill(right, (&lv, &left), Fill::Exact, (&mut mask2, &src2), &mut out2, redo);
+                let out2_hits = (&mut out2, Some((&mut object2[..], &mut z2[..])));
+                let two = fill(right, (&lv, &left), Fill::Exact, (&mut mask2, &src2), out2_hits, redo);
 
                 let at = format!("{name}, marking {mark}");
                 assert_eq!((src, class), (src2, class2), "{at}: sources and classes");
@@ -376,6 +422,8 @@ mod tests {
                 assert_eq!((one.filled.rays, one.filled.sphere_tests), (two.rays, two.sphere_tests), "{at}: costs");
                 assert!(mask.contains(&PixelClass::Reprojected) && mask.contains(&PixelClass::RetracedGap), "{at}");
                 assert!(!mark || marks.bits().count() > 0 || name == "many.toml", "{at}: something marked");
+                assert_eq!((&object1, bits(&z1)), (&object, bits(&z)), "{at}: the one pass's first hits");
+                assert_eq!((&object2, bits(&z2)), (&object, bits(&z)), "{at}: the two passes' first hits");
             }
         }
     }

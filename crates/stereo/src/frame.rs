@@ -11,12 +11,21 @@
 //! With reuse on ([`StereoFrame::set_reuse`]), a frame whose only change is the scene time
 //! makes again only what can have changed: `reuse/` keeps that bookkeeping. The frame enters
 //! it once, and each stage asks the frame's reuse which pixels to make.
+//!
+//! A frame that keeps depths ([`StereoFrame::set_depths`]) keeps each eye's first hits
+//! (object and head-space depth planes, what outlines and a timewarp read). The left film
+//! keeps them as part of its record; the right eye's come out of its own pass where that
+//! pass traces or exactly shades every pixel it makes (full and exact modes: the pixel's own
+//! ray's first hit, as pbrt-v4's film keeps its visible surface), and from a first-hits pass
+//! of their own where it copies or re-shades colours (copy and reshade modes).
 
 use std::time::Instant;
 
-use tracer::{Camera, Eye, EyeView, Film, PixelBatch, PixelBits, Pixels, Record, Renderer, Scene, Target, Tracer};
+use tracer::{
+    Camera, Eye, EyeView, Film, PixelBatch, PixelBits, Pixels, Record, Renderer, Scene, Target, Tracer, NO_OBJECT,
+};
 
-use crate::fill::{fill, reproject_and_fill_exact, Fill};
+use crate::fill::{fill, reproject_and_fill_exact, Fill, HitPlanes};
 use crate::image::Image;
 use crate::mode::{Mode, Options};
 use crate::reproject::{Reprojection, NO_SOURCE};
@@ -46,7 +55,8 @@ pub struct StereoFrame {
     /// Temporal reuse: what the last frame was, and what this one may keep of it.
     reuse: Temporal,
     /// Whether frames keep both eyes' depth ([`StereoFrame::set_depths`]), and the right
-    /// eye's first hits: its depth and object planes.
+    /// eye's first hits: its depth and object planes (kept between frames: a reused frame
+    /// writes those of the pixels it makes again).
     depths: bool,
     right_z: Vec<f32>,
     right_object: Vec<u32>,
@@ -121,9 +131,11 @@ impl StereoFrame {
     }
 
     /// Keeps both eyes' depth from now on (off for a new frame), as a timewarp reads it: the
-    /// left film keeps its depth in every mode, and the right eye gets a depth pass of its
-    /// own (its first hits alone, no shading: [`StereoFrame::right_depth`]). Both eyes then
-    /// have their first hits' planes ([`StereoFrame::first_hits`]), which outlines read.
+    /// left film keeps its depth in every mode, and the right eye its first hits, from the
+    /// pass that makes it in full and exact modes, else from a first-hits pass of its own (no
+    /// shading) ([`StereoFrame::right_depth`]). Both eyes then have their first hits' planes
+    /// ([`StereoFrame::first_hits`]), which outlines read. A change of this makes the next
+    /// frame fresh, as a change of the request does.
     pub fn set_depths(&mut self, on: bool) {
         self.depths = on;
     }
@@ -140,8 +152,8 @@ impl StereoFrame {
     }
 
     /// `eye`'s first hits in the last frame, (object, depth) per pixel, as
-    /// [`tracer::first_hits`] gives them: the left film's planes when it kept them, the
-    /// right eye's depth pass when frames keep depths ([`StereoFrame::set_depths`]).
+    /// [`tracer::first_hits`] gives them, bit for bit: the left film's planes when it kept
+    /// them, the right eye's when frames keep depths ([`StereoFrame::set_depths`]).
     #[must_use]
     pub fn first_hits(&self, eye: Eye) -> Option<(&[u32], &[f32])> {
         match eye {
@@ -232,7 +244,8 @@ impl StereoFrame {
         let [lv, rv] = &views.eyes;
         let size = (lv.width, lv.height);
         let n = pixel_count(size.0, size.1);
-        let mut reuse = reuse.frame(tracer, Asked { camera: *camera, width, height, margin, opts }, size);
+        let asked = Asked { camera: *camera, width, height, margin, opts, depths: *depths };
+        let mut reuse = reuse.frame(tracer, asked, size);
         let mut stats = FrameStats::default();
 
         // Stage 1: the left eye, keeping only what the mode's later stages read of its record.
@@ -248,19 +261,27 @@ impl StereoFrame {
         class.resize(n, PixelClass::Traced);
         (right.width, right.height) = size;
         right.rgb.resize(n, 0);
+        // The right eye's first hits, made with its pixels in full and exact modes.
+        let hits_in_pass = *depths && matches!(opts.mode, Mode::Full | Mode::Exact);
+        if hits_in_pass {
+            right_object.resize(n, NO_OBJECT);
+            right_z.resize(n, f32::INFINITY);
+        }
+        let hits = hits_in_pass.then_some((&mut *right_object, &mut *right_z));
         let planes = (&mut src[..], &mut class[..], &mut mask[..]);
         if n == 0 {
             // Nothing to make.
         } else if opts.mode == Mode::Full {
             // The right eye as the left: timed as stage 4.
             let t = Instant::now();
-            let (pixels, target) = reuse.right_full(&mut right.rgb);
+            let (pixels, target) = reuse.right_full(&mut right.rgb, hits);
             stats.right.rays = right_renderer.render(tracer, rv, pixels, target);
             planes.2.fill(PixelClass::Traced);
             stats.stages.retrace = ms_since(t);
         } else if !reuse.reused() && opts.mode == Mode::Exact {
             // Stages 2 to 5 in one banded pass.
-            let right_eye = (&mut *right_renderer, rv, &mut *right);
+            let hits = hits.map(|(object, z)| (&mut object[..], &mut z[..]));
+            let right_eye = (&mut *right_renderer, rv, (&mut *right, hits));
             exact_in_one_pass(tracer, camera, (left, right_eye), planes, opts, &mut reuse, &mut stats);
         } else {
             // Stages 2 and 3: the source map and the class of every right pixel (on a
@@ -272,11 +293,13 @@ impl StereoFrame {
             let (only, marks, swept) = reuse.right();
             let right_eye = right_renderer.batch(tracer, rv).marking(swept);
             let redo = Redo { only, marks, mark: swept.is_some() };
-            retrace_and_fill(right_eye, (lv, left), opts.mode, (mask, src), right, redo, &mut stats);
+            let hits = hits.map(|(object, z)| (&mut object[..], &mut z[..]));
+            retrace_and_fill(right_eye, (lv, left), opts.mode, (mask, src), (right, hits), redo, &mut stats);
         }
         stats.right.ms = stats.stages.reproject + stats.stages.retrace + stats.stages.reshade;
-        if *depths {
-            // The right eye's depth, for a timewarp: its first hits alone.
+        if *depths && !hits_in_pass {
+            // The right eye's first hits, where its pass copied or re-shaded colours: a
+            // first-hits pass alone.
             let t = Instant::now();
             right_renderer.render(tracer, rv, Pixels::All, Target::first_hits(right_object, right_z));
             stats.stages.depth = ms_since(t);
@@ -289,15 +312,16 @@ impl StereoFrame {
 
 /// Stages 4 and 5 of a reprojecting `mode`, by `right` (the right eye's pixels) into `out`,
 /// from the `left` film (rendered for the view `lv`), the classes in `mask` and the sources
-/// in `src`, over the pixels and marks `redo` names. The paper's mode gathers its
-/// reprojected colours in stage 4's pass over the image: it has no stage 5. Exact mode
-/// retraces in stage 5's pass instead (`fill.rs`).
+/// in `src`, over the pixels and marks `redo` names, with the right eye's first hits into
+/// `hits` in exact mode if given. The paper's mode gathers its reprojected colours in stage
+/// 4's pass over the image: it has no stage 5. Exact mode retraces in stage 5's pass
+/// instead (`fill.rs`).
 fn retrace_and_fill(
     right: PixelBatch<'_>,
     (lv, left): (&EyeView, &Film),
     mode: Mode,
     (mask, src): (&mut [PixelClass], &[u32]),
-    out: &mut Image,
+    (out, hits): (&mut Image, HitPlanes<'_>),
     redo: Redo<'_>,
     stats: &mut FrameStats,
 ) {
@@ -311,7 +335,7 @@ fn retrace_and_fill(
     }
     if let Some(how) = how {
         let t = Instant::now();
-        let filled = fill(right, (lv, left), how, (mask, src), out, Redo { only, marks, mark });
+        let filled = fill(right, (lv, left), how, (mask, src), (out, hits), Redo { only, marks, mark });
         stats.stages.reshade = ms_since(t);
         stats.right.rays += filled.rays;
         stats.sphere_tests = filled.sphere_tests;
@@ -319,14 +343,15 @@ fn retrace_and_fill(
 }
 
 /// Stages 2 to 5 of a fresh exact frame in one banded pass (`fill.rs`): from the `left`
-/// film into the right eye (its renderer, its view `rv` of `camera`, its image) and the
-/// `planes` (sources, stage-3 classes, final classes), marking if `reuse` does. The pass's
+/// film into the right eye (its renderer, its view `rv` of `camera`, its image and, if
+/// kept, its first hits) and the `planes` (sources, stage-3 classes, final classes),
+/// marking if `reuse` does. The pass's
 /// time goes to `stats`, split between the reproject and reshade stages as the thread time
 /// each part took.
 fn exact_in_one_pass(
     tracer: &Tracer,
     camera: &Camera,
-    (left, (renderer, rv, out)): (&Film, (&mut Renderer, &EyeView, &mut Image)),
+    (left, (renderer, rv, out)): (&Film, (&mut Renderer, &EyeView, (&mut Image, HitPlanes<'_>))),
     planes: (&mut [u32], &mut [PixelClass], &mut [PixelClass]),
     opts: Options,
     reuse: &mut FrameReuse<'_>,

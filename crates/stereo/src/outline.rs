@@ -3,10 +3,12 @@
 //! reused frame starts from them), and a right eye made by reprojection is outlined exactly
 //! as a fully traced one, since both eyes' planes are their own views' whatever the mode.
 //! The planes are the frame's where it kept them ([`StereoFrame::first_hits`]: the left
-//! film's, and the right eye's depth pass of a frame that keeps depths), else a first-hits
-//! pass of their own ([`tracer::first_hits`]), the same values.
+//! film's, and, in a frame that keeps depths, the right eye's, made by its own pass in full
+//! and exact modes and by a first-hits pass in copy and reshade), else a first-hits pass of
+//! their own ([`tracer::first_hits`]): the same values, bit for bit. The lines go onto the
+//! copy as it is made ([`tracer::outline_from`]).
 
-use tracer::{first_hits, outline, Eye, Outline, Renderer, Tracer};
+use tracer::{first_hits, outline_from, Eye, Outline, Renderer, Tracer};
 
 use crate::frame::StereoFrame;
 
@@ -72,8 +74,8 @@ impl Outlined {
             Eye::Right => (1, &frame.right().rgb),
         };
         let view = frame.views().eyes[k];
-        self.rgb[k].clear();
-        self.rgb[k].extend_from_slice(rgb);
+        // (Every pixel is written below: the copy is made with the lines.)
+        self.rgb[k].resize(rgb.len(), 0);
         let (object, z) = if let Some(planes) = frame.first_hits(eye) {
             planes
         } else {
@@ -82,6 +84,6 @@ impl Outlined {
         };
         let size = (view.width, view.height);
         let style = Outline { ink: self.ink, ..Outline::of_view(&view, width) };
-        outline(&mut self.rgb[k], object, z, size, style);
+        outline_from(rgb, &mut self.rgb[k], object, z, size, style);
     }
 }

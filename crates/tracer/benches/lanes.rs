@@ -89,7 +89,7 @@ fn batches(c: &mut Criterion) {
                 for j in 0..H {
                     let row = (j * W) as usize..((j + 1) * W) as usize;
                     let plan = RowPlan { source: &source[row.clone()], object: &film.object[row] };
-                    second.shade_row(j, plan, (&mut rgb, None), &mut counts, &mut missed);
+                    second.shade_row(j, plan, ((&mut rgb, None), None), &mut counts, &mut missed);
                     sum = rgb.iter().fold(sum, |s, &c| s.wrapping_add(c));
                 }
                 black_box((sum, counts))

@@ -108,14 +108,14 @@ pub use camera::{Camera, Disparity, Eye, EyeView};
 pub use color::{linear_to_srgb8, pack_rgb, srgb8_to_linear, unpack_rgb};
 pub use color_by::{parse_color_range, ColorBy, Coloring, Hide, CHAIN_COLOURS, STEPS as COLOR_STEPS, WATER_NAMES};
 pub use cue::{
-    bounds as scene_bounds, first_hits, outline, sized as sized_cues, AmbientOcclusion, Cues, DepthCue, DepthCueMode,
-    Outline, AO_SAMPLES_MAX, OUTLINE_JUMP, OUTLINE_MAX, STRUCTURE_AO_SAMPLES,
+    bounds as scene_bounds, first_hits, outline, outline_from, sized as sized_cues, AmbientOcclusion, Cues, DepthCue,
+    DepthCueMode, Outline, AO_SAMPLES_MAX, OUTLINE_JUMP, OUTLINE_MAX, STRUCTURE_AO_SAMPLES,
 };
 pub use error::SceneError;
 pub use film::{Film, Record};
 pub use material::Material;
 pub use ray::{reflect, spawn_ray, Ray};
-pub use render::{BatchRow, FirstHits, PixelBatch, Pixels, Renderer, Target};
+pub use render::{BatchRow, FirstHits, HitsColumns, PixelBatch, Pixels, Renderer, Target};
 pub use scene::{
     AtomKind, Light, Motion, Records, RenderSettings, Scene, SceneSphere, Structure, MAX_DEPTH_LIMIT, MAX_LIGHTS,
 };

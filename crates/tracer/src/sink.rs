@@ -1,14 +1,14 @@
 //! Where every pixel producer's output goes: one [`RowSink`] per row, as pbrt-v4's
 //! `Film::AddSample` takes every sample whatever the integrator made it.
 //!
-//! A sink is the row's columns ([`Columns`]: colour only, the record's keys, the whole
-//! record, or depth) and an observer ([`Observe`]) beside them. Producers — the render's row
-//! loop (`render/row.rs`) and the batches of chosen pixels (`batch/`) — hand it the pixels
-//! that saw only background as they find them, then the shaded batch once
-//! ([`RowSink::emit`]). The observer sees that batch read-only before its samples are
-//! written, as Embree's intersection filter callbacks see hits without the traversal
-//! knowing who listens: temporal reuse hangs its marks column there (`reuse/observer.rs`),
-//! and a producer never knows whether anyone marks.
+//! A sink is the row's columns ([`Columns`]: colour only, colour and first hits, the
+//! record's keys, the whole record, or depth) and an observer ([`Observe`]) beside them.
+//! Producers — the render's row loop (`render/row.rs`) and the batches of chosen pixels
+//! (`batch/`) — hand it the pixels that saw only background as they find them, then the
+//! shaded batch once ([`RowSink::emit`]). The observer sees that batch read-only before its
+//! samples are written, as Embree's intersection filter callbacks see hits without the
+//! traversal knowing who listens: temporal reuse hangs its marks column there
+//! (`reuse/observer.rs`), and a producer never knows whether anyone marks.
 //!
 //! Every producer is generic over the sink, so each kind of row is its own monomorphised
 //! loop: nothing per pixel goes through a call the compiler cannot see.
@@ -140,6 +140,40 @@ impl Columns for RgbRow<'_> {
     #[inline]
     fn hit(&mut self, i: usize, rgb: u32, _: impl FnOnce() -> Keys, _: impl FnOnce() -> Shading) {
         self.0[i] = rgb;
+    }
+}
+
+/// One row of colour and first hits: each pixel's colour, and the depth
+/// ([`EyeView::head_z`], +∞ for a miss) and sphere ([`NO_OBJECT`] for a miss) of its primary
+/// ray's first hit, as a [`DepthRow`] of the same view keeps them, bit for bit: an eye's own
+/// planes from the pass that shades it.
+#[derive(Debug)]
+pub(crate) struct HitsRow<'a> {
+    pub(crate) rgb: &'a mut [u32],
+    pub(crate) z: &'a mut [f32],
+    pub(crate) object: &'a mut [u32],
+}
+
+impl Columns for HitsRow<'_> {
+    #[inline]
+    fn background(&mut self, span: Range<usize>, rgb: u32) {
+        self.rgb[span.clone()].fill(rgb);
+        self.z[span.clone()].fill(f32::INFINITY);
+        self.object[span].fill(NO_OBJECT);
+    }
+
+    /// A pixel that takes a colour without a ray sees background: it takes the colour
+    /// of a pixel of another view that saw background, where its producer's caller
+    /// vouches that its own ray meets nothing either (exact mode's reprojection).
+    #[inline]
+    fn take(&mut self, i: usize, rgb: u32) {
+        self.background(i..i + 1, rgb);
+    }
+
+    #[inline]
+    fn hit(&mut self, i: usize, rgb: u32, keys: impl FnOnce() -> Keys, _: impl FnOnce() -> Shading) {
+        let (z, _, object, _) = keys();
+        (self.rgb[i], self.z[i], self.object[i]) = (rgb, z, object);
     }
 }
 

@@ -54,14 +54,21 @@ impl<'a> FrameReuse<'a> {
     }
 
     /// The right eye of `full` mode, traced as the left eye is: its pixels and its target
-    /// `rgb`.
-    pub(crate) fn right_full<'b>(&'b mut self, rgb: &'b mut Vec<u32>) -> (Pixels<'b>, Target<'b>) {
+    /// `rgb`, with its first hits into `hits` (object and depth planes) if given.
+    pub(crate) fn right_full<'b>(
+        &'b mut self,
+        rgb: &'b mut Vec<u32>,
+        hits: Option<(&'b mut Vec<u32>, &'b mut Vec<f32>)>,
+    ) -> (Pixels<'b>, Target<'b>) {
         let t = &mut *self.temporal;
         if self.made == Made::Reused {
             self.right_made = t.right_marks.select([&t.hulls, &[]], &mut t.right_made);
         }
         let (marks, swept) = Temporal::to_mark(t.swept.as_ref(), &mut t.right_marks, self.made, self.size);
-        let target = Target::colour(rgb);
+        let target = match hits {
+            Some((object, z)) => Target::colour_with_first_hits(rgb, object, z),
+            None => Target::colour(rgb),
+        };
         let target = if let Some(swept) = swept { target.marking(marks, swept) } else { target };
         let pixels = if self.made == Made::Reused { Pixels::Only(&t.right_made) } else { Pixels::All };
         (pixels, target)

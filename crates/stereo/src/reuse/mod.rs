@@ -32,6 +32,10 @@ pub(crate) struct Asked {
     pub height: u32,
     pub margin: (u32, u32),
     pub opts: Options,
+    /// Whether the frame keeps both eyes' depth and first hits: a right eye that makes its
+    /// planes as it makes its pixels keeps those of the pixels it does not make again, which
+    /// the last frame must have made too.
+    pub depths: bool,
 }
 
 /// How a frame is made.

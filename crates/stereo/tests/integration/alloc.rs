@@ -1,6 +1,7 @@
 //! A warm stereo frame allocates nothing of its own: the tracer's per-frame rebuild (BVH,
 //! screen bins, shadow cube maps, cones) and every mode's passes reuse their buffers, on
-//! every thread; nor does supersampling's filter (`downsample`) into a buffer it reuses.
+//! every thread, with depths kept or not (and then the outlines drawn from each eye's kept
+//! planes); nor does supersampling's filter (`downsample`) into a buffer it reuses.
 //!
 //! Allocations are counted by a global allocator that forwards to the system's and counts
 //! only on the threads of a rayon pool built for the purpose ([`CountingPool`]), each pool
@@ -33,7 +34,7 @@ use std::cell::Cell;
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use glam::Vec3;
-use stereo::{Mode, Options, StereoFrame, Warp, WarpSource};
+use stereo::{Mode, Options, Outlined, StereoFrame, Warp, WarpSource};
 use tracer::testing::scene;
 use tracer::{Camera, Eye, Film, Pixels, Record, Renderer, Target, Tracer};
 
@@ -120,11 +121,14 @@ impl CountingPool {
 fn a_warm_frame_allocates_nothing() {
     let pool = CountingPool::new();
     let all = [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact];
-    for name in ["seed.toml", "many.toml"] {
+    // Without depths, and with them and the outlines drawn from each eye's kept planes.
+    for (name, depths) in [("seed.toml", false), ("many.toml", false), ("seed.toml", true), ("many.toml", true)] {
         let scene = scene(name);
         let (w, h) = (160, 90);
         let mut tracer = Tracer::new(&scene, 0.0);
         let mut frame = StereoFrame::new();
+        frame.set_depths(depths);
+        let mut outlined = Outlined::new();
         // Supersampling's filter, into a buffer kept from frame to frame (as the viewer's).
         let mut filtered = Vec::new();
         let variants: Vec<Options> =
@@ -134,6 +138,9 @@ fn a_warm_frame_allocates_nothing() {
                 tracer.advance(&scene, k as f32 / 30.0);
                 for &opts in &variants {
                     frame.render(&tracer, &scene.camera, w, h, opts);
+                    if depths {
+                        outlined.eyes(&tracer, &frame, 1.0);
+                    }
                 }
                 stereo::downsample(&frame.right().rgb, (w, h), &mut filtered, (w / 2, h / 2));
                 stereo::downsample_mask(frame.mask(), (w, h), &mut filtered, (w / 2, h / 2));
@@ -146,7 +153,10 @@ fn a_warm_frame_allocates_nothing() {
         let frames = 3 * variants.len() as u64;
         let rounds: Vec<u64> = (1..4).map(|round| pool.allocations(|| frames_at(3 * round..3 * round + 3))).collect();
         let fewest = rounds.iter().copied().min().unwrap_or(0);
-        assert!(fewest <= frames / 8, "{name}: rounds of {frames} warm frames allocated {rounds:?} times");
+        assert!(
+            fewest <= frames / 8,
+            "{name}, depths {depths}: rounds of {frames} warm frames allocated {rounds:?} times"
+        );
     }
 }
 
@@ -262,10 +272,13 @@ fn a_warm_reused_frame_allocates_nothing() {
     let scene = scene("seed.toml");
     let (w, h) = (160, 90);
     let mut tracer = Tracer::new(&scene, 0.0);
-    for mode in [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact] {
+    let modes = [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact];
+    for (mode, depths) in modes.into_iter().flat_map(|mode| [(mode, false), (mode, true)]) {
         let opts = Options { mode, retrace_edges: true };
         let mut frame = StereoFrame::new();
         frame.set_reuse(Some(&scene));
+        // (With depths, the right eye's first hits kept where not made again.)
+        frame.set_depths(depths);
         let mut frames_at = |times: std::ops::Range<u32>, reused: bool| {
             for k in times {
                 tracer.advance(&scene, k as f32 / 60.0);
@@ -283,7 +296,10 @@ fn a_warm_reused_frame_allocates_nothing() {
             })
             .collect();
         let fewest = rounds.iter().copied().min().unwrap_or(0);
-        assert!(fewest <= u64::from(frames) / 8, "{mode}: rounds of {frames} reused frames allocated {rounds:?} times");
+        assert!(
+            fewest <= u64::from(frames) / 8,
+            "{mode}, depths {depths}: rounds of {frames} reused frames allocated {rounds:?} times"
+        );
     }
 }
 

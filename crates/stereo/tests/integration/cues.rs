@@ -54,29 +54,75 @@ fn exact_is_full_with_every_cue_on_1tii() {
     exact_is_full(&scene, (200, 150));
 }
 
-#[test]
-fn a_frame_keeps_each_eyes_first_hits_as_a_pass_of_their_own_finds_them() {
-    // The planes outlines read: the left film's and the right eye's depth pass, in every
-    // mode, against a first-hits pass of each eye's view; none before depths are kept in
-    // full mode (the left film keeps colour alone).
-    let scene = with_cues(tracer::testing::scene("seed.toml"), 0, 1);
-    let tracer = Tracer::new(&scene, 0.4);
-    let mut frame = StereoFrame::new();
-    frame.render(&tracer, &scene.camera, 96, 54, Options { mode: Mode::Full, retrace_edges: false });
-    assert!(frame.first_hits(Eye::Left).is_none() && frame.first_hits(Eye::Right).is_none());
-    frame.set_depths(true);
-    for mode in [Mode::Full, Mode::Copy, Mode::Reshade, Mode::Exact] {
-        frame.render(&tracer, &scene.camera, 96, 54, Options { mode, retrace_edges: false });
-        for (k, eye) in [Eye::Left, Eye::Right].into_iter().enumerate() {
-            let (mut object, mut z) = (Vec::new(), Vec::new());
-            tracer::first_hits(&mut Renderer::new(), &tracer, &frame.views().eyes[k], &mut object, &mut z);
-            let kept = frame.first_hits(eye).unwrap_or_else(|| panic!("{mode:?}: {eye:?}'s planes kept"));
-            assert_eq!(kept.0, &object[..], "{mode:?}: {eye:?}'s objects");
-            let bits = |z: &[f32]| z.iter().map(|z| z.to_bits()).collect::<Vec<_>>();
-            assert_eq!(bits(kept.1), bits(&z), "{mode:?}: {eye:?}'s depths");
-            assert!(object.iter().any(|&o| o != tracer::NO_OBJECT), "something is seen");
+/// Each eye's first hits as `frame` kept them against a first-hits pass of that eye's view
+/// (`tracer::first_hits`), bit for bit; names the first pixel that differs.
+pub(crate) fn assert_kept_first_hits(tracer: &Tracer, frame: &StereoFrame, at: &str) {
+    for (k, eye) in [Eye::Left, Eye::Right].into_iter().enumerate() {
+        let view = &frame.views().eyes[k];
+        let (mut object, mut z) = (Vec::new(), Vec::new());
+        tracer::first_hits(&mut Renderer::new(), tracer, view, &mut object, &mut z);
+        let kept = frame.first_hits(eye).unwrap_or_else(|| panic!("{at}: {eye:?}'s planes kept"));
+        assert!(kept.0.len() == object.len() && kept.1.len() == z.len(), "{at}: {eye:?}'s planes' size");
+        let differ = (0..object.len()).find(|&p| (kept.0[p], kept.1[p].to_bits()) != (object[p], z[p].to_bits()));
+        if let Some(p) = differ {
+            let (i, j) = (p as u32 % view.width, p as u32 / view.width);
+            let n = (0..object.len()).filter(|&p| (kept.0[p], kept.1[p].to_bits()) != (object[p], z[p].to_bits()));
+            panic!(
+                "{at}: {eye:?}'s first hits differ on {} pixels, first ({i}, {j}): kept object {} at z {:e}, a \
+                 first-hits pass {} at z {:e}",
+                n.count(),
+                kept.0[p],
+                kept.1[p],
+                object[p],
+                z[p]
+            );
         }
     }
+}
+
+/// A frame's shown size and its guard band.
+type Sized = ((u32, u32), (u32, u32));
+
+/// The planes outlines read, of a frame that keeps depths, at each of `sizes` in every mode:
+/// the left film's, and the right eye's from its own pass (full and exact modes) or a
+/// first-hits pass (copy, reshade), all a first-hits pass's of each eye's view; none before
+/// depths are kept in full mode (the left film keeps colour alone).
+fn kept_first_hits_are_a_first_hits_pass(scene: &Scene, sizes: &[Sized]) {
+    let tracer = Tracer::new(scene, 0.4);
+    let mut frame = StereoFrame::new();
+    let (size, margin) = sizes[0];
+    frame.render_banded(&tracer, &scene.camera, size, margin, Options { mode: Mode::Full, retrace_edges: false });
+    assert!(frame.first_hits(Eye::Left).is_none() && frame.first_hits(Eye::Right).is_none(), "no depths kept");
+    frame.set_depths(true);
+    for &(size, margin) in sizes {
+        for opts in
+            Mode::ALL.into_iter().flat_map(|mode| [false, true].map(|retrace_edges| Options { mode, retrace_edges }))
+        {
+            frame.render_banded(&tracer, &scene.camera, size, margin, opts);
+            assert_kept_first_hits(&tracer, &frame, &format!("{size:?} band {margin:?} {opts:?}"));
+            let seen = frame.first_hits(Eye::Right).map(|(object, _)| object.iter().any(|&o| o != tracer::NO_OBJECT));
+            assert_eq!(seen, Some(true), "{size:?} {opts:?}: the right eye sees something");
+        }
+    }
+}
+
+#[test]
+fn a_frame_keeps_each_eyes_first_hits_as_a_pass_of_their_own_finds_them() {
+    let scene = with_cues(tracer::testing::scene("seed.toml"), 0, 1);
+    kept_first_hits_are_a_first_hits_pass(&scene, &[((96, 54), (0, 0)), ((160, 90), (7, 3))]);
+}
+
+#[test]
+fn on_1tii_a_frame_keeps_each_eyes_first_hits_as_a_pass_of_their_own_finds_them() {
+    let path = "/usr/share/pymol/data/demo/1tii.pdb";
+    if !std::path::Path::new(path).exists() {
+        tracer::testing::skipped("1tii.pdb is not installed (pymol-data)");
+        return;
+    }
+    let mut scene = Scene::load(path).unwrap();
+    scene.render.cues.ambient_occlusion = AmbientOcclusion::default();
+    // The issue's size, and a guard band.
+    kept_first_hits_are_a_first_hits_pass(&scene, &[((800, 600), (0, 0)), ((300, 200), (12, 8))]);
 }
 
 #[test]

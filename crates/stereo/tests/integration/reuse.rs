@@ -15,6 +15,8 @@ struct Shown {
     object: Vec<u32>,
     lights: Vec<u32>,
     right: Vec<u32>,
+    /// The right eye's first hits, object and depth bits, when kept.
+    right_hits: Option<(Vec<u32>, Vec<u32>)>,
     mask: Vec<stereo::PixelClass>,
     pixels: stereo::PixelCounts,
 }
@@ -29,17 +31,24 @@ fn shown(frame: &StereoFrame, mode: Mode) -> Shown {
         object: keep(&left.object),
         lights: keep(&left.lights),
         right: frame.right().rgb.clone(),
+        right_hits: frame
+            .first_hits(tracer::Eye::Right)
+            .map(|(object, z)| (object.to_vec(), z.iter().map(|z| z.to_bits()).collect())),
         mask: frame.mask().to_vec(),
         pixels: frame.stats().pixels,
     }
 }
 
-/// Renders `times` with reuse on, in one frame, and checks each against a fresh frame;
+/// Renders `times` with reuse on, in one frame, and checks each against a fresh frame, both
+/// keeping depths if `depths` (then the right eye's first hits too, which the right eye's
+/// own pass makes in full and exact modes, and keeps where it does not make a pixel again);
 /// returns the share of pixels retraced in each reused frame.
-fn check_reuse(scene: &Scene, times: &[f32], (w, h): (u32, u32), opts: Options) -> Vec<f64> {
+fn check_reuse(scene: &Scene, times: &[f32], (w, h): (u32, u32), opts: Options, depths: bool) -> Vec<f64> {
     let mut reusing = StereoFrame::new();
     reusing.set_reuse(Some(scene));
+    reusing.set_depths(depths);
     let mut fresh = StereoFrame::new();
+    fresh.set_depths(depths);
     let mut tracer = Tracer::new(scene, times[0]);
     let mut shares = Vec::new();
     for (k, &t) in times.iter().enumerate() {
@@ -47,11 +56,18 @@ fn check_reuse(scene: &Scene, times: &[f32], (w, h): (u32, u32), opts: Options) 
         let stats = reusing.render(&tracer, &scene.camera, w, h, opts);
         assert_eq!(stats.reuse.reused, k > 0, "frame {k} at t = {t}: reused after the first (which marks)");
         fresh.render(&tracer, &scene.camera, w, h, opts);
+        if depths {
+            crate::cues::assert_kept_first_hits(&tracer, &fresh, &format!("{opts:?} frame {k} at t = {t}, fresh"));
+        }
         let (a, b) = (shown(&reusing, opts.mode), shown(&fresh, opts.mode));
         if a != b {
             let differ = a.right.iter().zip(&b.right).filter(|(x, y)| x != y).count();
             let left = a.left.iter().zip(&b.left).filter(|(x, y)| x != y).count();
-            panic!("{opts:?} frame {k} at t = {t}: {left} left and {differ} right pixels differ from a fresh frame");
+            let hits = a.right_hits != b.right_hits;
+            panic!(
+                "{opts:?} frame {k} at t = {t}: {left} left and {differ} right pixels differ from a fresh frame \
+                 (right first hits differ: {hits})"
+            );
         }
         if k > 0 {
             shares.push(stats.reuse.retraced_share());
@@ -85,8 +101,9 @@ fn reused_frames_of_the_bundled_scenes_are_fresh_frames() {
 /// Every option of [`check_reuse`] on `scene` (called `name`): an animated scene keeps
 /// something of each frame, a still one everything (and its tracer is never asked to mark).
 fn check_scene(name: &str, scene: &Scene) {
-    for opts in every_option() {
-        let shares = check_reuse(scene, &[0.0, 1.0 / 60.0, 0.5, 0.51, 3.7], (96, 54), opts);
+    for (k, opts) in every_option().enumerate() {
+        // Depths kept for every other option: each mode with and without.
+        let shares = check_reuse(scene, &[0.0, 1.0 / 60.0, 0.5, 0.51, 3.7], (96, 54), opts, k % 2 == 1);
         if scene.is_animated() {
             assert!(shares.iter().all(|&s| s < 1.0), "{name} {opts:?}: something is kept ({shares:?})");
         } else {
@@ -119,6 +136,15 @@ fn anything_but_time_starts_afresh() {
     deeper.set_max_depth(1);
     let stats = frame.render(&deeper, &moved, 64, 37, Options { mode: Mode::Copy, ..opts });
     assert!(!stats.reuse.reused, "reflection depth");
+    let copy = Options { mode: Mode::Copy, ..opts };
+    assert!(!frame.render(&deeper, &moved, 64, 37, copy).reuse.reused, "held still once: marks, fresh");
+    assert!(frame.render(&deeper, &moved, 64, 37, copy).reuse.reused, "held still twice: reused");
+    frame.set_depths(true);
+    assert!(!frame.render(&deeper, &moved, 64, 37, copy).reuse.reused, "depths kept from now on");
+    assert!(!frame.render(&deeper, &moved, 64, 37, copy).reuse.reused, "held still once: marks, fresh");
+    assert!(frame.render(&deeper, &moved, 64, 37, copy).reuse.reused, "held still twice: reused");
+    frame.set_depths(false);
+    assert!(!frame.render(&deeper, &moved, 64, 37, copy).reuse.reused, "depths no longer kept");
     frame.set_reuse(None);
     assert!(!frame.render(&deeper, &moved, 64, 37, Options { mode: Mode::Copy, ..opts }).reuse.reused, "reuse off");
 }
@@ -181,12 +207,13 @@ proptest! {
         steps in prop::collection::vec(0.001f32..2.0, 2..4),
         mode in prop::sample::select(Mode::ALL.to_vec()),
         retrace_edges in any::<bool>(),
+        depths in any::<bool>(),
     ) {
         let mut times = vec![t0];
         for dt in steps {
             times.push(times[times.len() - 1] + dt);
         }
-        check_reuse(&scene, &times, (48, 32), Options { mode, retrace_edges });
+        check_reuse(&scene, &times, (48, 32), Options { mode, retrace_edges }, depths);
     }
 }
 

@@ -205,7 +205,7 @@ mod tests {
     ) -> u64 {
         let mut object = Vec::new();
         let plan = RowPlan::read(film, plan, &mut object);
-        batch.shade_row(j, plan, (rgb, None), &mut RayCounts::default(), missed)
+        batch.shade_row(j, plan, ((rgb, None), None), &mut RayCounts::default(), missed)
     }
 
     /// A colour no traced pixel has: its high byte is set.

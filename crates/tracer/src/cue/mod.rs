@@ -16,7 +16,7 @@ use glam::Vec3;
 use crate::scene::{Motion, Scene};
 
 pub(crate) use ao::SeedRow;
-pub use outline::{first_hits, outline, Outline, OUTLINE_JUMP};
+pub use outline::{first_hits, outline, outline_from, Outline, OUTLINE_JUMP};
 
 /// Most ambient occlusion rays a hit may cast ([`AmbientOcclusion::samples`]).
 pub const AO_SAMPLES_MAX: u32 = 1024;

@@ -204,9 +204,9 @@ fn an_inked_outline_takes_its_share_of_the_light() {
 #[test]
 fn outlines_drawn_by_chunks_are_the_plain_definition_pixel_by_pixel() {
     // Random planes of few objects and scattered depths, misses among them, at sizes
-    // around the 64-pixel chunk and below the reach, and at every width to 8 (and between).
+    // around the 512-pixel chunk and below the reach, and at every width to 8 (and between).
     let mut rng = crate::testing::XorShift::new(0x5eed_0071);
-    for (w, h) in [(1, 1), (3, 2), (63, 5), (64, 4), (65, 7), (130, 9)] {
+    for (w, h) in [(1, 1), (3, 2), (63, 5), (64, 4), (65, 7), (130, 9), (511, 3), (512, 2), (1029, 4)] {
         let n = w * h;
         let object: Vec<u32> =
             (0..n).map(|_| if rng.range(0.0, 1.0) < 0.1 { NO_OBJECT } else { rng.range(0.0, 4.0) as u32 }).collect();
@@ -221,6 +221,16 @@ fn outlines_drawn_by_chunks_are_the_plain_definition_pixel_by_pixel() {
                 let at = ((k % w) as isize, (k / w) as isize);
                 let plain = outline::drawn(at, (w, h), (&object, &z), (reach, r2, 10.0), (object[k], z[k]));
                 assert_eq!(rgb[k] == 0, plain, "{w}×{h}, width {width}, pixel {at:?}");
+            }
+            // Drawn onto a copy of other colours, black or inked: the copy, then the lines.
+            let from: Vec<u32> = (0..n).map(|_| rng.range(1.0, 16_777_215.0) as u32).collect();
+            for ink in [1.0, 0.4] {
+                let style = Outline { ink, ..style };
+                let mut copied = from.clone();
+                outline(&mut copied, &object, &z, (w as u32, h as u32), style);
+                let mut onto = vec![7; n];
+                outline_from(&from, &mut onto, &object, &z, (w as u32, h as u32), style);
+                assert_eq!(onto, copied, "{w}×{h}, width {width}, ink {ink}: onto a copy");
             }
         }
     }

@@ -8,13 +8,18 @@ use crate::batch::{BinnedView, RowPlan};
 use crate::camera::EyeView;
 use crate::film::Film;
 use crate::reuse::{with_marks, Marker, MarksColumn, MarksRow, Swept};
-use crate::sink::{RgbRow, RowSink};
+use crate::sink::{Columns, HitsRow, RgbRow, RowSink};
 use crate::stats::RayCounts;
 
 /// One row of an image as a batch writes it: its colours, and its marks when the batch
 /// marks ([`PixelBatch::marking`]; `None`: left alone). The marks of the pixels made must
 /// have been cleared first ([`MarksRow::clear_only`]).
 pub type BatchRow<'r, 'a> = (&'r mut [u32], Option<&'r mut MarksRow<'a>>);
+
+/// One row of an eye's first-hit planes, as a batch that keeps them writes them beside its
+/// colours: each pixel's sphere ([`crate::NO_OBJECT`] for a miss) and head-space depth (+∞
+/// for a miss), as [`crate::Target::first_hits`] gives them.
+pub type HitsColumns<'r> = (&'r mut [u32], &'r mut [f32]);
 
 /// One eye's view with its screen bins built, ready to make batches of a row's chosen
 /// pixels (`batch/`), made by [`crate::Renderer::batch`].
@@ -46,7 +51,18 @@ impl<'a> PixelBatch<'a> {
         (rgb, marks): BatchRow<'_, '_>,
         f: impl FnOnce(&mut RowSink<RgbRow<'_>, Option<MarksColumn<'_, '_>>>) -> R,
     ) -> R {
-        with_marks(marks, self.marker.as_ref(), j, |column| f(&mut RowSink::new(RgbRow(rgb), column)))
+        self.sink_of(j, RgbRow(rgb), marks, f)
+    }
+
+    /// Runs `f` with row `j`'s sink of `columns`, and its `marks` when marking.
+    fn sink_of<C: Columns, R>(
+        &self,
+        j: u32,
+        columns: C,
+        marks: Option<&mut MarksRow<'_>>,
+        f: impl FnOnce(&mut RowSink<C, Option<MarksColumn<'_, '_>>>) -> R,
+    ) -> R {
+        with_marks(marks, self.marker.as_ref(), j, |column| f(&mut RowSink::new(columns, column)))
     }
 
     /// Traces the pixels `cols` (ascending columns) of row `j` with full primary rays into
@@ -92,19 +108,25 @@ impl<'a> PixelBatch<'a> {
     /// - [`crate::KEEP`]: left as it is.
     ///
     /// Colours go to `row`, and when marking, each pixel made is marked there (a pixel that
-    /// takes a background colour carries no ray of its own and is left unmarked). Returns
-    /// the pixels tested against the sphere their plan names, alone or in their tile's
-    /// search (not scene rays, so not counted in `counts`).
+    /// takes a background colour carries no ray of its own and is left unmarked). With
+    /// `hits`, each pixel made also has its first hit's sphere and depth written there (see
+    /// [`HitsColumns`]): the hit it was shaded at, or none where it is background (a pixel
+    /// that takes the background colour included). Returns the pixels tested against the
+    /// sphere their plan names, alone or in their tile's search (not scene rays, so not
+    /// counted in `counts`).
     ///
     /// With the sphere the pixel really sees, a pixel is bit-for-bit the full trace's: the
     /// ray, its `t`, its shadow rays and the shading are the same operations on the same
     /// values. (Light bits reused from the other view's point would not be: a shadow thinner
-    /// than a pixel can fall between that point and this one, as it did on a molecule.)
+    /// than a pixel can fall between that point and this one, as it did on a molecule.) So
+    /// are the planes `hits` keeps, a first-hits pass's, wherever the plan names the sphere
+    /// each pixel sees first, and background only where the pixel's own ray meets nothing
+    /// (as exact mode's plans do: its right eye is the full trace's).
     pub fn shade_row(
         &self,
         j: u32,
         plan: RowPlan<'_>,
-        row: BatchRow<'_, '_>,
+        (row, hits): (BatchRow<'_, '_>, Option<HitsColumns<'_>>),
         counts: &mut RayCounts,
         missed: &mut Vec<u32>,
     ) -> u64 {
@@ -112,6 +134,14 @@ impl<'a> PixelBatch<'a> {
             plan.source.len() == row.0.len() && plan.object.len() == row.0.len(),
             "a plan entry per pixel of the row"
         );
-        self.sink(j, row, |sink| self.eye.shade_row(j, plan, sink, counts, missed))
+        let (rgb, marks) = row;
+        match hits {
+            None => self.sink_of(j, RgbRow(rgb), marks, |sink| self.eye.shade_row(j, plan, sink, counts, missed)),
+            Some((object, z)) => {
+                debug_assert!(object.len() == rgb.len() && z.len() == rgb.len(), "planes of the row's width");
+                let columns = HitsRow { rgb, z, object };
+                self.sink_of(j, columns, marks, |sink| self.eye.shade_row(j, plan, sink, counts, missed))
+            }
+        }
     }
 }

@@ -166,8 +166,10 @@ fn selections_and_batches_are_alike_through_the_bins_and_the_bvh() {
                     let source: Vec<u32> =
                         (0..w).map(|i| [j * w + i, j * w + i, TRACE, KEEP][(i % 4) as usize]).collect();
                     let plan = RowPlan::read(&other, &source, &mut object);
-                    tests += batch.shade_row(j, plan, (&mut rgb, None), &mut counts, &mut missed);
-                    rows.push(rgb);
+                    let (mut hit, mut z) = (vec![7u32; w as usize], vec![-1.0f32; w as usize]);
+                    let hits = Some((&mut hit[..], &mut z[..]));
+                    tests += batch.shade_row(j, plan, ((&mut rgb, None), hits), &mut counts, &mut missed);
+                    rows.extend([rgb, hit, z.iter().map(|z| z.to_bits()).collect()]);
                 }
                 (planes(&film), only, rows, counts, tests, missed)
             };

@@ -1,8 +1,8 @@
 //! The parallel renderer: one eye, rows spread over rayon's pool, through one call.
 //!
 //! [`Renderer::render`] is given a pixel set ([`Pixels`]: all, or these pixels) and a target
-//! ([`Target`]: a film keeping the record its caller names, colour only, or depth only,
-//! optionally marked for temporal reuse). It builds the screen bins of the view once (or,
+//! ([`Target`]: a film keeping the record its caller names, colour only, colour and first
+//! hits, or depth only, optionally marked for temporal reuse). It builds the screen bins of the view once (or,
 //! for a scene of many spheres for the pixels traced, chooses the BVH instead: [`FirstHits`],
 //! `accel/screen.rs`), then runs one parallel loop over the target's rows: each row's planes
 //! become a [`RowSink`](crate::sink::RowSink) (`sink.rs`), with the row's marks as one more
@@ -26,14 +26,14 @@ use crate::bits::PixelBits;
 use crate::camera::EyeView;
 use crate::film::{Film, Record};
 use crate::reuse::{with_marks, Marker, Marks, MarksColumn, MarksRow, Rewrite, Swept};
-use crate::sink::{DepthRow, FilmRow, KeysRow, RgbRow, RowSink};
+use crate::sink::{DepthRow, FilmRow, HitsRow, KeysRow, RgbRow, RowSink};
 use crate::stats::RayCounts;
 use crate::surface::Shading;
 use crate::surface::NO_OBJECT;
 use crate::tracer::Tracer;
 use row::trace_row;
 
-pub use batch::{BatchRow, PixelBatch};
+pub use batch::{BatchRow, HitsColumns, PixelBatch};
 
 /// Renders one eye's views, keeping its screen bins from frame to frame.
 #[derive(Clone, Debug, Default)]
@@ -97,6 +97,8 @@ pub struct Target<'a> {
 enum Image<'a> {
     Film(&'a mut Film, Record),
     Colour(&'a mut Vec<u32>),
+    /// Colour, and the object and depth planes.
+    ColourHits(&'a mut Vec<u32>, &'a mut Vec<u32>, &'a mut Vec<f32>),
     /// The depth plane, and the object plane if asked.
     Depth(&'a mut Vec<f32>, Option<&'a mut Vec<u32>>),
 }
@@ -113,6 +115,15 @@ impl<'a> Target<'a> {
     #[must_use]
     pub fn colour(rgb: &'a mut Vec<u32>) -> Self {
         Self { image: Image::Colour(rgb), marking: None }
+    }
+
+    /// Colour into `rgb`, and each pixel's first hit into `object` and `z` as
+    /// [`Target::first_hits`] gives them, bit for bit (all resized to the view): an eye's
+    /// colours with its own object and depth planes, from the pass that shades it. With
+    /// [`Pixels::Only`], the planes not traced are left as they were, as the colours are.
+    #[must_use]
+    pub fn colour_with_first_hits(rgb: &'a mut Vec<u32>, object: &'a mut Vec<u32>, z: &'a mut Vec<f32>) -> Self {
+        Self { image: Image::ColourHits(rgb, object, z), marking: None }
     }
 
     /// Depth only, into `z` (resized to the view): each pixel's first hit as
@@ -146,6 +157,7 @@ impl<'a> Target<'a> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Kind {
     Colour,
+    Hits,
     Keys,
     Full,
     Depth,
@@ -172,6 +184,15 @@ impl<'a> Image<'a> {
             Image::Colour(rgb) => {
                 rgb.resize(n, 0);
                 (Kind::Colour, Planes { rgb, ..Planes::default() })
+            }
+            Image::ColourHits(rgb, object, z) => {
+                if let Pixels::Only(_) = pixels {
+                    debug_assert!(rgb.len() == n && object.len() == n && z.len() == n, "planes of another size");
+                }
+                rgb.resize(n, 0);
+                object.resize(n, NO_OBJECT);
+                z.resize(n, f32::INFINITY);
+                (Kind::Hits, Planes { rgb, z, object, ..Planes::default() })
             }
             Image::Depth(z, object) => {
                 debug_assert!(matches!(pixels, Pixels::All), "a depth pass traces every pixel");
@@ -228,6 +249,7 @@ fn marks_rows(
 /// One row of a target, as a [`Kind`] of columns.
 enum Row<'a> {
     Colour(RgbRow<'a>),
+    Hits(HitsRow<'a>),
     Keys(KeysRow<'a>),
     Full(FilmRow<'a>),
     Depth(DepthRow<'a>),
@@ -238,6 +260,7 @@ impl<'a> Row<'a> {
     fn of(kind: Kind, Planes { rgb, z, t, object, lights, shading }: Planes<'a>) -> Self {
         match kind {
             Kind::Colour => Self::Colour(RgbRow(rgb)),
+            Kind::Hits => Self::Hits(HitsRow { rgb, z, object }),
             Kind::Keys => Self::Keys(KeysRow { rgb, z, t, object, lights }),
             Kind::Full => Self::Full(FilmRow { keys: KeysRow { rgb, z, t, object, lights }, shading }),
             Kind::Depth => Self::Depth(DepthRow { z, object }),
@@ -256,6 +279,7 @@ impl<'a> Row<'a> {
         let w = eye.view.width as usize;
         match self {
             Self::Colour(row) => trace_row(eye, j, w, &mut RowSink::new(row, marks), only),
+            Self::Hits(row) => trace_row(eye, j, w, &mut RowSink::new(row, marks), only),
             Self::Keys(row) => trace_row(eye, j, w, &mut RowSink::new(row, marks), only),
             Self::Full(row) => trace_row(eye, j, w, &mut RowSink::new(row, marks), only),
             Self::Depth(row) => trace_row(eye, j, w, &mut RowSink::new(row, marks), only),
@@ -598,6 +622,51 @@ mod tests {
                 !inside && banded.object[k] != crate::surface::NO_OBJECT
             });
             assert!(band_hits.count() > 0, "{eye:?}: the band sees spheres beyond the window");
+        }
+    }
+
+    #[test]
+    fn colour_with_first_hits_is_the_colour_and_a_first_hits_pass_bit_for_bit() {
+        // Every pixel, then a selection over another instant (the other pixels kept), marked
+        // as a colour render is: the colours and marks a colour render makes, the planes a
+        // first-hits pass gives.
+        let bits_of = |z: &[f32]| z.iter().map(|z| z.to_bits()).collect::<Vec<_>>();
+        for (name, t) in [("seed.toml", 0.8), ("many.toml", 0.0), ("window.toml", 0.3)] {
+            let scene = crate::testing::scene(name);
+            let swept = Swept::of(&scene);
+            let (t0, t1) = (Tracer::new(&scene, t), Tracer::new(&scene, t + 0.7));
+            let view = scene.camera.view_with_margin(Eye::Right, 83, 45, (9, 5));
+            let (w, h) = (view.width, view.height);
+            let mut selection = PixelBits::new(w, h);
+            for (i, j) in (0..h).flat_map(|j| (0..w).map(move |i| (i, j))) {
+                selection.set(i, j, (i * 7 + j * 3) % 5 == 0 || (16..24).contains(&i));
+            }
+            let mut renderer = Renderer::new();
+            let (mut rgb, mut object, mut z, mut marks) = (Vec::new(), Vec::new(), Vec::new(), Marks::default());
+            let target = Target::colour_with_first_hits(&mut rgb, &mut object, &mut z).marking(&mut marks, &swept);
+            let counts = renderer.render(&t0, &view, Pixels::All, target);
+            let target = Target::colour_with_first_hits(&mut rgb, &mut object, &mut z).marking(&mut marks, &swept);
+            let only = renderer.render(&t1, &view, Pixels::Only(&selection), target);
+            assert_eq!(only.primary, selection.count(), "{name}: a primary ray per selected pixel");
+            let (mut want_rgb, mut want_marks) = (Vec::new(), Marks::default());
+            let target = Target::colour(&mut want_rgb).marking(&mut want_marks, &swept);
+            assert_eq!(renderer.render(&t0, &view, Pixels::All, target), counts, "{name}: the colour render's rays");
+            let target = Target::colour(&mut want_rgb).marking(&mut want_marks, &swept);
+            renderer.render(&t1, &view, Pixels::Only(&selection), target);
+            let (mut want_object, mut want_z) = (Vec::new(), Vec::new());
+            let mut first_hits = |tracer| {
+                crate::cue::first_hits(&mut renderer, tracer, &view, &mut want_object, &mut want_z);
+                (want_object.clone(), bits_of(&want_z))
+            };
+            let (at0, at1) = (first_hits(&t0), first_hits(&t1));
+            assert_eq!(rgb, want_rgb, "{name}: colours");
+            assert!((0..rgb.len()).all(|k| marks.touch(k) == want_marks.touch(k)), "{name}: marks");
+            for k in 0..rgb.len() {
+                let (i, j) = (k as u32 % w, k as u32 / w);
+                let want = if selection.get(i, j) { &at1 } else { &at0 };
+                assert_eq!((object[k], z[k].to_bits()), (want.0[k], want.1[k]), "{name} ({i}, {j})");
+            }
+            assert!(at1.0.contains(&NO_OBJECT) && at1.0.iter().any(|&o| o != NO_OBJECT), "{name}: hits and misses");
         }
     }
 

@@ -109,7 +109,8 @@ impl Bench {
         let mut results: Vec<Measured> =
             variants.iter().map(|&(name, ..)| Measured { name, frames: Vec::new(), quality: Vec::new() }).collect();
         // The scene's outlines read each eye's first hits: the left film's, and the right
-        // eye's depth pass (timed with that eye).
+        // eye's, from its own pass in full and exact modes, from a depth pass in the others
+        // (timed with that eye).
         let width = scene.render.cues.outline as f32;
         self.frame.set_depths(width > 0.0);
         for &(_, mode, retrace_edges) in variants {

@@ -59,6 +59,9 @@ pub fn run(args: &RenderArgs) -> Result<()> {
     let built = started.elapsed().saturating_sub(loaded);
     let opts = Options { mode: args.mode, retrace_edges: args.retrace_edges };
     let mut frame = StereoFrame::new();
+    // Outlines read each eye's first hits: kept by the frame, no pass of their own where
+    // the eye's pass makes them (`StereoFrame::set_depths`).
+    frame.set_depths(size.outline(&setup) > 0.0);
     let stats = frame.render(&tracer, &setup.camera, size.samples.0, size.samples.1, opts);
     let mut outlined = Outlined::new();
     let mut filtered = Filtered::default();
@@ -232,6 +235,8 @@ fn animate(args: &RenderArgs, frames: u32, dir: &Path) -> Result<()> {
     // Only the scene time moves: each frame retraces what can have changed (`--no-reuse`:
     // everything), the same bytes either way.
     frame.set_reuse((!args.no_reuse).then_some(&setup.scene));
+    // (As for one frame: the outlines read the planes the frame keeps.)
+    frame.set_depths(size.outline(&setup) > 0.0);
     let mut filtered = Filtered::default();
     let mut outlined = Outlined::new();
     let mut pair = Vec::new();
