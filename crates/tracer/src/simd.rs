@@ -243,3 +243,87 @@ pub(crate) fn nearest_root<S: Simd, V: SimdFloat<S, Element = f32>>(
     let t = near_ok.select(near, far_ok.select(far, inf));
     touched.select(t, inf)
 }
+
+/// Whether [`nearest_root`] gives a root (`t` < ∞), lane by lane, with its arithmetic but
+/// without ordering the two roots: a root lies in (0, `t_max`) whichever of cc/q and q is
+/// the nearer, so an any-hit test asks it of both. The same answer bit for bit (a test
+/// checks), with the `min`, `max` and selects left out.
+#[inline(always)]
+pub(crate) fn has_root<S: Simd, V: SimdFloat<S, Element = f32>>(
+    simd: S,
+    oc: [V; 3],
+    d: [V; 3],
+    r2: V,
+    cc: V,
+    t_max: V,
+) -> bool {
+    let zero = V::splat(simd, 0.0);
+    let b = dot3(oc, d);
+    let p = each3(|a| oc[a] - b * d[a]);
+    let disc = r2 - dot3(p, p);
+    let touched = disc.simd_ge(zero);
+    if !touched.any_true() {
+        return false;
+    }
+    let sq = disc.sqrt();
+    let q = b.simd_gt(zero).select(-b - sq, -b + sq);
+    let t0 = cc / q;
+    let within = |t: V| t.simd_gt(zero) & t.simd_lt(t_max);
+    (touched & (within(t0) | within(q))).any_true()
+}
+
+#[cfg(test)]
+mod tests {
+    use fearless_simd::{dispatch, Level};
+    use glam::Vec3;
+    use proptest::prelude::*;
+
+    use super::*;
+
+    /// (`nearest_root` gives a root, `has_root`) for the lanes' spheres: lane k's origin
+    /// less its centre `at(k).0`, put on the sphere (its radius `at(k).1` times `at(k).2`)
+    /// unless that is 0.
+    fn answers<S: Simd>(simd: S, at: &dyn Fn(usize) -> ([f32; 3], f32, f32), d: Vec3, t_max: f32) -> (bool, bool) {
+        let n = F::<S>::LEN;
+        let col = |f: &dyn Fn(usize) -> f32| F::<S>::from_slice(simd, &(0..n).map(f).collect::<Vec<_>>());
+        let oc = each3(|a| {
+            col(&|k| {
+                let (o, r, on) = at(k);
+                let v = Vec3::from(o);
+                if on > 0.0 && v.length() > 1e-3 {
+                    (v.normalize() * r * on)[a]
+                } else {
+                    v[a]
+                }
+            })
+        });
+        let r2 = col(&|k| at(k).1 * at(k).1);
+        let cc = dot3(oc, oc) - r2;
+        let (d, t_max) = (splat3(simd, d), F::<S>::splat(simd, t_max));
+        let t = nearest_root(simd, oc, d, r2, cc, t_max);
+        (t.simd_lt(F::<S>::splat(simd, f32::INFINITY)).any_true(), has_root(simd, oc, d, r2, cc, t_max))
+    }
+
+    proptest! {
+        /// On lanes of spheres about rays from near and far (the origin on the sphere, inside
+        /// it, tangent rays among them), [`has_root`] answers as [`nearest_root`] does.
+        #[test]
+        fn has_root_is_nearest_roots_answer(
+            lanes in proptest::collection::vec((
+                proptest::array::uniform3(-3.0f32..3.0),
+                0.0f32..2.0,
+                prop_oneof![Just(0.0f32), Just(1.0), 0.0f32..2.0],
+            ), 8),
+            dir in proptest::array::uniform3(-1.0f32..1.0),
+            t_max in prop_oneof![Just(f32::INFINITY), 0.01f32..10.0],
+            lane in 0usize..8,
+        ) {
+            let d = Vec3::from(dir).try_normalize().unwrap_or(Vec3::X);
+            let at = |k: usize| lanes[(k + lane) % lanes.len()];
+            for level in [level(), Level::baseline()] {
+                let (want, got) = dispatch!(level, simd => answers(simd, &at, d, t_max));
+                prop_assert_eq!(got, want, "{:?}", level);
+            }
+        }
+    }
+}

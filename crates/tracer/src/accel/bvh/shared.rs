@@ -29,7 +29,7 @@ use super::slab::slabs;
 use super::{
     Bvh, Leaf, Link, Node, Root, LEAF, MEDIUM_DEPTH, MEDIUM_STACK, SHALLOW_DEPTH, SHALLOW_STACK, STACK, WIDTH,
 };
-use crate::simd::{each3, load, nearest_root, origin_terms, splat3, F, U};
+use crate::simd::{each3, has_root, load, origin_terms, splat3, F, U};
 
 /// Most rays in one packet: the bits of its `u16` masks; rays 0–7 and 8–15 each a byte of
 /// one of a node's two `u64`s of rays by child ([`by_child`]).
@@ -123,7 +123,7 @@ impl Bvh {
     /// do not depend on the direction made once a group.
     #[inline(always)]
     fn leaf_blocks_packet<S: Simd>(simd: S, leaf: &Leaf, at: Packet<'_>, rays: u16, t_max: f32) -> u16 {
-        let (inf, reach) = (F::<S>::splat(simd, f32::INFINITY), F::<S>::splat(simd, t_max));
+        let reach = F::<S>::splat(simd, t_max);
         let mut blocked = 0;
         // Plain loops, not iterator folds, which may not be inlined (see `leaf_blocks`).
         let mut base = 0;
@@ -148,8 +148,7 @@ impl Bvh {
                 while each != 0 {
                     let i = each.trailing_zeros() as usize;
                     each &= each - 1;
-                    let t = nearest_root(simd, oc, splat3(simd, at.dirs[i]), r2, cc, reach);
-                    if t.simd_lt(inf).any_true() {
+                    if has_root(simd, oc, splat3(simd, at.dirs[i]), r2, cc, reach) {
                         blocked |= 1 << i;
                     }
                 }
