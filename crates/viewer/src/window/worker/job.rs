@@ -174,7 +174,9 @@ impl Job {
             eye
         };
         self.frame.set_reuse(request.reuse.then_some(&self.scene));
-        self.frame.set_depths(request.timewarp);
+        // Depths for the timewarp, and the first hits the outlines read: the eyes' own passes
+        // make them, where a first-hits pass of the outlines' own would trace again.
+        self.frame.set_depths(request.timewarp || self.scene.render.cues.outline > 0);
         let guard = if request.timewarp { request.guard } else { (0, 0) };
         let guard = (guard.0.div_ceil(density), guard.1.div_ceil(density));
         let stats = self.frame.render_banded(&self.tracer, &request.camera, samples, guard, request.opts);
