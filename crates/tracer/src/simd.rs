@@ -227,16 +227,9 @@ pub(crate) fn nearest_root<S: Simd, V: SimdFloat<S, Element = f32>>(
     t_max: V,
 ) -> V {
     let (zero, inf) = (V::splat(simd, 0.0), V::splat(simd, f32::INFINITY));
-    let b = dot3(oc, d);
-    let p = each3(|a| oc[a] - b * d[a]);
-    let disc = r2 - dot3(p, p);
-    let touched = disc.simd_ge(zero);
-    if !touched.any_true() {
+    let Some((touched, t0, q)) = roots(simd, oc, d, r2, cc) else {
         return inf;
-    }
-    let sq = disc.sqrt();
-    let q = b.simd_gt(zero).select(-b - sq, -b + sq);
-    let t0 = cc / q;
+    };
     let (near, far) = (t0.min_precise(q), t0.max_precise(q));
     let near_ok = near.simd_gt(zero) & near.simd_lt(t_max);
     let far_ok = far.simd_gt(zero) & far.simd_lt(t_max);
@@ -257,19 +250,35 @@ pub(crate) fn has_root<S: Simd, V: SimdFloat<S, Element = f32>>(
     cc: V,
     t_max: V,
 ) -> bool {
+    let Some((touched, t0, q)) = roots(simd, oc, d, r2, cc) else {
+        return false;
+    };
+    let zero = V::splat(simd, 0.0);
+    let within = |t: V| t.simd_gt(zero) & t.simd_lt(t_max);
+    (touched & (within(t0) | within(q))).any_true()
+}
+
+/// [`nearest_root`]'s two roots, unordered: the lanes whose line meets the sphere, cc/q and
+/// q; `None` when no lane's does.
+#[inline(always)]
+fn roots<S: Simd, V: SimdFloat<S, Element = f32>>(
+    simd: S,
+    oc: [V; 3],
+    d: [V; 3],
+    r2: V,
+    cc: V,
+) -> Option<(V::Mask, V, V)> {
     let zero = V::splat(simd, 0.0);
     let b = dot3(oc, d);
     let p = each3(|a| oc[a] - b * d[a]);
     let disc = r2 - dot3(p, p);
     let touched = disc.simd_ge(zero);
     if !touched.any_true() {
-        return false;
+        return None;
     }
     let sq = disc.sqrt();
     let q = b.simd_gt(zero).select(-b - sq, -b + sq);
-    let t0 = cc / q;
-    let within = |t: V| t.simd_gt(zero) & t.simd_lt(t_max);
-    (touched & (within(t0) | within(q))).any_true()
+    Some((touched, cc / q, q))
 }
 
 #[cfg(test)]
