@@ -227,7 +227,7 @@ pub(crate) fn nearest_root<S: Simd, V: SimdFloat<S, Element = f32>>(
     t_max: V,
 ) -> V {
     let (zero, inf) = (V::splat(simd, 0.0), V::splat(simd, f32::INFINITY));
-    let Some((touched, t0, q)) = roots(simd, oc, d, r2, cc) else {
+    let Some((touched, t0, q)) = roots::<S, V, false>(simd, oc, d, r2, cc) else {
         return inf;
     };
     let (near, far) = (t0.min_precise(q), t0.max_precise(q));
@@ -240,7 +240,9 @@ pub(crate) fn nearest_root<S: Simd, V: SimdFloat<S, Element = f32>>(
 /// Whether [`nearest_root`] gives a root (`t` < ∞), lane by lane, with its arithmetic but
 /// without ordering the two roots: a root lies in (0, `t_max`) whichever of cc/q and q is
 /// the nearer, so an any-hit test asks it of both. The same answer bit for bit (a test
-/// checks), with the `min`, `max` and selects left out.
+/// checks), with the `min`, `max` and selects left out, and a lane whose sphere lies wholly
+/// behind the origin dropped before the roots are made: an occlusion ray's line goes back
+/// into the molecule, and meets spheres there that no ray can hit.
 #[inline(always)]
 pub(crate) fn has_root<S: Simd, V: SimdFloat<S, Element = f32>>(
     simd: S,
@@ -250,7 +252,7 @@ pub(crate) fn has_root<S: Simd, V: SimdFloat<S, Element = f32>>(
     cc: V,
     t_max: V,
 ) -> bool {
-    let Some((touched, t0, q)) = roots(simd, oc, d, r2, cc) else {
+    let Some((touched, t0, q)) = roots::<S, V, true>(simd, oc, d, r2, cc) else {
         return false;
     };
     let zero = V::splat(simd, 0.0);
@@ -259,9 +261,12 @@ pub(crate) fn has_root<S: Simd, V: SimdFloat<S, Element = f32>>(
 }
 
 /// [`nearest_root`]'s two roots, unordered: the lanes whose line meets the sphere, cc/q and
-/// q; `None` when no lane's does.
+/// q; `None` when no lane's does. `AHEAD`: only the lanes whose sphere can lie ahead count
+/// as met, the others dropped before the roots are made: a sphere the origin lies outside
+/// of (cc > 0) with its centre behind it (b = oc·d > 0) has both roots negative (their
+/// product cc, their sum −2b), in floating point too (q = −b − √Δ < 0, so cc/q < 0).
 #[inline(always)]
-fn roots<S: Simd, V: SimdFloat<S, Element = f32>>(
+fn roots<S: Simd, V: SimdFloat<S, Element = f32>, const AHEAD: bool>(
     simd: S,
     oc: [V; 3],
     d: [V; 3],
@@ -273,6 +278,7 @@ fn roots<S: Simd, V: SimdFloat<S, Element = f32>>(
     let p = each3(|a| oc[a] - b * d[a]);
     let disc = r2 - dot3(p, p);
     let touched = disc.simd_ge(zero);
+    let touched = if AHEAD { touched & (cc.simd_le(zero) | b.simd_lt(zero)) } else { touched };
     if !touched.any_true() {
         return None;
     }
