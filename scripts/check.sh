@@ -16,5 +16,12 @@ RUSTDOCFLAGS="-D warnings" cargo doc --workspace --no-deps --locked --quiet
 echo "== image tests on the 4-lane fallback (STEREOTRACE_LANES=4)"
 STEREOTRACE_LANES=4 cargo test --locked -p tracer -p stereo -p stereotrace-tests
 
+echo "== image tests at AVX-512's 16 lanes (STEREOTRACE_LANES=16), where this CPU has them"
+if STEREOTRACE_LANES=16 cargo run --quiet --locked -p viewer -- render --width 8 --height 8 --json >/dev/null 2>&1; then
+    STEREOTRACE_LANES=16 cargo test --locked -p tracer -p stereo -p stereotrace-tests
+else
+    echo "skipped: this CPU has no AVX-512 (STEREOTRACE_LANES=16 is refused here)"
+fi
+
 echo "== cargo test --workspace"
 cargo test --workspace --locked

@@ -121,7 +121,10 @@ pub use scene::{
 };
 pub use scene_file::{is_scene_file_name, MAX_SPHERES, MAX_TOML_BYTES};
 pub use shade::Shaded;
-pub use simd::{lane_width, level as simd_level, widest_level as widest_simd_level, LANES_VAR};
+pub use simd::{
+    lane_width, level as simd_level, level_of as simd_level_of, levels as simd_levels,
+    widest_level as widest_simd_level, LANES_VAR, LANE_WIDTHS,
+};
 pub use snapshot::Snapshot;
 pub use sphere::{intersect_sphere, Sphere};
 pub use stats::RayCounts;

@@ -5,7 +5,14 @@
 //! token and run at the [`Level`] chosen here: 8 lanes with AVX2 and FMA on x86-64 CPUs
 //! that have them, otherwise the portable 4-lane baseline (SSE2 on x86-64, NEON on
 //! aarch64). The build itself stays portable: nothing in the repository sets `target-cpu`.
-//! `STEREOTRACE_LANES=4` forces the 4-lane path (CI runs the image tests both ways).
+//! `STEREOTRACE_LANES` picks a width instead: `4` forces the 4-lane path, `16` AVX-512's
+//! sixteen lanes on a CPU that has them (Ice Lake's set, as `fearless_simd` detects it), `8`
+//! the default's. CI runs the image tests at each width this CPU has.
+//!
+//! Sixteen lanes are not the default: on the machines measured (AMD Zen 4, whose AVX-512
+//! runs 512-bit operations as two 256-bit halves) they were no faster
+//! (`docs/performance-notes.md#sixteen-lanes`). The BVH's nodes and leaves are eight wide, so their tests
+//! run on eight lanes (`f32x8`) at every level.
 //!
 //! Every kernel uses separate multiplies and adds (never `mul_add`), and IEEE division and
 //! square root, so each lane computes bit-for-bit what the scalar code does: the lane width
@@ -26,16 +33,45 @@ use glam::Vec3;
 /// The environment variable that forces the 4-lane fallback when set to `4`.
 pub const LANES_VAR: &str = "STEREOTRACE_LANES";
 
+/// The lane widths [`STEREOTRACE_LANES`](LANES_VAR) may ask for.
+pub const LANE_WIDTHS: [usize; 3] = [4, 8, 16];
+
+/// The level of `lanes` lanes on this CPU (4 on every CPU; 8 with AVX2 and FMA; 16 with
+/// AVX-512), or `None` where it has no such level.
+#[must_use]
+pub fn level_of(lanes: usize) -> Option<Level> {
+    match lanes {
+        4 => Some(Level::baseline()),
+        #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+        8 => Level::new().as_avx2().map(Simd::level),
+        #[cfg(any(target_arch = "x86", target_arch = "x86_64"))]
+        16 => Level::new().as_avx512().map(Simd::level),
+        _ => None,
+    }
+}
+
+/// Every level this CPU has, narrowest first: 4 lanes, then 8 and 16 where it has them
+/// (what the tests hold to the same bits).
+#[must_use]
+pub fn levels() -> Vec<Level> {
+    LANE_WIDTHS.iter().filter_map(|&lanes| level_of(lanes)).collect()
+}
+
+/// The lane width `STEREOTRACE_LANES` asks for, if it is set to one this CPU has (the
+/// viewer refuses any other value before tracing: `check_lanes_env`).
+#[must_use]
+pub fn asked_lanes() -> Option<usize> {
+    let asked = std::env::var(LANES_VAR).ok()?.trim().parse().ok()?;
+    level_of(asked).map(|_| asked)
+}
+
 /// The level the kernels run at, and its lane width.
 #[inline]
 fn chosen() -> (Level, usize) {
     static CHOSEN: OnceLock<(Level, usize)> = OnceLock::new();
     *CHOSEN.get_or_init(|| {
-        let forced = std::env::var(LANES_VAR).is_ok_and(|v| v.trim() == "4");
-        match Level::new().as_avx2() {
-            Some(avx2) if !forced => (avx2.level(), 8),
-            _ => (Level::baseline(), 4),
-        }
+        let lanes = asked_lanes().unwrap_or(if level_of(8).is_some() { 8 } else { 4 });
+        (level_of(lanes).unwrap_or_else(Level::baseline), lanes)
     })
 }
 
@@ -59,7 +95,8 @@ pub fn widest_level() -> Level {
     *WIDEST.get_or_init(|| if lane_width() == 4 { level() } else { Level::new() })
 }
 
-/// How many lanes the shading kernels run with in this process: 8 (AVX2 + FMA) or 4.
+/// How many lanes the shading kernels run with in this process: 8 (AVX2 + FMA), 4, or 16
+/// when `STEREOTRACE_LANES=16` asks for them.
 #[must_use]
 pub fn lane_width() -> usize {
     chosen().1
@@ -289,7 +326,7 @@ fn roots<S: Simd, V: SimdFloat<S, Element = f32>, const AHEAD: bool>(
 
 #[cfg(test)]
 mod tests {
-    use fearless_simd::{dispatch, Level};
+    use fearless_simd::dispatch;
     use glam::Vec3;
     use proptest::prelude::*;
 
@@ -335,7 +372,7 @@ mod tests {
         ) {
             let d = Vec3::from(dir).try_normalize().unwrap_or(Vec3::X);
             let at = |k: usize| lanes[(k + lane) % lanes.len()];
-            for level in [level(), Level::baseline()] {
+            for level in levels() {
                 let (want, got) = dispatch!(level, simd => answers(simd, &at, d, t_max));
                 prop_assert_eq!(got, want, "{:?}", level);
             }

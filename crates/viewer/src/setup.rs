@@ -110,18 +110,38 @@ pub fn guard_band((width, height): (u32, u32), share: f32) -> (u32, u32) {
     (band(width), band(height))
 }
 
-/// Checks `STEREOTRACE_LANES`: unset, or `4` to force the tracer's 4-lane SIMD fallback.
-/// Anything else is refused rather than silently ignored.
+/// Checks `STEREOTRACE_LANES`: unset (the default, 8 lanes where the CPU has AVX2), or a
+/// lane width this CPU has: `4` (the fallback), `8`, or `16` (AVX-512). Anything else is
+/// refused rather than silently ignored.
 pub fn check_lanes_env() -> Result<()> {
-    match std::env::var_os(tracer::LANES_VAR) {
-        None => Ok(()),
-        Some(v) if v.to_str().is_some_and(|v| v.trim() == "4") => Ok(()),
-        Some(v) => Err(BadInput(format!(
-            "{}={}: must be 4 (the 4-lane fallback); unset it to use the widest lanes the CPU has",
+    let Some(v) = std::env::var_os(tracer::LANES_VAR) else { return Ok(()) };
+    let asked = v.to_str().and_then(|v| v.trim().parse::<usize>().ok());
+    match asked {
+        Some(lanes) if tracer::simd_level_of(lanes).is_some() => Ok(()),
+        Some(lanes) if tracer::LANE_WIDTHS.contains(&lanes) => Err(BadInput(format!(
+            "{}={lanes}: this CPU has no {lanes}-lane instruction set ({}); it has {}",
             tracer::LANES_VAR,
-            v.to_string_lossy()
+            if lanes == 16 { "AVX-512" } else { "AVX2 and FMA" },
+            widths_here()
         ))
         .into()),
+        _ => Err(BadInput(format!(
+            "{}={}: must be a lane width this CPU has ({}); unset it for the default",
+            tracer::LANES_VAR,
+            v.to_string_lossy(),
+            widths_here()
+        ))
+        .into()),
+    }
+}
+
+/// The lane widths this CPU has, as a list for a message: "4, 8 or 16".
+fn widths_here() -> String {
+    let here: Vec<String> =
+        tracer::LANE_WIDTHS.iter().filter(|&&l| tracer::simd_level_of(l).is_some()).map(ToString::to_string).collect();
+    match here.split_last() {
+        Some((last, rest)) if !rest.is_empty() => format!("{} or {last}", rest.join(", ")),
+        _ => here.join(""),
     }
 }
 

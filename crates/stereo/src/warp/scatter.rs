@@ -418,7 +418,7 @@ pub(crate) fn land_one(map: &WarpMap, i: u32, j: u32, z: f32) -> Option<(glam::V
 
 #[cfg(test)]
 mod tests {
-    use fearless_simd::{dispatch, prelude::*, Level, Simd};
+    use fearless_simd::{dispatch, prelude::*, Simd};
 
     use super::{emit, emit_lanes, KeysMut, I, OUTSIDE, U};
 
@@ -458,7 +458,7 @@ mod tests {
         let mut rng = tracer::testing::XorShift::new(0x2545_f491);
         let mut next = move |m: u32| rng.next_u32() % m;
         let len = 64_usize;
-        for level in [tracer::simd_level(), Level::baseline()] {
+        for level in tracer::simd_levels() {
             let n = dispatch!(level, simd => lanes(simd));
             for trial in 0..20_000 {
                 let keys: (Vec<i32>, Vec<u32>) =

@@ -35,10 +35,10 @@
     reason = "the traversal is inlined into the dispatched lane kernels, whose target features it needs"
 )]
 
-use fearless_simd::{dispatch, prelude::*, Simd};
+use fearless_simd::{dispatch, f32x8, prelude::*, u32x8, Simd};
 
 use crate::ray::Ray;
-use crate::simd::{each3, load, spheres_t, splat3, F, U};
+use crate::simd::{each3, spheres_t};
 use crate::surface::Hit;
 
 mod build;
@@ -103,15 +103,25 @@ struct Leaf {
 impl Leaf {
     const EMPTY: Self = Self { center: [[f32::NAN; WIDTH]; 3], radius: [0.0; WIDTH], ids: [u32::MAX; WIDTH] };
 
-    /// Each lane's `t` (+∞ where it misses or lies outside `(0, t_max)`) for the lanes from
-    /// `base` (a multiple of the lane width), and those lanes' ids.
+    /// Each sphere's `t` (+∞ where it misses or lies outside `(0, t_max)`), in lane order,
+    /// and the spheres' ids: the eight lanes at once, at every level.
     #[inline(always)]
-    fn hits<S: Simd>(&self, simd: S, (o, d): ([F<S>; 3], [F<S>; 3]), base: usize, t_max: f32) -> (F<S>, U<S>) {
-        let center = each3(|a| load(simd, &self.center[a], base));
-        let radius = load(simd, &self.radius, base);
-        let t = spheres_t(simd, o, d, (center, radius), F::<S>::splat(simd, t_max));
-        (t, U::<S>::from_slice(simd, &self.ids[base..base + F::<S>::LEN]))
+    fn hits<S: Simd>(&self, simd: S, (o, d): LaneRay<S>, t_max: f32) -> (f32x8<S>, u32x8<S>) {
+        let center = each3(|a| f32x8::from_slice(simd, &self.center[a]));
+        let radius = f32x8::from_slice(simd, &self.radius);
+        let t = spheres_t(simd, o, d, (center, radius), f32x8::splat(simd, t_max));
+        (t, u32x8::from_slice(simd, &self.ids))
     }
+}
+
+/// A ray splatted across a leaf's eight lanes: its origin and unit direction.
+type LaneRay<S> = ([f32x8<S>; 3], [f32x8<S>; 3]);
+
+/// [`LaneRay`] of `ray`.
+#[inline(always)]
+fn splat_ray<S: Simd>(simd: S, ray: &Ray) -> LaneRay<S> {
+    let splat = |v: glam::Vec3| each3(|a| f32x8::splat(simd, v[a]));
+    (splat(ray.origin), splat(ray.dir))
 }
 
 /// Where traversal starts.
@@ -169,9 +179,7 @@ impl Bvh {
     #[cfg(test)]
     pub(crate) fn intersect_one(&self, ray: &Ray, k: u32) -> Option<f32> {
         fn lane_t<S: Simd>(simd: S, leaf: &Leaf, ray: &Ray, lane: usize) -> f32 {
-            let base = lane / F::<S>::LEN * F::<S>::LEN;
-            let ray = (splat3(simd, ray.origin), splat3(simd, ray.dir));
-            leaf.hits(simd, ray, base, f32::INFINITY).0.as_slice()[lane - base]
+            leaf.hits(simd, splat_ray(simd, ray), f32::INFINITY).0.as_slice()[lane]
         }
         let (leaf, lane) = self
             .leaves
@@ -195,49 +203,37 @@ impl Bvh {
     fn leaf_closest<S: Simd, const LOWEST_ID: bool>(
         simd: S,
         leaf: &Leaf,
-        ray: ([F<S>; 3], [F<S>; 3]),
+        ray: LaneRay<S>,
         skip: u32,
         t_best: &mut f32,
         best: &mut Option<u32>,
     ) {
-        let inf = F::<S>::splat(simd, f32::INFINITY);
-        for base in (0..WIDTH).step_by(F::<S>::LEN) {
-            // `t < next_up(t_best)` is `t ≤ t_best` (and +∞ stays +∞).
-            let bound = if LOWEST_ID { t_best.next_up() } else { *t_best };
-            let (t, ids) = leaf.hits(simd, ray, base, bound);
-            // Every finite `t` is below the test's bound.
-            let t = ids.simd_eq(U::<S>::splat(simd, skip)).select(inf, t);
-            if t.simd_lt(inf).any_true() {
-                let nearest = t.reduce_min();
-                let at = t.simd_eq(F::<S>::splat(simd, nearest)).to_bitmask();
-                if !LOWEST_ID {
-                    (*t_best, *best) = (nearest, Some(leaf.ids[base + at.trailing_zeros() as usize]));
-                    continue;
-                }
-                let id = crate::bits::ones(&[at]).map(|l| leaf.ids[base + l as usize]).min();
-                let tie = |id| nearest == *t_best && best.is_none_or(|b| id < b);
-                if let Some(id) = id.filter(|&id| nearest < *t_best || tie(id)) {
-                    (*t_best, *best) = (nearest, Some(id));
-                }
+        let inf = f32x8::splat(simd, f32::INFINITY);
+        // `t < next_up(t_best)` is `t ≤ t_best` (and +∞ stays +∞).
+        let bound = if LOWEST_ID { t_best.next_up() } else { *t_best };
+        let (t, ids) = leaf.hits(simd, ray, bound);
+        // Every finite `t` is below the test's bound.
+        let t = ids.simd_eq(u32x8::splat(simd, skip)).select(inf, t);
+        if t.simd_lt(inf).any_true() {
+            let nearest = t.reduce_min();
+            let at = t.simd_eq(f32x8::splat(simd, nearest)).to_bitmask();
+            if !LOWEST_ID {
+                (*t_best, *best) = (nearest, Some(leaf.ids[at.trailing_zeros() as usize]));
+                return;
+            }
+            let id = crate::bits::ones(&[at]).map(|l| leaf.ids[l as usize]).min();
+            let tie = |id| nearest == *t_best && best.is_none_or(|b| id < b);
+            if let Some(id) = id.filter(|&id| nearest < *t_best || tie(id)) {
+                (*t_best, *best) = (nearest, Some(id));
             }
         }
     }
 
     /// Whether any of a leaf's spheres other than `skip` is hit before `t_max`.
     #[inline(always)]
-    fn leaf_blocks<S: Simd>(simd: S, leaf: &Leaf, ray: ([F<S>; 3], [F<S>; 3]), t_max: f32, skip: u32) -> bool {
-        let inf = F::<S>::splat(simd, f32::INFINITY);
-        // A plain loop, not `step_by(..).any(..)`: the iterator's fold is not inlined, and
-        // out of the kernel its lane operations became calls (half an occlusion ray's time).
-        let mut base = 0;
-        while base < WIDTH {
-            let (t, ids) = leaf.hits(simd, ray, base, t_max);
-            if (t.simd_lt(inf) & ids.simd_ne(U::<S>::splat(simd, skip))).any_true() {
-                return true;
-            }
-            base += F::<S>::LEN;
-        }
-        false
+    fn leaf_blocks<S: Simd>(simd: S, leaf: &Leaf, ray: LaneRay<S>, t_max: f32, skip: u32) -> bool {
+        let (t, ids) = leaf.hits(simd, ray, t_max);
+        (t.simd_lt(f32x8::splat(simd, f32::INFINITY)) & ids.simd_ne(u32x8::splat(simd, skip))).any_true()
     }
 
     /// Closest hit in `(0, t_max)` among the spheres other than `skip` (`NO_OBJECT`: none
@@ -295,7 +291,7 @@ impl Bvh {
         t_max: f32,
         skip: u32,
     ) -> Option<Hit> {
-        let lane_ray = (splat3(simd, ray.origin), splat3(simd, ray.dir));
+        let lane_ray = splat_ray(simd, ray);
         let (mut t_best, mut best) = (t_max, None);
         match self.root {
             Root::Empty => return None,
@@ -379,7 +375,7 @@ impl Bvh {
     /// [`Bvh::occluded`] with a traversal stack of `N` entries, `N` > 7 × `self.depth`.
     #[inline(always)]
     fn occluded_with<S: Simd, const N: usize>(&self, simd: S, ray: &Ray, t_max: f32, skip: u32) -> bool {
-        let lane_ray = (splat3(simd, ray.origin), splat3(simd, ray.dir));
+        let lane_ray = splat_ray(simd, ray);
         match self.root {
             Root::Empty => return false,
             Root::Leaf => return Self::leaf_blocks(simd, &self.leaves[0], lane_ray, t_max, skip),

@@ -298,25 +298,26 @@ impl ScreenBins {
         self.search
     }
 
-    /// Whether pixel (i, j)'s tile lists no sphere: its primary ray sees only background.
-    /// (Never, when the view is searched through the BVH.)
+    /// Whether the tiles of pixels (i..i + n, j) list no sphere: their primary rays see only
+    /// background. (Never, when the view is searched through the BVH.)
     #[inline]
     #[must_use]
-    pub(crate) fn is_empty_at(&self, i: u32, j: u32) -> bool {
-        self.search != Search::Bvh && self.bin_is_empty_at(i, j)
+    pub(crate) fn is_empty_at(&self, (i, j): (u32, u32), n: usize) -> bool {
+        self.search != Search::Bvh && self.bin_is_empty_at((i, j), n)
     }
 
     /// [`ScreenBins::is_empty_at`] for bins built ([`Search::Bins`]).
     #[inline]
     #[must_use]
-    pub(crate) fn bin_is_empty_at(&self, i: u32, j: u32) -> bool {
+    pub(crate) fn bin_is_empty_at(&self, (i, j): (u32, u32), n: usize) -> bool {
         debug_assert_ne!(self.search, Search::Bvh, "bins built");
-        self.cut == f32::INFINITY && self.spheres_at(i, j).is_empty()
+        let last = (i + n as u32 - 1).min(self.tiles_x * TILE - 1);
+        self.cut == f32::INFINITY && (i..=last).step_by(TILE as usize).all(|i| self.spheres_at(i, j).is_empty())
     }
 
     /// The first hits of the primary rays of `view` (for which the bins were built) through
-    /// pixels (i + l, j), l = 0..LEN, which lie in one tile (and the image, where lanes are
-    /// wanted): per lane the hit parameter (+∞ for none), the sphere, and the ray's
+    /// pixels (i + l, j), l = 0..LEN, which lie in one tile, or from the start of a tile
+    /// over whole tiles (and in the image, where lanes are wanted): per lane the hit parameter (+∞ for none), the sphere, and the ray's
     /// direction: [`EyeView::primary_ray`]'s rays and the BVH's hits, bit for bit (each
     /// sphere's `t` is the same kernel on the same values; a test compares the two). The
     /// closest hit wins, of equal `t` the lowest sphere id (the bins list their spheres in
@@ -348,18 +349,42 @@ impl ScreenBins {
         }
         let mut t_best = F::<S>::splat(simd, f32::INFINITY);
         let mut best = U::<S>::splat(simd, NO_OBJECT);
-        for &k in self.spheres_at(i, j) {
-            // The sphere's terms seen from the eye, once for the lanes: `spheres_t`'s own
-            // operations, so its `t` is bit for bit every other query's.
-            let (c, r) = (centers[k as usize], radii[k as usize]);
-            let oc = [o.x - c.x, o.y - c.y, o.z - c.z];
-            let r2 = r * r;
-            let cc = (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2]) - r2;
-            let oc = each3(|a| F::<S>::splat(simd, oc[a]));
-            let t = nearest_root(simd, oc, d, F::<S>::splat(simd, r2), F::<S>::splat(simd, cc), t_best);
-            let nearer = t.simd_lt(t_best);
-            t_best = nearer.select(t, t_best);
-            best = nearer.select(U::<S>::splat(simd, k), best);
+        // The lanes' pixels lie in one tile, but sixteen lanes span two: each tile's spheres
+        // then answer for its own lanes alone (the others' bound is 0, which no root is
+        // below), and the lanes are merged.
+        let n = F::<S>::LEN;
+        let tiles = n.div_ceil(TILE as usize);
+        for tile in 0..tiles {
+            let (first, ahead) = (tile * TILE as usize, i + tile as u32 * TILE);
+            if ahead / TILE >= self.tiles_x {
+                break; // lanes past the row's end
+            }
+            let ours = if tiles == 1 {
+                None
+            } else {
+                let lanes = crate::simd::lane_index(simd);
+                let from = |l: usize| U::<S>::splat(simd, l as u32);
+                Some(lanes.simd_ge(from(first)) & lanes.simd_lt(from(first + TILE as usize)))
+            };
+            let mut t_tile = ours.map_or(t_best, |ours| ours.select(t_best, F::<S>::splat(simd, 0.0)));
+            let mut best_tile = best;
+            for &k in self.spheres_at(ahead, j) {
+                // The sphere's terms seen from the eye, once for the lanes: `spheres_t`'s
+                // own operations, so its `t` is bit for bit every other query's.
+                let (c, r) = (centers[k as usize], radii[k as usize]);
+                let oc = [o.x - c.x, o.y - c.y, o.z - c.z];
+                let r2 = r * r;
+                let cc = (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2]) - r2;
+                let oc = each3(|a| F::<S>::splat(simd, oc[a]));
+                let t = nearest_root(simd, oc, d, F::<S>::splat(simd, r2), F::<S>::splat(simd, cc), t_tile);
+                let nearer = t.simd_lt(t_tile);
+                t_tile = nearer.select(t, t_tile);
+                best_tile = nearer.select(U::<S>::splat(simd, k), best_tile);
+            }
+            (t_best, best) = match ours {
+                None => (t_tile, best_tile),
+                Some(ours) => (ours.select(t_tile, t_best), ours.select(best_tile, best)),
+            };
         }
         if self.cut < f32::INFINITY {
             // Sliced: the lanes whose hit is not surely nearer than every unbinned sphere
@@ -577,6 +602,6 @@ mod tests {
         assert!(x0 * TILE <= 400 - half && (x1 + 1) * TILE >= 400 + half, "{x0}..{x1}");
         assert!(y0 * TILE <= 400 - half && (y1 + 1) * TILE >= 400 + half, "{y0}..{y1}");
         assert!((x1 - x0 + 1) * TILE <= 2 * half + 3 * TILE, "no more than a tile of slack per side");
-        assert!(bins.is_empty_at(0, 0) && !bins.is_empty_at(400, 400));
+        assert!(bins.is_empty_at((0, 0), 1) && !bins.is_empty_at((400, 400), 1));
     }
 }

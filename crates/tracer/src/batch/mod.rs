@@ -141,7 +141,7 @@ impl BinnedView<'_> {
             (base as usize).is_multiple_of(lanes) && u64::from(mask) < 1 << lanes,
             "group {base}, mask {mask:b}"
         );
-        if self.bins.is_empty_at(base, j) {
+        if self.bins.is_empty_at((base, j), lanes) {
             let rgb = self.tracer.scene.background_rgb;
             for i in crate::bits::ones(&[u64::from(mask)]) {
                 let i = (base + i) as usize;

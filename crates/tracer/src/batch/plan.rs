@@ -135,7 +135,7 @@ impl BinnedView<'_> {
             // its own takes that hit, bit for bit its lone test's. The
             // other named lanes are tested alone, as a group of named lanes only is.
             let (mut found, mut alone) = (None, named);
-            if named != 0 && traced != 0 && !self.bins.is_empty_at(base as u32, j) {
+            if named != 0 && traced != 0 && !self.bins.is_empty_at((base as u32, j), lanes) {
                 let hits = self.hits_lanes(simd, (base as u32, j, traced | named));
                 let own = (hits.0.simd_lt(inf) & hits.1.simd_eq(ids)).to_bitmask() as u32 & named;
                 (found, alone) = (Some((hits, own)), named & !own);

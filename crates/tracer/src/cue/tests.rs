@@ -1,7 +1,7 @@
 //! The cues against closed forms, and both shading paths against each other with the cues
 //! on, at every lane width.
 
-use fearless_simd::{dispatch, Level};
+use fearless_simd::dispatch;
 use glam::Vec3;
 
 use super::*;
@@ -112,9 +112,8 @@ fn lanes_of_every_width_shade_the_plain_paths_radiance_with_the_cues_on() {
         let tracer = Tracer::new(&scene, t);
         let (w, h) = (83, 45);
         let view = scene.camera.view(Eye::Left, w, h);
-        // 4 and 8 lanes: the shading kernels run at no other width (the BVH's leaves are 8
-        // spheres; `simd::level`), so 16 lanes are out of reach here.
-        for level in [Level::baseline(), crate::simd::level()] {
+        // Every width this CPU has: 4, 8 and, with AVX-512, 16 lanes.
+        for level in crate::simd::levels() {
             let mut hits = 0;
             for j in (0..h).step_by(3) {
                 with_wavefront(|wavefront| {
@@ -297,8 +296,8 @@ fn on_1tii_lonely_atoms_are_lighter_than_crowded_ones() {
         let v: Vec<f32> = atoms.iter().filter(|a| f(a.0)).map(|a| a.1).collect();
         (v.iter().sum::<f32>() / v.len().max(1) as f32, v.len())
     };
-    // No atom of 1TII has fewer than 10 neighbours within 8 Å (it has no waters; the least
-    // has 17), so the lonely atoms are the tenth with the fewest.
+    // No atom of 1TII has fewer than 10 neighbours within 8 Å (its 215 waters included: the
+    // least has 17), so the lonely atoms are the tenth with the fewest.
     assert_eq!(mean(&|c| c < 10).1, 0, "1TII has atoms with fewer than 10 neighbours after all");
     let mut counts: Vec<usize> = atoms.iter().map(|a| a.0).collect();
     counts.sort_unstable();
@@ -369,7 +368,7 @@ fn directions_made_across_lanes_are_the_plain_directions_bit_for_bit() {
             ao::Directions::new(n.normalize(), (k * 37 + 5, 1000 - k * 11))
         })
         .collect();
-    for level in [crate::simd::level(), Level::baseline()] {
+    for level in crate::simd::levels() {
         for (first, count) in [(0, 4), (0, ao::BLOCK), (1000, 7)] {
             for hits in [1, 5, ao::HITS_MAX] {
                 let mut out = [[Vec3::ZERO; ao::BLOCK]; ao::HITS_MAX];

@@ -60,17 +60,19 @@ pub(super) fn trace_row_in<S: Simd, C: Columns, O: Observe, const BVH: bool>(
     only: Option<&[u64]>,
 ) -> RayCounts {
     let mut counts = RayCounts::default();
-    let (tile, lanes) = (TILE as usize, F::<S>::LEN);
+    // A span is a tile, or as many as a vector's lanes cover (16 lanes: two tiles).
+    let lanes = F::<S>::LEN;
+    let span_width = lanes.max(TILE as usize);
     let (tracer, view) = (eye.tracer, eye.view);
     let background = tracer.scene.background_rgb;
-    // The pixels to trace of the `n` (at most a tile) from column `i0`, as a mask. A tile
+    // The pixels to trace of the `n` (at most a span) from column `i0`, as a mask. A span
     // lies within one word of a row of bits.
     let chosen = |i0: usize, n: usize| {
         let all = (1u32 << n) - 1;
         only.map_or(all, |row| (row[i0 / 64] >> (i0 % 64)) as u32 & all)
     };
-    for span in (0..w.div_ceil(tile)).map(|t| t * tile..((t + 1) * tile).min(w)) {
-        if !BVH && eye.bins.bin_is_empty_at(span.start as u32, j) {
+    for span in (0..w.div_ceil(span_width)).map(|t| t * span_width..((t + 1) * span_width).min(w)) {
+        if !BVH && eye.bins.bin_is_empty_at((span.start as u32, j), span.len()) {
             let mask = chosen(span.start, span.len());
             counts.primary += u64::from(mask.count_ones());
             if only.is_none() {

@@ -22,14 +22,12 @@
     reason = "the traversal is inlined into the dispatched function, whose target features it needs"
 )]
 
-use fearless_simd::{dispatch, f32x8, prelude::*, Simd};
+use fearless_simd::{dispatch, f32x8, prelude::*, u32x8, Simd};
 use glam::Vec3;
 
 use super::slab::slabs;
-use super::{
-    Bvh, Leaf, Link, Node, Root, LEAF, MEDIUM_DEPTH, MEDIUM_STACK, SHALLOW_DEPTH, SHALLOW_STACK, STACK, WIDTH,
-};
-use crate::simd::{each3, has_root, load, origin_terms, splat3, F, U};
+use super::{Bvh, Leaf, Link, Node, Root, LEAF, MEDIUM_DEPTH, MEDIUM_STACK, SHALLOW_DEPTH, SHALLOW_STACK, STACK};
+use crate::simd::{each3, has_root, origin_terms};
 
 /// Most rays in one packet: the bits of its `u16` masks; rays 0–7 and 8–15 each a byte of
 /// one of a node's two `u64`s of rays by child ([`by_child`]).
@@ -123,37 +121,33 @@ impl Bvh {
     /// do not depend on the direction made once a group.
     #[inline(always)]
     fn leaf_blocks_packet<S: Simd>(simd: S, leaf: &Leaf, at: Packet<'_>, rays: u16, t_max: f32) -> u16 {
-        let reach = F::<S>::splat(simd, t_max);
+        let reach = f32x8::splat(simd, t_max);
         let mut blocked = 0;
-        // Plain loops, not iterator folds, which may not be inlined (see `leaf_blocks`).
-        let mut base = 0;
-        while base < WIDTH && rays & !blocked != 0 {
-            let center = each3(|a| load(simd, &leaf.center[a], base));
-            let radius = load(simd, &leaf.radius, base);
-            let ids = U::<S>::from_slice(simd, &leaf.ids[base..base + F::<S>::LEN]);
-            for &(origin, skip, members) in at.groups {
-                let mut each = rays & !blocked & members;
-                if each == 0 {
-                    continue;
-                }
-                let (oc, r2, cc) = origin_terms(splat3(simd, origin), (center, radius));
-                let others = ids.simd_ne(U::<S>::splat(simd, skip));
-                // The sphere left out, and those wholly beyond the reach (by a margin far
-                // above the rounding), can answer nothing: a negative square radius makes
-                // them miss every ray, so that a leaf none of whose other spheres a ray's
-                // line meets is left at the first test.
-                let beyond = radius + reach;
-                let near = (cc + r2).simd_le(beyond * beyond * F::<S>::splat(simd, 1.0 + 1.0 / 1024.0));
-                let r2 = (others & near).select(r2, F::<S>::splat(simd, -1.0));
-                while each != 0 {
-                    let i = each.trailing_zeros() as usize;
-                    each &= each - 1;
-                    if has_root(simd, oc, splat3(simd, at.dirs[i]), r2, cc, reach) {
-                        blocked |= 1 << i;
-                    }
+        let center = each3(|a| f32x8::from_slice(simd, &leaf.center[a]));
+        let radius = f32x8::from_slice(simd, &leaf.radius);
+        let ids = u32x8::from_slice(simd, &leaf.ids);
+        for &(origin, skip, members) in at.groups {
+            let mut each = rays & !blocked & members;
+            if each == 0 {
+                continue;
+            }
+            let (oc, r2, cc) = origin_terms(each3(|a| f32x8::splat(simd, origin[a])), (center, radius));
+            let others = ids.simd_ne(u32x8::splat(simd, skip));
+            // The sphere left out, and those wholly beyond the reach (by a margin far above
+            // the rounding), can answer nothing: a negative square radius makes them miss
+            // every ray, so that a leaf none of whose other spheres a ray's line meets is
+            // left at the first test.
+            let beyond = radius + reach;
+            let near = (cc + r2).simd_le(beyond * beyond * f32x8::splat(simd, 1.0 + 1.0 / 1024.0));
+            let r2 = (others & near).select(r2, f32x8::splat(simd, -1.0));
+            while each != 0 {
+                let i = each.trailing_zeros() as usize;
+                each &= each - 1;
+                let d = each3(|a| f32x8::splat(simd, at.dirs[i][a]));
+                if has_root(simd, oc, d, r2, cc, reach) {
+                    blocked |= 1 << i;
                 }
             }
-            base += F::<S>::LEN;
         }
         blocked
     }
@@ -264,7 +258,7 @@ impl<S: Simd> NearPacket<S> {
 
 #[cfg(test)]
 mod tests {
-    use fearless_simd::{dispatch, prelude::*, Level};
+    use fearless_simd::{dispatch, prelude::*};
     use glam::Vec3;
     use proptest::prelude::*;
 
@@ -322,7 +316,7 @@ mod tests {
                 }
                 let packet = Packet { dirs: &dirs, groups: &groups };
                 let one = bvh_one(&bvh, packet, rays, *reach);
-                for level in [crate::simd::level(), Level::baseline()] {
+                for level in crate::simd::levels() {
                     let (got, stacks) = dispatch!(level, simd => simd.vectorize(|| {
                         // The stacks of deeper trees, on a tree with interior nodes.
                         let stacks = if matches!(bvh.root, Root::Node) { [

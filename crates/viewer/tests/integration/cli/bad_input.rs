@@ -31,18 +31,29 @@ fn bad_arguments_exit_2_without_writing() {
     assert!(!missing.exists(), "nothing written");
 }
 
-/// `STEREOTRACE_LANES` accepts 4 (the fallback, which the report names) and refuses the rest.
+/// `STEREOTRACE_LANES` accepts the lane widths this CPU has (4 everywhere: the report names
+/// the width that ran) and refuses the rest, naming the widths there are.
 #[test]
-fn the_lanes_variable_forces_the_fallback_and_refuses_other_values() {
+fn the_lanes_variable_picks_a_width_and_refuses_other_values() {
     let args = ["render", "--width", "16", "--height", "8", "--json"];
-    let out = stereotrace_with(&[("STEREOTRACE_LANES", "4")], &args);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("the JSON report");
-    assert_eq!(report["lanes"], 4, "the fallback ran");
-    let out = stereotrace_with(&[("STEREOTRACE_LANES", "16")], &args);
-    assert_eq!(out.status.code(), Some(2), "a width the tracer does not have is bad input");
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert!(err.contains("STEREOTRACE_LANES=16: must be 4"), "{err}");
+    for lanes in tracer::LANE_WIDTHS {
+        let out = stereotrace_with(&[("STEREOTRACE_LANES", &lanes.to_string())], &args);
+        if tracer::simd_level_of(lanes).is_none() {
+            assert_eq!(out.status.code(), Some(2), "{lanes} lanes on a CPU without them");
+            let err = String::from_utf8_lossy(&out.stderr);
+            assert!(err.contains(&format!("STEREOTRACE_LANES={lanes}: this CPU has no")), "{err}");
+            continue;
+        }
+        assert!(out.status.success(), "{lanes}: {}", String::from_utf8_lossy(&out.stderr));
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("the JSON report");
+        assert_eq!(report["lanes"], lanes, "{lanes} lanes ran");
+    }
+    for bad in ["12", "wide"] {
+        let out = stereotrace_with(&[("STEREOTRACE_LANES", bad)], &args);
+        assert_eq!(out.status.code(), Some(2), "a width the tracer does not have is bad input");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(&format!("STEREOTRACE_LANES={bad}: must be a lane width this CPU has (4")), "{err}");
+    }
 }
 
 /// The memory check, with the limit injected (`STEREOTRACE_MEMORY_AVAILABLE`) so the answer
