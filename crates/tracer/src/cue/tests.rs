@@ -107,8 +107,17 @@ pub(crate) fn with_cues(mut scene: Scene, samples: u32) -> Scene {
 
 #[test]
 fn lanes_of_every_width_shade_the_plain_paths_radiance_with_the_cues_on() {
-    for (name, t) in [("seed.toml", 0.8), ("many.toml", 0.0)] {
-        let scene = with_cues(crate::testing::scene(name), 6);
+    let mut scenes: Vec<(&str, Scene, f32)> = [("seed.toml", 0.8), ("many.toml", 0.0)]
+        .map(|(name, t)| (name, with_cues(crate::testing::scene(name), 6), t))
+        .into();
+    // 1TII with the cues a structure opens with (8 occlusion rays, Exp2 depth cueing).
+    let tii = std::path::Path::new("/usr/share/pymol/data/demo/1tii.pdb");
+    if tii.exists() {
+        scenes.push(("1tii.pdb", Scene::load(tii).expect("1TII loads"), 0.0));
+    } else {
+        crate::testing::skipped("1tii.pdb is not installed (pymol-data)");
+    }
+    for (name, scene, t) in scenes {
         let tracer = Tracer::new(&scene, t);
         let (w, h) = (83, 45);
         let view = scene.camera.view(Eye::Left, w, h);
