@@ -13,6 +13,24 @@
 
 pub mod report;
 
+/// Writes a command's report to standard output. A reader that has closed the pipe
+/// (`stereotrace render --json | head -c 100`) wanted no more of it: that is not an error,
+/// and not the panic `print!` makes of it.
+///
+/// # Errors
+///
+/// Any other failure to write, such as a full disk.
+pub fn print_out(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|()| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => {
+            Err(anyhow::Error::new(e).context("writing the report to standard output"))
+        }
+        _ => Ok(()),
+    }
+}
+
 pub mod bench;
 pub mod render;
 

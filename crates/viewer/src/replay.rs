@@ -110,9 +110,9 @@ pub fn run(args: &ReplayArgs) -> Result<()> {
         plot::write(path, &figure::Figure::new(&summary, &recording, &scored))?;
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&summary.json())?);
+        crate::cli::print_out(&(serde_json::to_string_pretty(&summary.json())? + "\n"))?;
     } else {
-        print!("{}", summary.text());
+        crate::cli::print_out(&summary.text())?;
     }
     eprintln!("{}", summary.done_line());
     if recording.interrupted || scored.interrupted {

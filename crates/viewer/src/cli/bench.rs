@@ -198,9 +198,9 @@ pub fn run(args: &BenchArgs) -> Result<()> {
             "mono_ms": mono_ms,
             "modes": modes,
         });
-        println!("{}", serde_json::to_string_pretty(&out)?);
+        super::print_out(&(serde_json::to_string_pretty(&out)? + "\n"))?;
     } else {
-        print!("{}", table(&setup.path.display().to_string(), w, h, args.frames, threads, mono_ms, &summaries));
+        super::print_out(&table(&setup.path.display().to_string(), w, h, args.frames, threads, mono_ms, &summaries))?;
     }
     Ok(())
 }

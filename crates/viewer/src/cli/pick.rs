@@ -62,7 +62,7 @@ pub fn run(args: &PickArgs) -> Result<()> {
     });
     let Some(hit) = hit else {
         if args.json {
-            println!("{}", serde_json::to_string_pretty(&report)?);
+            super::print_out(&(serde_json::to_string_pretty(&report)? + "\n"))?;
         }
         return Err(Miss(format!(
             "pick: pixel ({x}, {y}) of the {} eye sees no sphere: its ray misses the scene",
@@ -75,9 +75,9 @@ pub fn run(args: &PickArgs) -> Result<()> {
         o.extend(f);
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        super::print_out(&(serde_json::to_string_pretty(&report)? + "\n"))?;
     } else {
-        print!("{}", text(&report));
+        super::print_out(&text(&report))?;
     }
     Ok(())
 }

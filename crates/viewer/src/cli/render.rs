@@ -160,7 +160,7 @@ fn print_report(
     if let (Some(o), serde_json::Value::Object(f)) = (out.as_object_mut(), report::frame(stats)) {
         o.extend(f);
     }
-    println!("{}", serde_json::to_string_pretty(&out)?);
+    super::print_out(&(serde_json::to_string_pretty(&out)? + "\n"))?;
     Ok(())
 }
 

@@ -81,7 +81,7 @@ pub fn run(args: &SweepArgs) -> Result<()> {
     let text = csv(args.param, &rows);
     match &args.csv {
         Some(path) => write_bytes(path, text.as_bytes())?,
-        None => print!("{text}"),
+        None => super::print_out(&text)?,
     }
     if let Some(path) = &args.plot {
         if !rows.is_empty() {

@@ -323,9 +323,9 @@ pub fn run(args: &TimewarpArgs) -> Result<()> {
     if args.json {
         let reports: Vec<Value> = runs.iter().map(|r| report(&inputs, r)).collect();
         let out = if reports.len() == 1 { reports[0].clone() } else { Value::Array(reports) };
-        println!("{}", serde_json::to_string_pretty(&out)?);
+        super::print_out(&(serde_json::to_string_pretty(&out)? + "\n"))?;
     } else {
-        print!("{}", table(&inputs, &runs));
+        super::print_out(&table(&inputs, &runs))?;
     }
     let wrote =
         [args.csv.as_ref().map(|p| p.display().to_string()), args.plot.as_ref().map(|p| p.display().to_string())]

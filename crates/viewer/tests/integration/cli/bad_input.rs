@@ -220,3 +220,28 @@ fn cue_flags_out_of_range_exit_2() {
         assert!(err.contains(flag) && err.contains(value), "{args:?}: {err}");
     }
 }
+
+/// A report whose reader has gone (`stereotrace render --json | head -c 0`) ends the command
+/// quietly with success: no panic from the broken pipe.
+#[test]
+fn a_closed_pipe_on_standard_output_is_not_a_panic() {
+    use std::io::Read;
+    use std::process::{Command, Stdio};
+    for args in [
+        &["render", "--width", "64", "--height", "48", "--json"][..],
+        &["bench", "--width", "32", "--height", "16", "--frames", "1"],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_stereotrace"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .expect("stereotrace starts");
+        drop(child.stdout.take()); // the reader goes before a byte is written
+        let mut err = String::new();
+        child.stderr.take().expect("stderr").read_to_string(&mut err).expect("stderr reads");
+        let status = child.wait().expect("stereotrace ends");
+        assert!(!err.contains("panicked"), "{args:?}: {err}");
+        assert!(status.success(), "{args:?}: {status}: {err}");
+    }
+}
