@@ -9,10 +9,9 @@
 //! sixteen lanes on a CPU that has them (Ice Lake's set, as `fearless_simd` detects it), `8`
 //! the default's. CI runs the image tests at each width this CPU has.
 //!
-//! Sixteen lanes are not the default: on the machines measured (AMD Zen 4, whose AVX-512
-//! runs 512-bit operations as two 256-bit halves) they were no faster
-//! (`docs/performance-notes.md#sixteen-lanes`). The BVH's nodes and leaves are eight wide, so their tests
-//! run on eight lanes (`f32x8`) at every level.
+//! Sixteen lanes are not the default: where they were measured they were no faster
+//! (`docs/performance-notes.md#sixteen-lanes`). The BVH's nodes and leaves are eight wide,
+//! so their tests run on eight lanes (`f32x8`) at every level.
 //!
 //! Every kernel uses separate multiplies and adds (never `mul_add`), and IEEE division and
 //! square root, so each lane computes bit-for-bit what the scalar code does: the lane width
@@ -30,7 +29,7 @@ use std::sync::OnceLock;
 use fearless_simd::{prelude::*, Level, Simd, SimdFloat};
 use glam::Vec3;
 
-/// The environment variable that forces the 4-lane fallback when set to `4`.
+/// The environment variable that picks the lane width: `4`, `8` or `16`.
 pub const LANES_VAR: &str = "STEREOTRACE_LANES";
 
 /// The lane widths [`STEREOTRACE_LANES`](LANES_VAR) may ask for.

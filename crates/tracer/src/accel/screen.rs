@@ -224,9 +224,10 @@ impl ScreenBins {
 
     /// The first hits of the primary rays of `view` (for which the bins were built) through
     /// pixels (i + l, j), l = 0..LEN, which lie in one tile, or from the start of a tile
-    /// over whole tiles (and in the image, where lanes are wanted): per lane the hit parameter (+∞ for none), the sphere, and the ray's
-    /// direction: [`EyeView::primary_ray`]'s rays and the BVH's hits, bit for bit (each
-    /// sphere's `t` is the same kernel on the same values; a test compares the two). The
+    /// over whole tiles (and in the image, where lanes are wanted): per lane the hit
+    /// parameter (+∞ for none), the sphere, and the ray's direction: [`EyeView::primary_ray`]'s
+    /// rays and the BVH's hits, bit for bit (each sphere's `t` is the same kernel on the same
+    /// values; a test compares the two). The
     /// closest hit wins, of equal `t` the lowest sphere id (the bins list their spheres in
     /// id order, and keep the first of equal `t`). Through the BVH ([`Search::Bvh`]) only
     /// the lanes `mask` names are traced, the others left as misses; the bins fill them all.
@@ -262,8 +263,8 @@ impl ScreenBins {
         let n = F::<S>::LEN;
         let tiles = n.div_ceil(TILE as usize);
         for tile in 0..tiles {
-            let (first, ahead) = (tile * TILE as usize, i + tile as u32 * TILE);
-            if ahead / TILE >= self.tiles_x {
+            let (first, column) = (tile * TILE as usize, i + tile as u32 * TILE);
+            if column / TILE >= self.tiles_x {
                 break; // lanes past the row's end
             }
             let ours = if tiles == 1 {
@@ -275,7 +276,7 @@ impl ScreenBins {
             };
             let mut t_tile = ours.map_or(t_best, |ours| ours.select(t_best, F::<S>::splat(simd, 0.0)));
             let mut best_tile = best;
-            for &k in self.spheres_at(ahead, j) {
+            for &k in self.spheres_at(column, j) {
                 // The sphere's terms seen from the eye, once for the lanes: `spheres_t`'s
                 // own operations, so its `t` is bit for bit every other query's.
                 let (c, r) = (centers[k as usize], radii[k as usize]);
