@@ -84,14 +84,14 @@ pub fn level() -> Level {
 }
 
 /// The widest instruction set of this CPU (AVX-512's 16 lanes where it has them, else as
-/// [`level`]), or the 4-lane baseline when `STEREOTRACE_LANES=4`. Only for a kernel whose
+/// [`level`]), or [`level`] when `STEREOTRACE_LANES` picks a width. Only for a kernel whose
 /// results are shown not to depend on the lane width, and that gains from the width: the
 /// timewarp's warp (`stereo`'s `warp/`), whose tests compare its bytes at every width. The
-/// shading kernels stay at [`level`]: one lane width for every image.
+/// shading kernels stay at [`level`], 8 lanes unless asked: sixteen were not faster.
 #[must_use]
 pub fn widest_level() -> Level {
     static WIDEST: OnceLock<Level> = OnceLock::new();
-    *WIDEST.get_or_init(|| if lane_width() == 4 { level() } else { Level::new() })
+    *WIDEST.get_or_init(|| if asked_lanes().is_some() || lane_width() == 4 { level() } else { Level::new() })
 }
 
 /// How many lanes the shading kernels run with in this process: 8 (AVX2 + FMA), 4, or 16

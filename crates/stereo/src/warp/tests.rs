@@ -342,15 +342,9 @@ fn the_same_bytes_for_any_thread_count_and_lane_width() {
         "every class occurs: {:?}",
         one.counts
     );
-    // The widest level is what `Warp::warp` runs at (AVX-512's 16 lanes on a CPU that has
-    // them, else the same as `simd_level`).
-    let levels = [
-        (2, tracer::simd_level()),
-        (1, Level::baseline()),
-        (2, Level::baseline()),
-        (1, tracer::widest_simd_level()),
-        (2, tracer::widest_simd_level()),
-    ];
+    // Every width this CPU has (`Warp::warp` runs at the widest: AVX-512's 16 lanes on a
+    // CPU that has them), on one thread and two.
+    let levels = tracer::simd_levels().into_iter().flat_map(|level| [(1, level), (2, level)]);
     for (threads, level) in levels {
         let other = run(threads, level);
         assert_eq!(other.counts, one.counts, "{threads} threads, {level:?}");
