@@ -42,14 +42,20 @@ fn exact_is_full_with_every_cue_on_the_seed_scene() {
     exact_is_full(&with_cues(tracer::testing::scene("seed.toml"), 6, 2), (160, 90));
 }
 
-#[test]
-fn exact_is_full_with_every_cue_on_1tii() {
+/// 1TII as a structure file opens (its default cues on), or `None`, said, where pymol-data
+/// is not installed.
+fn tii() -> Option<Scene> {
     let path = "/usr/share/pymol/data/demo/1tii.pdb";
     if !std::path::Path::new(path).exists() {
         tracer::testing::skipped("1tii.pdb is not installed (pymol-data)");
-        return;
+        return None;
     }
-    let scene = Scene::load(path).unwrap();
+    Some(Scene::load(path).unwrap_or_else(|e| panic!("1TII loads: {e}")))
+}
+
+#[test]
+fn exact_is_full_with_every_cue_on_1tii() {
+    let Some(scene) = tii() else { return };
     assert!(scene.render.cues.ambient_occlusion.is_on() && scene.render.cues.outline == 1, "on by default");
     exact_is_full(&scene, (200, 150));
 }
@@ -114,12 +120,7 @@ fn a_frame_keeps_each_eyes_first_hits_as_a_pass_of_their_own_finds_them() {
 
 #[test]
 fn on_1tii_a_frame_keeps_each_eyes_first_hits_as_a_pass_of_their_own_finds_them() {
-    let path = "/usr/share/pymol/data/demo/1tii.pdb";
-    if !std::path::Path::new(path).exists() {
-        tracer::testing::skipped("1tii.pdb is not installed (pymol-data)");
-        return;
-    }
-    let mut scene = Scene::load(path).unwrap();
+    let Some(mut scene) = tii() else { return };
     scene.render.cues.ambient_occlusion = AmbientOcclusion::default();
     // The size, and a guard band.
     kept_first_hits_are_a_first_hits_pass(&scene, &[((800, 600), (0, 0)), ((300, 200), (12, 8))]);
