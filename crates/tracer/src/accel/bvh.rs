@@ -14,7 +14,7 @@
 //! 4-lane halves at the fallback. The closest of a leaf's hits is found in the lanes too (a
 //! horizontal minimum, the lowest lane on a tie, as a scan in lane order would pick), not
 //! lane by lane. A scene of eight spheres or fewer is one leaf: a flat SIMD loop. An eye's
-//! primary rays ([`Bvh::first_hit_in`]) take of equal `t` the lowest sphere id instead,
+//! primary rays (`Bvh::first_hit_in`, and the packets of `first.rs`) take of equal `t` the lowest sphere id instead,
 //! as the screen bins do, whatever leaf each sphere is in.
 //!
 //! The closest-hit traversal tests the leaves among the children a node's ray enters at
@@ -42,10 +42,12 @@ use crate::simd::{each3, spheres_t};
 use crate::surface::Hit;
 
 mod build;
+mod first;
 mod shared;
 mod slab;
 
 use build::BinNode;
+pub(crate) use first::{EyeRays, Nearest, EYE_PACKET};
 pub(crate) use shared::{Packet, PACKET};
 use slab::BoxRay;
 
@@ -208,10 +210,23 @@ impl Bvh {
         t_best: &mut f32,
         best: &mut Option<u32>,
     ) {
-        let inf = f32x8::splat(simd, f32::INFINITY);
         // `t < next_up(t_best)` is `t ≤ t_best` (and +∞ stays +∞).
         let bound = if LOWEST_ID { t_best.next_up() } else { *t_best };
-        let (t, ids) = leaf.hits(simd, ray, bound);
+        Self::narrow::<S, LOWEST_ID>(simd, leaf, leaf.hits(simd, ray, bound), skip, t_best, best);
+    }
+
+    /// [`Bvh::leaf_closest`] with a leaf's `t` (each below the bound it asks for) and ids
+    /// made: the packets' (`first.rs`) make them apart.
+    #[inline(always)]
+    fn narrow<S: Simd, const LOWEST_ID: bool>(
+        simd: S,
+        leaf: &Leaf,
+        (t, ids): (f32x8<S>, u32x8<S>),
+        skip: u32,
+        t_best: &mut f32,
+        best: &mut Option<u32>,
+    ) {
+        let inf = f32x8::splat(simd, f32::INFINITY);
         // Every finite `t` is below the test's bound.
         let t = ids.simd_eq(u32x8::splat(simd, skip)).select(inf, t);
         if t.simd_lt(inf).any_true() {
@@ -255,6 +270,7 @@ impl Bvh {
     /// The closest hit in `(0, ∞)` of a ray from anywhere, of equal `t` the lowest sphere
     /// id, as a scan of every sphere in id order finds it: the first hit of a primary ray
     /// as the screen bins (`screen.rs`) find it, bit for bit, inside a lane kernel.
+    #[cfg(test)]
     #[inline(always)]
     pub(crate) fn first_hit_in<S: Simd>(&self, simd: S, ray: &Ray) -> Option<Hit> {
         self.closest_in::<S, true>(simd, ray, f32::INFINITY, crate::surface::NO_OBJECT)

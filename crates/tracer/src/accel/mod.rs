@@ -18,7 +18,7 @@
 //! An eye's primary rays go through that eye's screen bins instead (`screen.rs`, built per
 //! view by the renderer), unless the view has so many spheres for its pixels that binning
 //! them would cost more than a BVH query per ray; then through the BVH, whose
-//! [`Aggregate::first_hit_in`] breaks ties as the bins do. Every structure only chooses which spheres to test; the test is
+//! [`Aggregate::first_hits_in`] breaks ties as the bins do. Every structure only chooses which spheres to test; the test is
 //! the one ray–sphere kernel (`simd.rs`), so each answers bit-for-bit what the BVH would, and
 //! the tests compare them on every scene.
 
@@ -42,7 +42,7 @@ use crate::scene::Light;
 use crate::simd::{lane3, F, U};
 use crate::surface::{Hit, NO_OBJECT};
 
-pub(crate) use bvh::{Packet, PACKET};
+pub(crate) use bvh::{EyeRays, Nearest, Packet, EYE_PACKET, PACKET};
 pub(crate) use flat::ALL_SPHERES_MAX;
 pub(crate) use lights::Cell;
 
@@ -152,13 +152,13 @@ impl Aggregate {
         self.bvh.intersect_in(simd, ray, t_max, skip)
     }
 
-    /// The closest hit of a ray from anywhere, of equal `t` the lowest sphere id: an eye's
-    /// primary ray through the BVH, bit for bit the screen bins' answer (`screen.rs`),
-    /// inside a lane kernel.
+    /// The closest hits of a packet of rays from one origin (the bits of `rays`), each the
+    /// nearer of the hit it holds in `nearest` and the BVH's, of equal `t` the lowest sphere
+    /// id: an eye's primary rays through the BVH, bit for bit the screen bins' answers
+    /// (`screen.rs`), inside a lane kernel.
     #[inline(always)]
-    #[must_use]
-    pub(crate) fn first_hit_in<S: Simd>(&self, simd: S, ray: &Ray) -> Option<Hit> {
-        self.bvh.first_hit_in(simd, ray)
+    pub(crate) fn first_hits_in<S: Simd>(&self, simd: S, at: EyeRays<'_>, rays: u16, nearest: &mut Nearest) {
+        self.bvh.first_hits_in(simd, at, rays, nearest);
     }
 
     /// Whether anything blocks `ray` before `t_max` (any hit, early exit), for a ray from

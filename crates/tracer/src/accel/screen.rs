@@ -20,7 +20,7 @@
 //! since no other sphere begins before it, and only the other rays go through the BVH.
 //! Beyond that (or above [`SLICED_MAX_SPHERES`]), a view is not binned at all: each
 //! primary ray goes through the aggregate's BVH instead
-//! ([`Aggregate::first_hit_in`]), which breaks ties as the bins do (of equal `t`, the lowest
+//! ([`Aggregate::first_hits_in`], a lane vector of rays a packet), which breaks ties as the bins do (of equal `t`, the lowest
 //! sphere id), so the pixels are the same bit for bit (`render/both_ways.rs` tests it). The
 //! ratio is where the measured crossover lies (`docs/performance-notes.md`, benchmark
 //! `first_hits`): the bundled scenes stay on the bins at every size down to 50 × 38, a
@@ -41,9 +41,8 @@ mod bound;
 pub(crate) use bound::pixel_rect;
 use bound::{tile_rect, NO_RECT};
 
-use super::Aggregate;
+use super::{Aggregate, EyeRays, Nearest, EYE_PACKET};
 use crate::camera::EyeView;
-use crate::ray::Ray;
 use crate::simd::{each3, nearest_root, F, U};
 use crate::surface::NO_OBJECT;
 
@@ -59,7 +58,7 @@ pub(crate) enum Search {
     /// Through screen bins of the nearest spheres alone ([`ScreenBins::build`]), and for
     /// the rays that meet none of them nearer than the rest can be, the BVH.
     Sliced,
-    /// Through the aggregate's BVH, one ray at a time ([`Aggregate::first_hit_in`]).
+    /// Through the aggregate's BVH, a lane vector of rays a packet ([`Aggregate::first_hits_in`]).
     Bvh,
 }
 
@@ -247,12 +246,14 @@ impl ScreenBins {
         let o = view.origin;
         if BVH {
             let n = F::<S>::LEN;
-            let mut dirs = [[0f32; 16]; 3];
+            let mut dirs = [[0f32; EYE_PACKET]; 3];
             for (a, lanes) in dirs.iter_mut().enumerate() {
                 d[a].store_slice(&mut lanes[..n]);
             }
             let mask = mask & ((1u64 << n) - 1) as u32;
-            let (t, ids) = bvh_hits(accel, o, &dirs, mask);
+            let mut nearest = ([f32::INFINITY; EYE_PACKET], [NO_OBJECT; EYE_PACKET]);
+            bvh_hits(accel, o, &dirs, mask, &mut nearest);
+            let (t, ids) = nearest;
             return (F::<S>::from_slice(simd, &t[..n]), U::<S>::from_slice(simd, &ids[..n]), d);
         }
         let mut t_best = F::<S>::splat(simd, f32::INFINITY);
@@ -296,23 +297,22 @@ impl ScreenBins {
         }
         if self.cut < f32::INFINITY {
             // Sliced: the lanes whose hit is not surely nearer than every unbinned sphere
-            // search again, through the BVH (from scratch: its answer is the whole one).
+            // search again, through the BVH, from the binned hit they have (a real sphere's:
+            // the nearer of the two, of equal `t` the lower id, is the whole search's).
             let open = t_best.simd_ge(F::<S>::splat(simd, self.cut * CUT_MARGIN)).to_bitmask() as u32;
             let open = open & mask & ((1u64 << F::<S>::LEN) - 1) as u32;
             if open != 0 {
                 let n = F::<S>::LEN;
-                let mut dirs = [[0f32; 16]; 3];
+                let mut dirs = [[0f32; EYE_PACKET]; 3];
                 for (a, lanes) in dirs.iter_mut().enumerate() {
                     d[a].store_slice(&mut lanes[..n]);
                 }
-                let (t, ids) = bvh_hits(accel, o, &dirs, open);
-                let (mut tb, mut bb) = ([0f32; 16], [0u32; 16]);
-                t_best.store_slice(&mut tb[..n]);
-                best.store_slice(&mut bb[..n]);
-                for l in crate::bits::ones(&[u64::from(open)]).map(|l| l as usize) {
-                    (tb[l], bb[l]) = (t[l], ids[l]);
-                }
-                return (F::<S>::from_slice(simd, &tb[..n]), U::<S>::from_slice(simd, &bb[..n]), d);
+                let mut nearest = ([0f32; EYE_PACKET], [0u32; EYE_PACKET]);
+                t_best.store_slice(&mut nearest.0[..n]);
+                best.store_slice(&mut nearest.1[..n]);
+                bvh_hits(accel, o, &dirs, open, &mut nearest);
+                let (t, ids) = nearest;
+                return (F::<S>::from_slice(simd, &t[..n]), U::<S>::from_slice(simd, &ids[..n]), d);
             }
         }
         (t_best, best, d)
@@ -352,24 +352,18 @@ fn nearest_cut((centers, radii): (&[Vec3], &[f32]), origin: Vec3, keep: usize) -
     f32::INFINITY
 }
 
-/// The first hits through the BVH of the rays from `o` along `dirs` (per lane) that `mask`
-/// names, the others misses: out of line, so that the bins' lane loop, into which
+/// The first hits of the rays from `o` along `dirs` (per lane) that `mask` names, through
+/// the BVH in one packet, each the nearer of that and the hit `nearest` holds for it (+∞
+/// and [`NO_OBJECT`] for none): out of line, so that the bins' lane loop, into which
 /// [`ScreenBins::hits_lanes`] is inlined, does not carry a BVH traversal in its code.
 #[inline(never)]
-fn bvh_hits(accel: &Aggregate, o: Vec3, dirs: &[[f32; 16]; 3], mask: u32) -> ([f32; 16], [u32; 16]) {
-    let (mut t, mut ids) = ([f32::INFINITY; 16], [NO_OBJECT; 16]);
+fn bvh_hits(accel: &Aggregate, o: Vec3, dirs: &[[f32; EYE_PACKET]; 3], mask: u32, nearest: &mut Nearest) {
+    #[expect(clippy::cast_possible_truncation, reason = "at most sixteen lanes")]
+    let rays = mask as u16;
     fearless_simd::dispatch!(crate::simd::level(), simd => simd.vectorize(
         #[inline(always)]
-        || {
-            for l in crate::bits::ones(&[u64::from(mask)]).map(|l| l as usize) {
-                let ray = Ray::new(o, Vec3::new(dirs[0][l], dirs[1][l], dirs[2][l]));
-                if let Some(hit) = accel.first_hit_in(simd, &ray) {
-                    (t[l], ids[l]) = (hit.t, hit.object);
-                }
-            }
-        },
+        || accel.first_hits_in(simd, EyeRays { origin: o, dirs }, rays, nearest),
     ));
-    (t, ids)
 }
 
 #[cfg(test)]
