@@ -56,7 +56,7 @@ pub enum FirstHits {
     /// Always screen bins of the nearest spheres (at most half of them), the BVH for the
     /// rays that meet none of those nearer than the others begin.
     Sliced,
-    /// Always the BVH, a ray at a time.
+    /// Always the BVH, a lane vector of rays a packet.
     Bvh,
 }
 
