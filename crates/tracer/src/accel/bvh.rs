@@ -171,6 +171,20 @@ struct Entry {
     near: f32,
 }
 
+/// Pushes `entry` on `stack[..sp]`, keeping the entries from `base` up (one node's children)
+/// sorted farthest first by `near` (an insertion sort of at most eight), so that the nearest
+/// is popped next; returns the new top.
+#[inline(always)]
+fn push_sorted<T: Copy>(stack: &mut [T], base: usize, sp: usize, entry: T, near: impl Fn(&T) -> f32) -> usize {
+    let mut k = sp;
+    while k > base && near(&stack[k - 1]) < near(&entry) {
+        stack[k] = stack[k - 1];
+        k -= 1;
+    }
+    stack[k] = entry;
+    sp + 1
+}
+
 impl Bvh {
     /// Heap bytes held (capacities).
     pub(crate) fn heap_bytes(&self) -> usize {
@@ -346,13 +360,7 @@ impl Bvh {
                     Self::leaf_closest::<S, LOWEST_ID>(simd, leaf, lane_ray, skip, &mut t_best, &mut best);
                     continue;
                 }
-                let mut k = sp;
-                while k > base && stack[k - 1].near < entry.near {
-                    stack[k] = stack[k - 1];
-                    k -= 1;
-                }
-                stack[k] = entry;
-                sp += 1;
+                sp = push_sorted(&mut stack, base, sp, entry, |e| e.near);
             }
         }
         best.map(|object| Hit { t: t_best, object })

@@ -30,7 +30,9 @@ use fearless_simd::{dispatch, f32x8, prelude::*, u32x8, Simd};
 use glam::Vec3;
 
 use super::slab::slabs;
-use super::{Bvh, Leaf, Link, Node, Root, LEAF, MEDIUM_DEPTH, MEDIUM_STACK, SHALLOW_DEPTH, SHALLOW_STACK, STACK};
+use super::{
+    push_sorted, Bvh, Leaf, Link, Node, Root, LEAF, MEDIUM_DEPTH, MEDIUM_STACK, SHALLOW_DEPTH, SHALLOW_STACK, STACK,
+};
 use crate::simd::{each3, nearest_root, origin_terms};
 use crate::surface::NO_OBJECT;
 
@@ -128,15 +130,7 @@ impl Bvh {
                     leaf_first_hits(simd, self.leaf_at(link), at, entering, (t, best));
                     continue;
                 }
-                // Interior children sorted farthest first (insertion sort of ≤ 8).
-                let entry = Entry { link, rays: entering, near };
-                let mut k = sp;
-                while k > base && stack[k - 1].near < entry.near {
-                    stack[k] = stack[k - 1];
-                    k -= 1;
-                }
-                stack[k] = entry;
-                sp += 1;
+                sp = push_sorted(&mut stack, base, sp, Entry { link, rays: entering, near }, |e| e.near);
             }
         }
     }
