@@ -18,9 +18,9 @@
 //! An eye's primary rays go through that eye's screen bins instead (`screen.rs`, built per
 //! view by the renderer), unless the view has so many spheres for its pixels that binning
 //! them would cost more than a BVH query per ray; then through the BVH, whose
-//! [`Aggregate::first_hits_in`] breaks ties as the bins do. Every structure only chooses which spheres to test; the test is
-//! the one ray–sphere kernel (`simd.rs`), so each answers bit-for-bit what the BVH would, and
-//! the tests compare them on every scene.
+//! [`Aggregate::first_hits_in`] breaks ties as the bins do. Every structure only chooses
+//! which spheres to test; the test is the one ray–sphere kernel (`simd.rs`), so each answers
+//! bit-for-bit what the BVH would, and the tests compare them on every scene.
 
 #![expect(
     clippy::inline_always,

@@ -19,8 +19,8 @@
 //! the eye, cut at a histogram's bin edge): a hit nearer than the cut is the first hit,
 //! since no other sphere begins before it, and only the other rays go through the BVH.
 //! Beyond that (or above [`SLICED_MAX_SPHERES`]), a view is not binned at all: each
-//! primary ray goes through the aggregate's BVH instead
-//! ([`Aggregate::first_hits_in`], a lane vector of rays a packet), which breaks ties as the bins do (of equal `t`, the lowest
+//! primary ray goes through the aggregate's BVH instead ([`Aggregate::first_hits_in`], a
+//! lane vector of rays a packet), which breaks ties as the bins do (of equal `t`, the lowest
 //! sphere id), so the pixels are the same bit for bit (`render/both_ways.rs` tests it). The
 //! ratio is where the measured crossover lies (`docs/performance-notes.md`, benchmark
 //! `first_hits`): the bundled scenes stay on the bins at every size down to 50 × 38, a
@@ -244,17 +244,11 @@ impl ScreenBins {
         debug_assert_eq!(BVH, self.search == Search::Bvh, "the search the bins were built for");
         let d = view.primary_dirs_lanes(simd, i, j);
         let o = view.origin;
+        let every = ((1u64 << F::<S>::LEN) - 1) as u32;
         if BVH {
-            let n = F::<S>::LEN;
-            let mut dirs = [[0f32; EYE_PACKET]; 3];
-            for (a, lanes) in dirs.iter_mut().enumerate() {
-                d[a].store_slice(&mut lanes[..n]);
-            }
-            let mask = mask & ((1u64 << n) - 1) as u32;
-            let mut nearest = ([f32::INFINITY; EYE_PACKET], [NO_OBJECT; EYE_PACKET]);
-            bvh_hits(accel, o, &dirs, mask, &mut nearest);
-            let (t, ids) = nearest;
-            return (F::<S>::from_slice(simd, &t[..n]), U::<S>::from_slice(simd, &ids[..n]), d);
+            let none = (F::<S>::splat(simd, f32::INFINITY), U::<S>::splat(simd, NO_OBJECT));
+            let (t, ids) = through_bvh(simd, accel, (o, &d), mask & every, none);
+            return (t, ids, d);
         }
         let mut t_best = F::<S>::splat(simd, f32::INFINITY);
         let mut best = U::<S>::splat(simd, NO_OBJECT);
@@ -300,19 +294,9 @@ impl ScreenBins {
             // search again, through the BVH, from the binned hit they have (a real sphere's:
             // the nearer of the two, of equal `t` the lower id, is the whole search's).
             let open = t_best.simd_ge(F::<S>::splat(simd, self.cut * CUT_MARGIN)).to_bitmask() as u32;
-            let open = open & mask & ((1u64 << F::<S>::LEN) - 1) as u32;
+            let open = open & mask & every;
             if open != 0 {
-                let n = F::<S>::LEN;
-                let mut dirs = [[0f32; EYE_PACKET]; 3];
-                for (a, lanes) in dirs.iter_mut().enumerate() {
-                    d[a].store_slice(&mut lanes[..n]);
-                }
-                let mut nearest = ([0f32; EYE_PACKET], [0u32; EYE_PACKET]);
-                t_best.store_slice(&mut nearest.0[..n]);
-                best.store_slice(&mut nearest.1[..n]);
-                bvh_hits(accel, o, &dirs, open, &mut nearest);
-                let (t, ids) = nearest;
-                return (F::<S>::from_slice(simd, &t[..n]), U::<S>::from_slice(simd, &ids[..n]), d);
+                (t_best, best) = through_bvh(simd, accel, (o, &d), open, (t_best, best));
             }
         }
         (t_best, best, d)
@@ -350,6 +334,28 @@ fn nearest_cut((centers, radii): (&[Vec3], &[f32]), origin: Vec3, keep: usize) -
         }
     }
     f32::INFINITY
+}
+
+/// The lanes' first hits, those `open` names searched through the BVH ([`bvh_hits`]) from
+/// the hits `(t, ids)` they hold, the others left as they are.
+#[inline(always)]
+fn through_bvh<S: Simd>(
+    simd: S,
+    accel: &Aggregate,
+    (o, d): (Vec3, &[F<S>; 3]),
+    open: u32,
+    (t, ids): (F<S>, U<S>),
+) -> (F<S>, U<S>) {
+    let n = F::<S>::LEN;
+    let mut dirs = [[0f32; EYE_PACKET]; 3];
+    for (a, lanes) in dirs.iter_mut().enumerate() {
+        d[a].store_slice(&mut lanes[..n]);
+    }
+    let mut nearest: Nearest = ([0f32; EYE_PACKET], [0u32; EYE_PACKET]);
+    t.store_slice(&mut nearest.0[..n]);
+    ids.store_slice(&mut nearest.1[..n]);
+    bvh_hits(accel, o, &dirs, open, &mut nearest);
+    (F::<S>::from_slice(simd, &nearest.0[..n]), U::<S>::from_slice(simd, &nearest.1[..n]))
 }
 
 /// The first hits of the rays from `o` along `dirs` (per lane) that `mask` names, through
