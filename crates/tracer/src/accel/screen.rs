@@ -247,7 +247,7 @@ impl ScreenBins {
         let every = ((1u64 << F::<S>::LEN) - 1) as u32;
         if BVH {
             let none = (F::<S>::splat(simd, f32::INFINITY), U::<S>::splat(simd, NO_OBJECT));
-            let (t, ids) = through_bvh(simd, accel, (o, &d), mask & every, none);
+            let (t, ids) = through_bvh(simd, accel, (o, &d, 0.0), mask & every, none);
             return (t, ids, d);
         }
         let mut t_best = F::<S>::splat(simd, f32::INFINITY);
@@ -296,7 +296,10 @@ impl ScreenBins {
             let open = t_best.simd_ge(F::<S>::splat(simd, self.cut * CUT_MARGIN)).to_bitmask() as u32;
             let open = open & mask & every;
             if open != 0 {
-                (t_best, best) = through_bvh(simd, accel, (o, &d), open, (t_best, best));
+                // No sphere such a ray can hit begins before the cut (it would be binned, and
+                // its hit nearer than the cut): the BVH search starts just short of it.
+                let beyond = self.cut * CUT_MARGIN * CUT_MARGIN;
+                (t_best, best) = through_bvh(simd, accel, (o, &d, beyond), open, (t_best, best));
             }
         }
         (t_best, best, d)
@@ -337,12 +340,13 @@ fn nearest_cut((centers, radii): (&[Vec3], &[f32]), origin: Vec3, keep: usize) -
 }
 
 /// The lanes' first hits, those `open` names searched through the BVH ([`bvh_hits`]) from
-/// the hits `(t, ids)` they hold, the others left as they are.
+/// the hits `(t, ids)` they hold and no nearer than `beyond` ([`EyeRays::beyond`]), the
+/// others left as they are.
 #[inline(always)]
 fn through_bvh<S: Simd>(
     simd: S,
     accel: &Aggregate,
-    (o, d): (Vec3, &[F<S>; 3]),
+    (o, d, beyond): (Vec3, &[F<S>; 3], f32),
     open: u32,
     (t, ids): (F<S>, U<S>),
 ) -> (F<S>, U<S>) {
@@ -354,21 +358,21 @@ fn through_bvh<S: Simd>(
     let mut nearest: Nearest = ([0f32; EYE_PACKET], [0u32; EYE_PACKET]);
     t.store_slice(&mut nearest.0[..n]);
     ids.store_slice(&mut nearest.1[..n]);
-    bvh_hits(accel, o, &dirs, open, &mut nearest);
+    bvh_hits(accel, EyeRays { origin: o, dirs: &dirs, beyond }, open, &mut nearest);
     (F::<S>::from_slice(simd, &nearest.0[..n]), U::<S>::from_slice(simd, &nearest.1[..n]))
 }
 
-/// The first hits of the rays from `o` along `dirs` (per lane) that `mask` names, through
-/// the BVH in one packet, each the nearer of that and the hit `nearest` holds for it (+∞
-/// and [`NO_OBJECT`] for none): out of line, so that the bins' lane loop, into which
-/// [`ScreenBins::hits_lanes`] is inlined, does not carry a BVH traversal in its code.
+/// The first hits of the rays of `at` that `mask` names, through the BVH in one packet,
+/// each the nearer of that and the hit `nearest` holds for it (+∞ and [`NO_OBJECT`] for
+/// none): out of line, so that the bins' lane loop, into which [`ScreenBins::hits_lanes`]
+/// is inlined, does not carry a BVH traversal in its code.
 #[inline(never)]
-fn bvh_hits(accel: &Aggregate, o: Vec3, dirs: &[[f32; EYE_PACKET]; 3], mask: u32, nearest: &mut Nearest) {
+fn bvh_hits(accel: &Aggregate, at: EyeRays<'_>, mask: u32, nearest: &mut Nearest) {
     #[expect(clippy::cast_possible_truncation, reason = "at most sixteen lanes")]
     let rays = mask as u16;
     fearless_simd::dispatch!(crate::simd::level(), simd => simd.vectorize(
         #[inline(always)]
-        || accel.first_hits_in(simd, EyeRays { origin: o, dirs }, rays, nearest),
+        || accel.first_hits_in(simd, at, rays, nearest),
     ));
 }
 

@@ -47,6 +47,10 @@ pub(crate) struct EyeRays<'a> {
     pub(crate) origin: Vec3,
     /// The directions, by axis.
     pub(crate) dirs: &'a [[f32; EYE_PACKET]; 3],
+    /// How far every hit of the rays lies at least: 0, or for the rays a sliced view's bins
+    /// left open, just short of the cut (no sphere they can hit begins nearer). A box the rays
+    /// leave before it is not entered.
+    pub(crate) beyond: f32,
 }
 
 /// Per ray of a packet, its closest hit so far: `t` (+∞ for none) and the sphere
@@ -164,6 +168,8 @@ fn leaf_first_hits<S: Simd>(simd: S, leaf: &Leaf, at: EyeRays<'_>, rays: u16, (t
 struct EyeLanes<S: Simd> {
     origin: [f32x8<S>; 3],
     inv_dir: [[f32; 3]; EYE_PACKET],
+    /// [`EyeRays::beyond`], the nearest entry a box test gives.
+    beyond: f32x8<S>,
 }
 
 impl<S: Simd> EyeLanes<S> {
@@ -177,7 +183,7 @@ impl<S: Simd> EyeLanes<S> {
             let (inv, _) = slabs(Vec3::new(at.dirs[0][i], at.dirs[1][i], at.dirs[2][i]));
             inv_dir[i] = inv.to_array();
         }
-        Self { origin: each3(|a| f32x8::splat(simd, at.origin[a])), inv_dir }
+        Self { origin: each3(|a| f32x8::splat(simd, at.origin[a])), inv_dir, beyond: f32x8::splat(simd, at.beyond) }
     }
 
     /// The rays whose closest hit so far is at `near` or beyond, as bits.
@@ -210,7 +216,7 @@ impl<S: Simd> EyeLanes<S> {
         while left != 0 {
             let i = left.trailing_zeros() as usize;
             left &= left - 1;
-            let mut near = f32x8::splat(simd, 0.0);
+            let mut near = self.beyond;
             let mut far = f32x8::splat(simd, t[i]);
             for a in 0..3 {
                 let inv = f32x8::splat(simd, self.inv_dir[i][a]);
@@ -259,7 +265,8 @@ mod tests {
         /// On random scenes (overlapping, nested spheres, some twice, and none), packets of up
         /// to sixteen rays from a random origin, each started from nothing or from a random
         /// sphere's hit (a copy's too) as the screen bins hand them over: each ray's answer is
-        /// the single-ray traversal's, at every lane width this CPU has and with every stack.
+        /// the single-ray traversal's, at every lane width this CPU has and with every stack;
+        /// and the same when the search starts just short of the packet's nearest hit.
         #[test]
         fn a_packet_finds_each_ray_s_first_hit(
             spheres in proptest::collection::vec((proptest::array::uniform3(-30.0f32..30.0), 0.05f32..4.0), 0..400),
@@ -285,7 +292,7 @@ mod tests {
                         dirs[a][i] = d[a];
                     }
                 }
-                let at = EyeRays { origin: Vec3::from(*origin), dirs: &dirs };
+                let at = EyeRays { origin: Vec3::from(*origin), dirs: &dirs, beyond: 0.0 };
                 let rays = (*seed as u16).max(1);
                 // Some rays start from a miss, some from a random sphere's hit, some from
                 // their first hit's copy (the same `t`, a higher id).
@@ -309,10 +316,17 @@ mod tests {
                     }
                 }
                 let want = one_by_one(&bvh, at, rays, &start);
+                // As the sliced bins' open rays: the search starts just short of the nearest
+                // first hit of the packet's rays (anywhere when none hits).
+                let nearest = (0..EYE_PACKET).filter(|&i| rays >> i & 1 != 0).map(|i| want.0[i]).fold(f32::INFINITY, f32::min);
+                let beyond = EyeRays { beyond: if nearest.is_finite() { nearest * (1.0 - 2e-4) } else { 50.0 }, ..at };
                 for level in crate::simd::levels() {
                     let (got, stacks) = dispatch!(level, simd => simd.vectorize(|| {
                         let mut got = start;
                         bvh.first_hits_in(simd, at, rays, &mut got);
+                        let mut later = start;
+                        bvh.first_hits_in(simd, beyond, rays, &mut later);
+                        assert_eq!(later, got, "packet {k}, rays {rays:016b}, from {}", beyond.beyond);
                         let mut stacks = [start; 2];
                         if matches!(bvh.root, Root::Node) {
                             let mut best = start.1.map(|id| (id != NO_OBJECT).then_some(id));
