@@ -19,7 +19,9 @@
 //! `Bvh::first_hit_in` keeps it (the smallest `t`, of equal ones the lowest sphere id,
 //! whatever the order leaves are met in), each ray's answer is the single-ray traversal's,
 //! bit for bit (the tests compare them on random scenes). A packet shares a node's load,
-//! its stack entry and its loop among its rays, which one ray at a time pays per ray.
+//! its stack entry and its loop among its rays, which one ray at a time pays per ray. Rays
+//! that cannot hit anything before a distance (a sliced view's, short of its cut:
+//! [`EyeRays::beyond`]) enter no box they leave before it.
 
 #![expect(
     clippy::inline_always,
@@ -70,8 +72,8 @@ impl Bvh {
     /// Narrows each ray `rays` names (bit i: ray i) to its closest hit among every sphere:
     /// `nearest` holds what the ray has already found (a hit, or +∞ and [`NO_OBJECT`]), and
     /// becomes the nearer of that and the tree's hits, of equal `t` the lowest sphere id.
-    /// Started from nothing, each ray's answer is the single-ray `Bvh::first_hit_in`'s; inside a function
-    /// dispatched at `simd`'s level.
+    /// Started from nothing, each ray's answer is the single-ray `Bvh::first_hit_in`'s;
+    /// inside a function dispatched at `simd`'s level.
     #[inline(always)]
     pub(crate) fn first_hits_in<S: Simd>(&self, simd: S, at: EyeRays<'_>, rays: u16, nearest: &mut Nearest) {
         let mut best = nearest.1.map(|id| (id != NO_OBJECT).then_some(id));
