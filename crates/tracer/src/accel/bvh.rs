@@ -14,8 +14,8 @@
 //! 4-lane halves at the fallback. The closest of a leaf's hits is found in the lanes too (a
 //! horizontal minimum, the lowest lane on a tie, as a scan in lane order would pick), not
 //! lane by lane. A scene of eight spheres or fewer is one leaf: a flat SIMD loop. An eye's
-//! primary rays (`Bvh::first_hit_in`, and the packets of `first.rs`) take of equal `t` the lowest sphere id instead,
-//! as the screen bins do, whatever leaf each sphere is in.
+//! primary rays (`Bvh::first_hit_in`, and the packets of `first.rs`) take of equal `t` the
+//! lowest sphere id instead, as the screen bins do, whatever leaf each sphere is in.
 //!
 //! The closest-hit traversal tests the leaves among the children a node's ray enters at
 //! once, visits the interior ones nearest first, and drops any whose entry lies beyond the

@@ -58,7 +58,8 @@ pub(crate) enum Search {
     /// Through screen bins of the nearest spheres alone ([`ScreenBins::build`]), and for
     /// the rays that meet none of them nearer than the rest can be, the BVH.
     Sliced,
-    /// Through the aggregate's BVH, a lane vector of rays a packet ([`Aggregate::first_hits_in`]).
+    /// Through the aggregate's BVH, a lane vector of rays a packet
+    /// ([`Aggregate::first_hits_in`]).
     Bvh,
 }
 
