@@ -15,7 +15,7 @@
 //! **Bins or the BVH.** Binning costs every sphere's bound, every frame, whatever the
 //! pixels: on a 2.9M-atom capsid ~0.5 s an eye even at 50 × 38. A BVH query per ray
 //! costs the rays. Between the two, a view of up to [`SLICED_SPHERES_PER_RAY`] spheres a
-//! pixel bins only the nearest ([`SLICED_KEPT_PER_RAY`] a pixel, by their distance from
+//! pixel bins only the nearest (those that cover the screen about twice, `screen/cut.rs`, by their distance from
 //! the eye, cut at a histogram's bin edge): a hit nearer than the cut is the first hit,
 //! since no other sphere begins before it, and only the other rays go through the BVH.
 //! Beyond that (or above [`SLICED_MAX_SPHERES`]), a view is not binned at all: each
@@ -37,9 +37,11 @@ use glam::Vec3;
 use rayon::prelude::*;
 
 mod bound;
+mod cut;
 
 pub(crate) use bound::pixel_rect;
 use bound::{tile_rect, NO_RECT};
+use cut::nearest;
 
 use super::{Aggregate, EyeRays, Nearest, EYE_PACKET};
 use crate::camera::EyeView;
@@ -84,11 +86,6 @@ impl Search {
 /// through the BVH ([`Search::Sliced`]).
 pub(crate) const SLICED_SPHERES_PER_RAY: f64 = 2.0;
 
-/// Spheres per primary ray a sliced view bins, the nearest (at most half of them):
-/// measured on the deep field of a million spheres at 1280×720 (0.05–0.6 tried; 0.2 the
-/// fastest, `benches/embree-anchor`).
-pub(crate) const SLICED_KEPT_PER_RAY: f64 = 0.2;
-
 /// Most spheres a view slices: its bins keep a rectangle of 8 bytes for every sphere.
 pub(crate) const SLICED_MAX_SPHERES: usize = 1 << 21;
 
@@ -120,9 +117,6 @@ pub(crate) struct ScreenBins {
     cut: f32,
 }
 
-/// Distance bins of the sliced search's histogram of the spheres' nearest distances.
-const SLICES: usize = 1024;
-
 /// A hit nearer than this share of the cut is nearer than any unbinned sphere can be hit,
 /// whatever the rounding of either.
 const CUT_MARGIN: f32 = 1.0 - 1e-4;
@@ -146,9 +140,7 @@ impl ScreenBins {
         let tiles_y = view.height.div_ceil(TILE);
         let tiles = (self.tiles_x * tiles_y) as usize;
         if search == Search::Sliced {
-            let rays = f64::from(view.width) * f64::from(view.height);
-            let keep = ((SLICED_KEPT_PER_RAY * rays) as usize).min(centers.len() / 2);
-            self.cut = nearest_cut((centers, radii), view.origin, keep);
+            self.cut = cut::sliced_cut((centers, radii), view);
         }
         let cut = self.cut;
         self.rects.clear();
@@ -305,39 +297,6 @@ impl ScreenBins {
         }
         (t_best, best, d)
     }
-}
-
-/// How near the eye at `origin` the sphere (`c`, `r`) begins: no ray from there meets it
-/// at a smaller `t`.
-fn nearest(origin: Vec3, c: Vec3, r: f32) -> f32 {
-    ((c.as_dvec3() - origin.as_dvec3()).length() - f64::from(r)) as f32
-}
-
-/// A distance from `origin` within which at most `keep` of the spheres begin (about that
-/// many: a histogram's bin edge): the sliced search's cut.
-fn nearest_cut((centers, radii): (&[Vec3], &[f32]), origin: Vec3, keep: usize) -> f32 {
-    let near = |(&c, &r): (&Vec3, &f32)| nearest(origin, c, r);
-    let (lo, hi) = centers
-        .iter()
-        .zip(radii)
-        .map(near)
-        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), d| (lo.min(d), hi.max(d)));
-    if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
-        return f32::INFINITY;
-    }
-    let scale = SLICES as f32 / (hi - lo);
-    let mut counts = [0u32; SLICES];
-    for d in centers.iter().zip(radii).map(near) {
-        counts[(((d - lo) * scale) as usize).min(SLICES - 1)] += 1;
-    }
-    let mut total = 0usize;
-    for (k, &n) in counts.iter().enumerate() {
-        total += n as usize;
-        if total > keep {
-            return lo + k as f32 / scale;
-        }
-    }
-    f32::INFINITY
 }
 
 /// The lanes' first hits, those `open` names searched through the BVH ([`bvh_hits`]) from
