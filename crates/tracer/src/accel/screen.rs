@@ -41,7 +41,6 @@ mod cut;
 
 pub(crate) use bound::pixel_rect;
 use bound::{tile_rect, NO_RECT};
-use cut::nearest;
 
 use super::{Aggregate, EyeRays, Nearest, EYE_PACKET};
 use crate::camera::EyeView;
@@ -111,6 +110,8 @@ pub(crate) struct ScreenBins {
     rects: Vec<[u16; 4]>,
     /// Scratch: spheres placed so far in each tile.
     fill: Vec<u32>,
+    /// Scratch of a sliced view: how near the eye each sphere begins (`cut::nearest`).
+    near: Vec<f32>,
     /// With [`Search::Sliced`], the distance from the eye beyond which no binned sphere
     /// begins (+∞ when every sphere is binned): a hit nearer than it (with a margin) is the
     /// first, any other ray goes through the BVH.
@@ -125,7 +126,7 @@ impl ScreenBins {
     /// Heap bytes held (capacities).
     pub(crate) fn heap_bytes(&self) -> usize {
         use crate::stats::heap;
-        heap(&self.first) + heap(&self.spheres) + heap(&self.rects) + heap(&self.fill)
+        heap(&self.first) + heap(&self.spheres) + heap(&self.rects) + heap(&self.fill) + heap(&self.near)
     }
     /// Bins the spheres `(centers[k], radii[k])` for the primary rays of `view`, reusing the
     /// buffers; or, for [`Search::Bvh`], leaves the bins empty (their buffers kept) and
@@ -140,13 +141,15 @@ impl ScreenBins {
         let tiles_y = view.height.div_ceil(TILE);
         let tiles = (self.tiles_x * tiles_y) as usize;
         if search == Search::Sliced {
-            self.cut = cut::sliced_cut((centers, radii), view);
+            self.cut = cut::sliced_cut((centers, radii), view, &mut self.near);
         }
         let cut = self.cut;
         self.rects.clear();
         self.rects.resize(centers.len(), NO_RECT);
-        self.rects.par_iter_mut().zip(centers.par_iter().zip(radii)).for_each(|(rect, (&c, &r))| {
-            if cut == f32::INFINITY || nearest(view.origin, c, r) < cut {
+        let near = &self.near;
+        let spheres = centers.par_iter().zip(radii).enumerate();
+        self.rects.par_iter_mut().zip(spheres).for_each(|(rect, (k, (&c, &r)))| {
+            if cut == f32::INFINITY || near[k] < cut {
                 *rect = tile_rect(view, c, r);
             }
         });

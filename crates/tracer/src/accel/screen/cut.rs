@@ -38,7 +38,7 @@ const CHUNK: usize = 1 << 14;
 
 /// How near the eye at `origin` the sphere (`c`, `r`) begins: no ray from there meets it
 /// at a smaller `t`.
-pub(super) fn nearest(origin: Vec3, c: Vec3, r: f32) -> f32 {
+fn nearest(origin: Vec3, c: Vec3, r: f32) -> f32 {
     ((c.as_dvec3() - origin.as_dvec3()).length() - f64::from(r)) as f32
 }
 
@@ -69,27 +69,36 @@ fn screen_area(view: &EyeView, c: Vec3, r: f32) -> u64 {
 }
 
 /// A distance from `view`'s eye within which the spheres `(centers, radii)` that begin
-/// cover its pixels [`SLICED_COVER`] times over, at least [`SLICED_KEPT_MIN`] and at most
+/// (each one's [`nearest`] distance left in `near`) cover its pixels [`SLICED_COVER`] times over, at least [`SLICED_KEPT_MIN`] and at most
 /// [`SLICED_KEPT_MAX`] of them a pixel, and at most half of them (about: a histogram's bin
 /// edge); +∞ to bin them all.
-pub(super) fn sliced_cut((centers, radii): (&[Vec3], &[f32]), view: &EyeView) -> f32 {
+pub(super) fn sliced_cut((centers, radii): (&[Vec3], &[f32]), view: &EyeView, near: &mut Vec<f32>) -> f32 {
     let origin = view.origin;
-    let chunks = || centers.par_chunks(CHUNK).zip(radii.par_chunks(CHUNK));
-    let (lo, hi) = chunks()
-        .map(|(centers, radii)| {
-            let near = centers.iter().zip(radii).map(|(&c, &r)| nearest(origin, c, r));
-            near.fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), d| (lo.min(d), hi.max(d)))
+    near.clear();
+    near.resize(centers.len(), 0.0);
+    let (lo, hi) = near
+        .par_chunks_mut(CHUNK)
+        .zip(centers.par_chunks(CHUNK).zip(radii.par_chunks(CHUNK)))
+        .map(|(near, (centers, radii))| {
+            let mut range = (f32::INFINITY, f32::NEG_INFINITY);
+            for (d, (&c, &r)) in near.iter_mut().zip(centers.iter().zip(radii)) {
+                *d = nearest(origin, c, r);
+                range = (range.0.min(*d), range.1.max(*d));
+            }
+            range
         })
         .reduce(|| (f32::INFINITY, f32::NEG_INFINITY), |a, b| (a.0.min(b.0), a.1.max(b.1)));
     if lo.partial_cmp(&hi) != Some(std::cmp::Ordering::Less) {
         return f32::INFINITY;
     }
     let scale = SLICES as f32 / (hi - lo);
-    let (counts, areas) = chunks()
-        .map(|(centers, radii)| {
+    let (counts, areas) = near
+        .par_chunks(CHUNK)
+        .zip(centers.par_chunks(CHUNK).zip(radii.par_chunks(CHUNK)))
+        .map(|(near, (centers, radii))| {
             let (mut counts, mut areas) = ([0u32; SLICES], [0u64; SLICES]);
-            for (&c, &r) in centers.iter().zip(radii) {
-                let slice = (((nearest(origin, c, r) - lo) * scale) as usize).min(SLICES - 1);
+            for (&d, (&c, &r)) in near.iter().zip(centers.iter().zip(radii)) {
+                let slice = (((d - lo) * scale) as usize).min(SLICES - 1);
                 counts[slice] += 1;
                 areas[slice] += screen_area(view, c, r);
             }
@@ -184,7 +193,7 @@ mod tests {
             let (w, h) = (40, 30);
             let (centers, radii) = field(n, size);
             let v = view(w, h);
-            let cut = sliced_cut((&centers, &radii), &v);
+            let cut = sliced_cut((&centers, &radii), &v, &mut Vec::new());
             let (want, cover) = wanted((&centers, &radii), &v);
             assert_eq!(cover, covered, "{n} spheres of {size}");
             let near: Vec<f32> = centers.iter().zip(&radii).map(|(&c, &r)| nearest(v.origin, c, r)).collect();
@@ -208,7 +217,7 @@ mod tests {
         let v = view(320, 240);
         let cut = |threads| {
             let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build().expect("a pool");
-            pool.install(|| sliced_cut((&centers, &radii), &v)).to_bits()
+            pool.install(|| sliced_cut((&centers, &radii), &v, &mut Vec::new())).to_bits()
         };
         assert_eq!(cut(1), cut(3));
     }
