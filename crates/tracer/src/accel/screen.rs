@@ -15,9 +15,10 @@
 //! **Bins or the BVH.** Binning costs every sphere's bound, every frame, whatever the
 //! pixels: on a 2.9M-atom capsid ~0.5 s an eye even at 50 × 38. A BVH query per ray
 //! costs the rays. Between the two, a view of up to [`SLICED_SPHERES_PER_RAY`] spheres a
-//! pixel bins only the nearest (those that cover the screen about twice, `screen/cut.rs`, by their distance from
-//! the eye, cut at a histogram's bin edge): a hit nearer than the cut is the first hit,
-//! since no other sphere begins before it, and only the other rays go through the BVH.
+//! pixel bins only the nearest, by their distance from the eye, until they cover the screen
+//! about twice (`screen/cut.rs`, cut at a histogram's bin edge): a hit nearer than the cut
+//! is the first hit, since no other sphere begins before it, and only the other rays go
+//! through the BVH.
 //! Beyond that (or above [`SLICED_MAX_SPHERES`]), a view is not binned at all: each
 //! primary ray goes through the aggregate's BVH instead ([`Aggregate::first_hits_in`], a
 //! lane vector of rays a packet), which breaks ties as the bins do (of equal `t`, the lowest

@@ -21,14 +21,14 @@ use rayon::prelude::*;
 use crate::camera::EyeView;
 
 /// The screen's coverage the binned spheres aim for, in screens (see the module doc).
-pub(crate) const SLICED_COVER: f64 = 2.0;
+const SLICED_COVER: f64 = 2.0;
 
 /// Fewest spheres a pixel a sliced view bins (the nearest): below this the bins cost little
 /// whatever they cover.
-pub(crate) const SLICED_KEPT_MIN: f64 = 0.2;
+const SLICED_KEPT_MIN: f64 = 0.2;
 
 /// Most spheres a pixel a sliced view bins (and at most half of the spheres).
-pub(crate) const SLICED_KEPT_MAX: f64 = 1.0;
+const SLICED_KEPT_MAX: f64 = 1.0;
 
 /// Distance bins of the histogram of the spheres' nearest distances.
 const SLICES: usize = 1024;
@@ -68,10 +68,11 @@ fn screen_area(view: &EyeView, c: Vec3, r: f32) -> u64 {
     (std::f32::consts::PI * disc * disc).min(pixels as f32).ceil() as u64
 }
 
-/// A distance from `view`'s eye within which the spheres `(centers, radii)` that begin
-/// (each one's [`nearest`] distance left in `near`) cover its pixels [`SLICED_COVER`] times over, at least [`SLICED_KEPT_MIN`] and at most
+/// A distance from `view`'s eye within which the spheres `(centers, radii)` that begin cover
+/// its pixels [`SLICED_COVER`] times over, at least [`SLICED_KEPT_MIN`] and at most
 /// [`SLICED_KEPT_MAX`] of them a pixel, and at most half of them (about: a histogram's bin
-/// edge); +∞ to bin them all.
+/// edge); +∞ to bin them all. Each sphere's [`nearest`] distance is left in `near`, for the
+/// rectangles' pass to keep the spheres before the cut by the same number.
 pub(super) fn sliced_cut((centers, radii): (&[Vec3], &[f32]), view: &EyeView, near: &mut Vec<f32>) -> f32 {
     let origin = view.origin;
     near.clear();
