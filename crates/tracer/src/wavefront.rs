@@ -24,6 +24,7 @@
 use fearless_simd::{dispatch, prelude::*, Simd};
 use glam::Vec3;
 
+use crate::accel::screen::HeldRow;
 use crate::accel::Origin;
 use crate::camera::EyeView;
 use crate::color::pack_rgb;
@@ -50,6 +51,8 @@ pub(crate) struct Wavefront {
     levels: Vec<Level>,
     /// Levels in use.
     depth: usize,
+    /// A sliced view's row of first hits, held between the bins and the BVH.
+    pub(crate) held: HeldRow,
 }
 
 /// A shaded batch as an observer reads it (`sink.rs`): its levels, read-only, each padded

@@ -39,14 +39,24 @@ use rayon::prelude::*;
 
 mod bound;
 mod cut;
+mod held;
 
 pub(crate) use bound::pixel_rect;
 use bound::{tile_rect, NO_RECT};
+pub(crate) use held::HeldRow;
 
 use super::{Aggregate, EyeRays, Nearest, EYE_PACKET};
 use crate::camera::EyeView;
 use crate::simd::{each3, nearest_root, F, U};
 use crate::surface::NO_OBJECT;
+
+/// A group of lanes' first hits: per lane the hit parameter (+∞ for none), the sphere
+/// ([`NO_OBJECT`] for none) and the primary ray's direction.
+pub(crate) type LaneHits<S> = (F<S>, U<S>, [F<S>; 3]);
+
+/// [`ScreenBins::binned_lanes`]'s answer: the hits the bins find, and the lanes (bits) that
+/// go on through the BVH.
+pub(crate) type Binned<S> = (LaneHits<S>, u32);
 
 /// Tile edge in pixels.
 pub(crate) const TILE: u32 = 8;
@@ -234,18 +244,37 @@ impl ScreenBins {
     pub(crate) fn hits_lanes<S: Simd, const BVH: bool>(
         &self,
         simd: S,
-        (view, centers, radii): (&EyeView, &[Vec3], &[f32]),
+        scene: (&EyeView, &[Vec3], &[f32]),
         accel: &Aggregate,
-        (i, j, mask): (u32, u32, u32),
+        at: (u32, u32, u32),
     ) -> (F<S>, U<S>, [F<S>; 3]) {
+        let ((t, ids, d), open) = self.binned_lanes::<S, BVH>(simd, scene, at);
+        if open == 0 {
+            return (t, ids, d);
+        }
+        let beyond = if BVH { 0.0 } else { self.beyond() };
+        let (t, ids) = through_bvh(simd, accel, (scene.0.origin, &d, beyond), open, (t, ids));
+        (t, ids, d)
+    }
+
+    /// [`ScreenBins::hits_lanes`] before the BVH: the hits the bins find (none through the
+    /// BVH's bins), and the lanes that must go on through the BVH from
+    /// [`ScreenBins::beyond`] (every lane `mask` names, through the BVH's bins; none,
+    /// through the bins).
+    #[inline(always)]
+    pub(crate) fn binned_lanes<S: Simd, const BVH: bool>(
+        &self,
+        simd: S,
+        (view, centers, radii): (&EyeView, &[Vec3], &[f32]),
+        (i, j, mask): (u32, u32, u32),
+    ) -> Binned<S> {
         debug_assert_eq!(BVH, self.search == Search::Bvh, "the search the bins were built for");
         let d = view.primary_dirs_lanes(simd, i, j);
         let o = view.origin;
         let every = ((1u64 << F::<S>::LEN) - 1) as u32;
         if BVH {
             let none = (F::<S>::splat(simd, f32::INFINITY), U::<S>::splat(simd, NO_OBJECT));
-            let (t, ids) = through_bvh(simd, accel, (o, &d, 0.0), mask & every, none);
-            return (t, ids, d);
+            return ((none.0, none.1, d), mask & every);
         }
         let mut t_best = F::<S>::splat(simd, f32::INFINITY);
         let mut best = U::<S>::splat(simd, NO_OBJECT);
@@ -286,20 +315,30 @@ impl ScreenBins {
                 Some(ours) => (ours.select(t_tile, t_best), ours.select(best_tile, best)),
             };
         }
-        if self.cut < f32::INFINITY {
-            // Sliced: the lanes whose hit is not surely nearer than every unbinned sphere
-            // search again, through the BVH, from the binned hit they have (a real sphere's:
-            // the nearer of the two, of equal `t` the lower id, is the whole search's).
-            let open = t_best.simd_ge(F::<S>::splat(simd, self.cut * CUT_MARGIN)).to_bitmask() as u32;
-            let open = open & mask & every;
-            if open != 0 {
-                // No sphere such a ray can hit begins before the cut (it would be binned, and
-                // its hit nearer than the cut): the BVH search starts just short of it.
-                let beyond = self.cut * CUT_MARGIN * CUT_MARGIN;
-                (t_best, best) = through_bvh(simd, accel, (o, &d, beyond), open, (t_best, best));
-            }
-        }
-        (t_best, best, d)
+        // Sliced: the lanes whose hit is not surely nearer than every unbinned sphere search
+        // again, through the BVH, from the binned hit they have (a real sphere's: the nearer
+        // of the two, of equal `t` the lower id, is the whole search's).
+        let open = if self.cut < f32::INFINITY {
+            t_best.simd_ge(F::<S>::splat(simd, self.cut * CUT_MARGIN)).to_bitmask() as u32 & mask & every
+        } else {
+            0
+        };
+        ((t_best, best, d), open)
+    }
+
+    /// How near the eye a sliced view's open rays ([`ScreenBins::binned_lanes`]) begin their
+    /// search: just short of the cut, since no sphere such a ray can hit begins before it
+    /// (it would be binned, and its hit nearer than the cut).
+    #[inline]
+    pub(crate) fn beyond(&self) -> f32 {
+        self.cut * CUT_MARGIN * CUT_MARGIN
+    }
+
+    /// Whether this view bins only its nearest spheres ([`Search::Sliced`] with a finite
+    /// cut), so that some rays go on through the BVH.
+    #[inline]
+    pub(crate) fn is_sliced(&self) -> bool {
+        self.cut < f32::INFINITY
     }
 }
 

@@ -71,7 +71,28 @@ pub(super) fn trace_row_in<S: Simd, C: Columns, O: Observe, const BVH: bool>(
         let all = (1u32 << n) - 1;
         only.map_or(all, |row| (row[i0 / 64] >> (i0 % 64)) as u32 & all)
     };
-    for span in (0..w.div_ceil(span_width)).map(|t| t * span_width..((t + 1) * span_width).min(w)) {
+    let spans = || (0..w.div_ceil(span_width)).map(|t| t * span_width..((t + 1) * span_width).min(w));
+    // A sliced view's row is binned first, its open rays then searched together, sixteen
+    // at a time (`accel/screen/held.rs`); its groups below take their hits from there.
+    let held = !BVH && eye.bins.is_sliced();
+    if held {
+        wavefront.held.clear();
+        for span in spans() {
+            for i0 in span.clone().step_by(lanes) {
+                let mask = chosen(i0, (span.end - i0).min(lanes));
+                if mask != 0 {
+                    let binned = simd.vectorize(
+                        #[inline(always)]
+                        || eye.binned_lanes::<S>(simd, (i0 as u32, j, mask)),
+                    );
+                    wavefront.held.hold::<S>(binned);
+                }
+            }
+        }
+        wavefront.held.search(eye.bins, &tracer.accel, view.origin);
+    }
+    let mut group = 0;
+    for span in spans() {
         if !BVH && eye.bins.bin_is_empty_at((span.start as u32, j), span.len()) {
             let mask = chosen(span.start, span.len());
             counts.primary += u64::from(mask.count_ones());
@@ -93,7 +114,11 @@ pub(super) fn trace_row_in<S: Simd, C: Columns, O: Observe, const BVH: bool>(
             simd.vectorize(
                 #[inline(always)]
                 || {
-                    let hits = eye.hits_lanes_by::<S, BVH>(simd, (i0 as u32, j, mask));
+                    let hits = if held {
+                        wavefront.held.hits(simd, group)
+                    } else {
+                        eye.hits_lanes_by::<S, BVH>(simd, (i0 as u32, j, mask))
+                    };
                     if C::SHADES {
                         eye.push_found_in(simd, wavefront, (i0 as u32, mask), hits, sink);
                     } else {
@@ -101,6 +126,7 @@ pub(super) fn trace_row_in<S: Simd, C: Columns, O: Observe, const BVH: bool>(
                     }
                 },
             );
+            group += 1;
         }
     }
     if C::SHADES {
