@@ -56,7 +56,7 @@ pub(crate) type LaneHits<S> = (F<S>, U<S>, [F<S>; 3]);
 
 /// [`ScreenBins::binned_lanes`]'s answer: the hits the bins find, and the lanes (bits) that
 /// go on through the BVH.
-pub(crate) type Binned<S> = (LaneHits<S>, u32);
+pub(crate) type BinnedLanes<S> = (LaneHits<S>, u32);
 
 /// Tile edge in pixels.
 pub(crate) const TILE: u32 = 8;
@@ -115,7 +115,7 @@ pub(crate) struct ScreenBins {
     tiles_x: u32,
     /// Tile t's spheres are `spheres[first[t]..first[t + 1]]`, ids in id order.
     first: Vec<u32>,
-    spheres: Vec<u32>,
+    spheres: Vec<TileSphere>,
     /// Per sphere: its inclusive tile rectangle `[x0, y0, x1, y1]`, or [`NO_RECT`] when it
     /// is behind the eye or off screen. (Tiles of 8 pixels: 16 bits hold any image side.)
     rects: Vec<[u16; 4]>,
@@ -127,6 +127,32 @@ pub(crate) struct ScreenBins {
     /// begins (+∞ when every sphere is binned): a hit nearer than it (with a margin) is the
     /// first, any other ray goes through the BVH.
     cut: f32,
+}
+
+/// A sphere as a tile lists it: its terms seen from the eye, made once a frame by
+/// `spheres_t`'s own operations (so its `t` is bit for bit every other query's), and its id.
+/// A tile's lanes read its spheres in a row instead of gathering each from the scene's
+/// arrays: on a million spheres those gathers missed the cache.
+#[derive(Clone, Copy, Debug, Default)]
+pub(crate) struct TileSphere {
+    /// The eye less the centre.
+    oc: [f32; 3],
+    /// The radius squared.
+    r2: f32,
+    /// |oc|² − r².
+    cc: f32,
+    id: u32,
+}
+
+impl TileSphere {
+    /// Sphere `id`, centre `c` and radius `r`, seen from the eye at `o`.
+    #[inline]
+    fn new(id: u32, o: Vec3, c: Vec3, r: f32) -> Self {
+        let oc = [o.x - c.x, o.y - c.y, o.z - c.z];
+        let r2 = r * r;
+        let cc = (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2]) - r2;
+        Self { oc, r2, cc, id }
+    }
 }
 
 /// A hit nearer than this share of the cut is nearer than any unbinned sphere can be hit,
@@ -184,13 +210,14 @@ impl ScreenBins {
         }
         self.first.push(total);
         self.spheres.clear();
-        self.spheres.resize(total as usize, 0);
+        self.spheres.resize(total as usize, TileSphere::default());
         self.fill.fill(0);
         for (k, &[x0, y0, x1, y1]) in self.rects.iter().enumerate().filter(|&(_, &r)| r != NO_RECT) {
+            let sphere = TileSphere::new(k as u32, view.origin, centers[k], radii[k]);
             for ty in u32::from(y0)..=u32::from(y1) {
                 for tx in u32::from(x0)..=u32::from(x1) {
                     let t = (ty * self.tiles_x + tx) as usize;
-                    self.spheres[(self.first[t] + self.fill[t]) as usize] = k as u32;
+                    self.spheres[(self.first[t] + self.fill[t]) as usize] = sphere;
                     self.fill[t] += 1;
                 }
             }
@@ -199,7 +226,7 @@ impl ScreenBins {
 
     /// The spheres of the tile holding pixel (i, j).
     #[inline]
-    pub(crate) fn spheres_at(&self, i: u32, j: u32) -> &[u32] {
+    pub(crate) fn spheres_at(&self, i: u32, j: u32) -> &[TileSphere] {
         let t = ((j / TILE) * self.tiles_x + i / TILE) as usize;
         &self.spheres[self.first[t] as usize..self.first[t + 1] as usize]
     }
@@ -244,16 +271,16 @@ impl ScreenBins {
     pub(crate) fn hits_lanes<S: Simd, const BVH: bool>(
         &self,
         simd: S,
-        scene: (&EyeView, &[Vec3], &[f32]),
+        view: &EyeView,
         accel: &Aggregate,
         at: (u32, u32, u32),
     ) -> (F<S>, U<S>, [F<S>; 3]) {
-        let ((t, ids, d), open) = self.binned_lanes::<S, BVH>(simd, scene, at);
+        let ((t, ids, d), open) = self.binned_lanes::<S, BVH>(simd, view, at);
         if open == 0 {
             return (t, ids, d);
         }
         let beyond = if BVH { 0.0 } else { self.beyond() };
-        let (t, ids) = through_bvh(simd, accel, (scene.0.origin, &d, beyond), open, (t, ids));
+        let (t, ids) = through_bvh(simd, accel, (view.origin, &d, beyond), open, (t, ids));
         (t, ids, d)
     }
 
@@ -265,12 +292,11 @@ impl ScreenBins {
     pub(crate) fn binned_lanes<S: Simd, const BVH: bool>(
         &self,
         simd: S,
-        (view, centers, radii): (&EyeView, &[Vec3], &[f32]),
+        view: &EyeView,
         (i, j, mask): (u32, u32, u32),
-    ) -> Binned<S> {
+    ) -> BinnedLanes<S> {
         debug_assert_eq!(BVH, self.search == Search::Bvh, "the search the bins were built for");
         let d = view.primary_dirs_lanes(simd, i, j);
-        let o = view.origin;
         let every = ((1u64 << F::<S>::LEN) - 1) as u32;
         if BVH {
             let none = (F::<S>::splat(simd, f32::INFINITY), U::<S>::splat(simd, NO_OBJECT));
@@ -297,18 +323,13 @@ impl ScreenBins {
             };
             let mut t_tile = ours.map_or(t_best, |ours| ours.select(t_best, F::<S>::splat(simd, 0.0)));
             let mut best_tile = best;
-            for &k in self.spheres_at(column, j) {
-                // The sphere's terms seen from the eye, once for the lanes: `spheres_t`'s
-                // own operations, so its `t` is bit for bit every other query's.
-                let (c, r) = (centers[k as usize], radii[k as usize]);
-                let oc = [o.x - c.x, o.y - c.y, o.z - c.z];
-                let r2 = r * r;
-                let cc = (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2]) - r2;
-                let oc = each3(|a| F::<S>::splat(simd, oc[a]));
-                let t = nearest_root(simd, oc, d, F::<S>::splat(simd, r2), F::<S>::splat(simd, cc), t_tile);
+            for sphere in self.spheres_at(column, j) {
+                let oc = each3(|a| F::<S>::splat(simd, sphere.oc[a]));
+                let (r2, cc) = (F::<S>::splat(simd, sphere.r2), F::<S>::splat(simd, sphere.cc));
+                let t = nearest_root(simd, oc, d, r2, cc, t_tile);
                 let nearer = t.simd_lt(t_tile);
                 t_tile = nearer.select(t, t_tile);
-                best_tile = nearer.select(U::<S>::splat(simd, k), best_tile);
+                best_tile = nearer.select(U::<S>::splat(simd, sphere.id), best_tile);
             }
             (t_best, best) = match ours {
                 None => (t_tile, best_tile),
@@ -409,8 +430,7 @@ mod tests {
             for j in 0..h {
                 for i in (0..w).step_by(lanes as usize) {
                     let (t, ids, d) = fearless_simd::dispatch!(crate::simd::level(), simd => simd.vectorize(|| {
-                        let scene = (&view, &tracer.scene.centers[..], &tracer.scene.radii[..]);
-                        let (t, ids, d) = bins.hits_lanes::<_, false>(simd, scene, &tracer.accel, (i, j, u32::MAX));
+                        let (t, ids, d) = bins.hits_lanes::<_, false>(simd, &view, &tracer.accel, (i, j, u32::MAX));
                         let mut out = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
                         let n = t.as_slice().len();
                         out.0[..n].copy_from_slice(t.as_slice());

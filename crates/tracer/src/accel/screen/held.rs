@@ -20,7 +20,7 @@
 use fearless_simd::{prelude::*, Simd};
 use glam::Vec3;
 
-use super::{bvh_hits, Binned, LaneHits, ScreenBins};
+use super::{bvh_hits, BinnedLanes, LaneHits, ScreenBins};
 use crate::accel::{Aggregate, EyeRays, Nearest, EYE_PACKET};
 use crate::bits;
 use crate::simd::{F, U};
@@ -50,7 +50,7 @@ impl HeldRow {
     /// Holds the next group's hits from the bins, `open` naming the lanes still to search
     /// ([`ScreenBins::binned_lanes`]).
     #[inline(always)]
-    pub(crate) fn hold<S: Simd>(&mut self, ((t, ids, d), open): Binned<S>) {
+    pub(crate) fn hold<S: Simd>(&mut self, ((t, ids, d), open): BinnedLanes<S>) {
         let n = F::<S>::LEN;
         let mut group = Group { t: [0.0; EYE_PACKET], ids: [0; EYE_PACKET], dirs: [[0.0; EYE_PACKET]; 3], open };
         t.store_slice(&mut group.t[..n]);
