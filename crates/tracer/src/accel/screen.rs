@@ -6,8 +6,9 @@
 //! rasterisers, used here to cull a ray tracer's first hits). A pixel whose tile lists no
 //! sphere is background without a single sphere test; the others test just their tile's
 //! spheres, a vector of pixels at a time: the rays share the eye as origin, so each sphere's
-//! origin terms are computed once per frame and the rays fill the SIMD lanes. Secondary
-//! rays, which start anywhere, go through the BVH.
+//! origin terms are computed once per frame, kept in the tiles' lists beside its id
+//! ([`TileSphere`]: a tile's spheres are read in a row, not gathered from the scene), and
+//! the rays fill the SIMD lanes. Secondary rays, which start anywhere, go through the BVH.
 //!
 //! Where each sphere can appear on screen, and why that bound never misses a hit the tests
 //! would report, is `screen/bound.rs`.
@@ -18,7 +19,7 @@
 //! pixel bins only the nearest, by their distance from the eye, until they cover the screen
 //! about twice (`screen/cut.rs`, cut at a histogram's bin edge): a hit nearer than the cut
 //! is the first hit, since no other sphere begins before it, and only the other rays go
-//! through the BVH.
+//! through the BVH, held back for the row and sent sixteen at a time (`screen/held.rs`).
 //! Beyond that (or above [`SLICED_MAX_SPHERES`]), a view is not binned at all: each
 //! primary ray goes through the aggregate's BVH instead ([`Aggregate::first_hits_in`], a
 //! lane vector of rays a packet), which breaks ties as the bins do (of equal `t`, the lowest
