@@ -3,10 +3,12 @@
 //! A row's pixels go tile by tile through the screen bins, a group of lanes at a time (every
 //! group, or those the row's selection names). A tile whose bin is empty is background
 //! without a sphere test; the others find their first hits in lanes (or, for a view
-//! searched through the BVH, ray by ray the lanes chosen) and push them into one
-//! batch of the thread's wavefront, shaded together, then emitted into the row's
-//! [`RowSink`] (`sink.rs`), whose observer marks them when the render marks. A sink that
-//! does not shade (depth) takes each first hit's depth instead, and the batch stays empty.
+//! searched through the BVH, ray by ray the lanes chosen; for a sliced view, the whole row
+//! binned first and the rays its bins leave open sent through the BVH sixteen at a time,
+//! `accel/screen/held.rs`) and push them into one batch of the thread's wavefront, shaded
+//! together, then emitted into the row's [`RowSink`] (`sink.rs`), whose observer marks them
+//! when the render marks. A sink that does not shade (depth) takes each first hit's depth
+//! instead, and the batch stays empty.
 
 #![expect(
     clippy::inline_always,
