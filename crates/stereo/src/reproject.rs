@@ -58,7 +58,7 @@ impl Reprojection {
 /// reaching the eyes' plane makes it the whole row.
 fn right_border_strip(tracer: &Tracer, camera: &Camera, disparity: Disparity, w: usize) -> usize {
     let forward = camera.world_from_head() * glam::Vec3::Z;
-    let Some(nearest) = tracer.snapshot().nearest_depth(camera.position, forward) else { return 0 };
+    let Some(nearest) = tracer.nearest_depth(camera.position, forward) else { return 0 };
     if nearest <= 0.0 {
         return w;
     }

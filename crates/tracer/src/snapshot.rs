@@ -150,14 +150,20 @@ impl Snapshot {
     /// eye can see is no nearer than this.
     #[must_use]
     pub fn nearest_depth(&self, origin: Vec3, forward: Vec3) -> Option<f32> {
-        self.centers
-            .iter()
-            .zip(&self.radii)
-            .map(|(&c, &r)| (forward.dot(c - origin), r))
-            .filter(|&(w, r)| w + r > 0.0)
-            .map(|(w, r)| w - r)
-            .reduce(f32::min)
+        nearest_depth_of(&self.centers, &self.radii, origin, forward)
     }
+}
+
+/// [`Snapshot::nearest_depth`] of the spheres `(centers[k], radii[k])`: a scan of every
+/// sphere ([`crate::Tracer::nearest_depth`] asks the BVH the same, bit for bit).
+pub(crate) fn nearest_depth_of(centers: &[Vec3], radii: &[f32], origin: Vec3, forward: Vec3) -> Option<f32> {
+    centers
+        .iter()
+        .zip(radii)
+        .map(|(&c, &r)| (forward.dot(c - origin), r))
+        .filter(|&(w, r)| w + r > 0.0)
+        .map(|(w, r)| w - r)
+        .reduce(f32::min)
 }
 
 #[cfg(test)]

@@ -12,6 +12,7 @@ use crate::ray::{spawn_bound, Ray};
 use crate::scene::{RenderSettings, Scene};
 use crate::snapshot::Snapshot;
 use crate::surface::Hit;
+use glam::Vec3;
 
 /// A scene at one instant, laid out for tracing. Build it once and [`Tracer::update`] it each
 /// frame: the buffers are reused, so a warm viewer does not allocate per frame.
@@ -106,6 +107,18 @@ impl Tracer {
     #[must_use]
     pub fn snapshot(&self) -> &Snapshot {
         &self.scene
+    }
+
+    /// [`Snapshot::nearest_depth`], the same value, found through the BVH instead of a scan
+    /// of every sphere: the smallest depth along `forward` from `origin` of any sphere point
+    /// in front of that plane. A `forward` that is not a unit vector is scanned.
+    #[must_use]
+    pub fn nearest_depth(&self, origin: Vec3, forward: Vec3) -> Option<f32> {
+        let spheres = (&self.scene.centers[..], &self.scene.radii[..]);
+        if (forward.length() - 1.0).abs() > 1e-3 {
+            return crate::snapshot::nearest_depth_of(spheres.0, spheres.1, origin, forward);
+        }
+        self.accel.nearest_depth(spheres, origin, forward)
     }
 
     /// The render settings in force (reflection depth, background, ambient).

@@ -41,6 +41,7 @@ use crate::ray::Ray;
 use crate::simd::{each3, spheres_t};
 use crate::surface::Hit;
 
+mod ahead;
 mod build;
 mod first;
 mod shared;

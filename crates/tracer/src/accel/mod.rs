@@ -300,6 +300,13 @@ impl Aggregate {
         }
     }
 
+    /// [`crate::Snapshot::nearest_depth`] of the spheres `(centers, radii)` the structures
+    /// were built over, through the BVH, for a unit `forward`.
+    #[must_use]
+    pub(crate) fn nearest_depth(&self, spheres: (&[Vec3], &[f32]), origin: Vec3, forward: Vec3) -> Option<f32> {
+        self.bvh.nearest_depth(spheres, origin, forward)
+    }
+
     /// Heap bytes of the structures: the BVH, the light maps, the cones.
     pub(crate) fn heap_bytes(&self) -> [usize; 3] {
         [self.bvh.heap_bytes(), self.lights.heap_bytes(), self.cones.heap_bytes()]
