@@ -6,9 +6,9 @@
 //! rasterisers, used here to cull a ray tracer's first hits). A pixel whose tile lists no
 //! sphere is background without a single sphere test; the others test just their tile's
 //! spheres, a vector of pixels at a time: the rays share the eye as origin, so each sphere's
-//! origin terms are computed once per frame, kept in the tiles' lists beside its id
-//! ([`TileSphere`]: a tile's spheres are read in a row, not gathered from the scene), and
-//! the rays fill the SIMD lanes. Secondary rays, which start anywhere, go through the BVH.
+//! origin terms are computed once per frame (in a sliced view, kept in the tiles' lists
+//! beside its id, [`TileSphere`], so that a tile's spheres are read in a row, not gathered
+//! from a scene too large for the caches), and the rays fill the SIMD lanes. Secondary rays, which start anywhere, go through the BVH.
 //!
 //! Where each sphere can appear on screen, and why that bound never misses a hit the tests
 //! would report, is `screen/bound.rs`.
@@ -114,9 +114,11 @@ pub(crate) struct ScreenBins {
     /// How this view's first hits are found; with [`Search::Bvh`] the tiles are not built.
     search: Search,
     tiles_x: u32,
-    /// Tile t's spheres are `spheres[first[t]..first[t + 1]]`, ids in id order.
+    /// Tile t's spheres are `spheres[first[t]..first[t + 1]]`, ids in id order; in a sliced
+    /// view, `terms[first[t]..first[t + 1]]` instead.
     first: Vec<u32>,
-    spheres: Vec<TileSphere>,
+    spheres: Vec<u32>,
+    terms: Vec<TileSphere>,
     /// Per sphere: its inclusive tile rectangle `[x0, y0, x1, y1]`, or [`NO_RECT`] when it
     /// is behind the eye or off screen. (Tiles of 8 pixels: 16 bits hold any image side.)
     rects: Vec<[u16; 4]>,
@@ -130,10 +132,13 @@ pub(crate) struct ScreenBins {
     cut: f32,
 }
 
-/// A sphere as a tile lists it: its terms seen from the eye, made once a frame by
-/// `spheres_t`'s own operations (so its `t` is bit for bit every other query's), and its id.
-/// A tile's lanes read its spheres in a row instead of gathering each from the scene's
-/// arrays: on a million spheres those gathers missed the cache.
+/// A sphere as a sliced view's tile lists it: its terms seen from the eye, made once a frame
+/// by `spheres_t`'s own operations (so its `t` is bit for bit every other query's), and its
+/// id. A tile's lanes read its spheres in a row instead of gathering each from the scene's
+/// arrays: on a million spheres those gathers missed the cache (the first 1M field's frame
+/// took 8 % less). Six times the bytes of an id, so only a sliced view, whose bins hold at
+/// most a sphere a pixel, lists them; full bins list ids (2BTV's assembly, binned in full
+/// at its converged 4 × 4 samples a pixel, peaked 440 MB higher in the window with terms).
 #[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct TileSphere {
     /// The eye less the centre.
@@ -164,7 +169,12 @@ impl ScreenBins {
     /// Heap bytes held (capacities).
     pub(crate) fn heap_bytes(&self) -> usize {
         use crate::stats::heap;
-        heap(&self.first) + heap(&self.spheres) + heap(&self.rects) + heap(&self.fill) + heap(&self.near)
+        heap(&self.first)
+            + heap(&self.spheres)
+            + heap(&self.terms)
+            + heap(&self.rects)
+            + heap(&self.fill)
+            + heap(&self.near)
     }
     /// Bins the spheres `(centers[k], radii[k])` for the primary rays of `view`, reusing the
     /// buffers; or, for [`Search::Bvh`], leaves the bins empty (their buffers kept) and
@@ -210,26 +220,32 @@ impl ScreenBins {
             total += n;
         }
         self.first.push(total);
-        self.spheres.clear();
-        self.spheres.resize(total as usize, TileSphere::default());
         self.fill.fill(0);
-        for (k, &[x0, y0, x1, y1]) in self.rects.iter().enumerate().filter(|&(_, &r)| r != NO_RECT) {
-            let sphere = TileSphere::new(k as u32, view.origin, centers[k], radii[k]);
-            for ty in u32::from(y0)..=u32::from(y1) {
-                for tx in u32::from(x0)..=u32::from(x1) {
-                    let t = (ty * self.tiles_x + tx) as usize;
-                    self.spheres[(self.first[t] + self.fill[t]) as usize] = sphere;
-                    self.fill[t] += 1;
-                }
-            }
+        let (lists, o) = ((&self.rects[..], &self.first[..], self.tiles_x), view.origin);
+        if cut == f32::INFINITY {
+            place(lists, &mut self.fill, |k| k as u32, &mut self.spheres);
+        } else {
+            place(lists, &mut self.fill, |k| TileSphere::new(k as u32, o, centers[k], radii[k]), &mut self.terms);
         }
     }
 
-    /// The spheres of the tile holding pixel (i, j).
+    /// The spheres of the tile holding pixel (i, j), of a view binned in full.
     #[inline]
-    pub(crate) fn spheres_at(&self, i: u32, j: u32) -> &[TileSphere] {
+    pub(crate) fn spheres_at(&self, i: u32, j: u32) -> &[u32] {
+        &self.spheres[self.tile_span(i, j)]
+    }
+
+    /// The spheres of the tile holding pixel (i, j), of a sliced view.
+    #[inline]
+    fn terms_at(&self, i: u32, j: u32) -> &[TileSphere] {
+        &self.terms[self.tile_span(i, j)]
+    }
+
+    /// Where the list of the tile holding pixel (i, j) lies.
+    #[inline]
+    fn tile_span(&self, i: u32, j: u32) -> std::ops::Range<usize> {
         let t = ((j / TILE) * self.tiles_x + i / TILE) as usize;
-        &self.spheres[self.first[t] as usize..self.first[t + 1] as usize]
+        self.first[t] as usize..self.first[t + 1] as usize
     }
 
     /// How this view's first hits are found.
@@ -272,16 +288,16 @@ impl ScreenBins {
     pub(crate) fn hits_lanes<S: Simd, const BVH: bool>(
         &self,
         simd: S,
-        view: &EyeView,
+        scene: (&EyeView, &[Vec3], &[f32]),
         accel: &Aggregate,
         at: (u32, u32, u32),
     ) -> (F<S>, U<S>, [F<S>; 3]) {
-        let ((t, ids, d), open) = self.binned_lanes::<S, BVH>(simd, view, at);
+        let ((t, ids, d), open) = self.binned_lanes::<S, BVH>(simd, scene, at);
         if open == 0 {
             return (t, ids, d);
         }
         let beyond = if BVH { 0.0 } else { self.beyond() };
-        let (t, ids) = through_bvh(simd, accel, (view.origin, &d, beyond), open, (t, ids));
+        let (t, ids) = through_bvh(simd, accel, (scene.0.origin, &d, beyond), open, (t, ids));
         (t, ids, d)
     }
 
@@ -293,7 +309,7 @@ impl ScreenBins {
     pub(crate) fn binned_lanes<S: Simd, const BVH: bool>(
         &self,
         simd: S,
-        view: &EyeView,
+        (view, centers, radii): (&EyeView, &[Vec3], &[f32]),
         (i, j, mask): (u32, u32, u32),
     ) -> BinnedLanes<S> {
         debug_assert_eq!(BVH, self.search == Search::Bvh, "the search the bins were built for");
@@ -324,13 +340,16 @@ impl ScreenBins {
             };
             let mut t_tile = ours.map_or(t_best, |ours| ours.select(t_best, F::<S>::splat(simd, 0.0)));
             let mut best_tile = best;
-            for sphere in self.spheres_at(column, j) {
-                let oc = each3(|a| F::<S>::splat(simd, sphere.oc[a]));
-                let (r2, cc) = (F::<S>::splat(simd, sphere.r2), F::<S>::splat(simd, sphere.cc));
-                let t = nearest_root(simd, oc, d, r2, cc, t_tile);
-                let nearer = t.simd_lt(t_tile);
-                t_tile = nearer.select(t, t_tile);
-                best_tile = nearer.select(U::<S>::splat(simd, sphere.id), best_tile);
+            if self.is_sliced() {
+                for &sphere in self.terms_at(column, j) {
+                    test_sphere(simd, sphere, d, (&mut t_tile, &mut best_tile));
+                }
+            } else {
+                // The sphere's terms seen from the eye, once for the lanes.
+                for &k in self.spheres_at(column, j) {
+                    let sphere = TileSphere::new(k, view.origin, centers[k as usize], radii[k as usize]);
+                    test_sphere(simd, sphere, d, (&mut t_tile, &mut best_tile));
+                }
             }
             (t_best, best) = match ours {
                 None => (t_tile, best_tile),
@@ -361,6 +380,41 @@ impl ScreenBins {
     #[inline]
     pub(crate) fn is_sliced(&self) -> bool {
         self.cut < f32::INFINITY
+    }
+}
+
+/// One sphere's test against the lanes' rays from the eye along `d`: where it is hit nearer
+/// than `t` (no farther on a tie, which keeps the earlier, lower id), `t` and `ids` take it.
+#[inline(always)]
+fn test_sphere<S: Simd>(simd: S, s: TileSphere, d: [F<S>; 3], (t, ids): (&mut F<S>, &mut U<S>)) {
+    let oc = each3(|a| F::<S>::splat(simd, s.oc[a]));
+    let (r2, cc) = (F::<S>::splat(simd, s.r2), F::<S>::splat(simd, s.cc));
+    let root = nearest_root(simd, oc, d, r2, cc, *t);
+    let nearer = root.simd_lt(*t);
+    *t = nearer.select(root, *t);
+    *ids = nearer.select(U::<S>::splat(simd, s.id), *ids);
+}
+
+/// The counting sort's second pass: each sphere with a rectangle of `rects` placed in every
+/// tile it covers, as `entry(k)`, in id order within a tile (`first` from the first pass,
+/// `fill` zeroed), into `out`.
+fn place<T: Copy + Default>(
+    (rects, first, tiles_x): (&[[u16; 4]], &[u32], u32),
+    fill: &mut [u32],
+    entry: impl Fn(usize) -> T,
+    out: &mut Vec<T>,
+) {
+    out.clear();
+    out.resize(first.last().map_or(0, |&n| n as usize), T::default());
+    for (k, &[x0, y0, x1, y1]) in rects.iter().enumerate().filter(|&(_, &r)| r != NO_RECT) {
+        let e = entry(k);
+        for ty in u32::from(y0)..=u32::from(y1) {
+            for tx in u32::from(x0)..=u32::from(x1) {
+                let t = (ty * tiles_x + tx) as usize;
+                out[(first[t] + fill[t]) as usize] = e;
+                fill[t] += 1;
+            }
+        }
     }
 }
 
@@ -431,7 +485,8 @@ mod tests {
             for j in 0..h {
                 for i in (0..w).step_by(lanes as usize) {
                     let (t, ids, d) = fearless_simd::dispatch!(crate::simd::level(), simd => simd.vectorize(|| {
-                        let (t, ids, d) = bins.hits_lanes::<_, false>(simd, &view, &tracer.accel, (i, j, u32::MAX));
+                        let scene = (&view, &tracer.scene.centers[..], &tracer.scene.radii[..]);
+                        let (t, ids, d) = bins.hits_lanes::<_, false>(simd, scene, &tracer.accel, (i, j, u32::MAX));
                         let mut out = ([0f32; 16], [0u32; 16], [[0f32; 16]; 3]);
                         let n = t.as_slice().len();
                         out.0[..n].copy_from_slice(t.as_slice());

@@ -108,14 +108,16 @@ impl BinnedView<'_> {
         simd: S,
         at: (u32, u32, u32),
     ) -> (F<S>, U<S>, [F<S>; 3]) {
-        self.bins.hits_lanes::<S, BVH>(simd, self.view, &self.tracer.accel, at)
+        let scene = &self.tracer.scene;
+        self.bins.hits_lanes::<S, BVH>(simd, (self.view, &scene.centers, &scene.radii), &self.tracer.accel, at)
     }
 
     /// [`ScreenBins::binned_lanes`] of a view searched through the bins: the hits the bins
     /// find, and the lanes a sliced view sends on through the BVH.
     #[inline(always)]
     pub(crate) fn binned_lanes<S: Simd>(&self, simd: S, at: (u32, u32, u32)) -> BinnedLanes<S> {
-        self.bins.binned_lanes::<S, false>(simd, self.view, at)
+        let scene = &self.tracer.scene;
+        self.bins.binned_lanes::<S, false>(simd, (self.view, &scene.centers, &scene.radii), at)
     }
 
     /// Pushes the pixels `mask` names of the group of [`lanes`] columns from `base` (a
