@@ -6,13 +6,14 @@
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
+use glam::Vec3;
+
 use crate::accel::{Aggregate, Origin};
 use crate::camera::Eye;
 use crate::ray::{spawn_bound, Ray};
 use crate::scene::{RenderSettings, Scene};
 use crate::snapshot::Snapshot;
 use crate::surface::Hit;
-use glam::Vec3;
 
 /// A scene at one instant, laid out for tracing. Build it once and [`Tracer::update`] it each
 /// frame: the buffers are reused, so a warm viewer does not allocate per frame.

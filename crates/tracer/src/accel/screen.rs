@@ -7,8 +7,9 @@
 //! sphere is background without a single sphere test; the others test just their tile's
 //! spheres, a vector of pixels at a time: the rays share the eye as origin, so each sphere's
 //! origin terms are computed once per frame (in a sliced view, kept in the tiles' lists
-//! beside its id, [`TileSphere`], so that a tile's spheres are read in a row, not gathered
-//! from a scene too large for the caches), and the rays fill the SIMD lanes. Secondary rays, which start anywhere, go through the BVH.
+//! beside its id, `screen/tile_sphere.rs`, so that a tile's spheres are read in a row, not
+//! gathered from a scene too large for the caches), and the rays fill the SIMD lanes.
+//! Secondary rays, which start anywhere, go through the BVH.
 //!
 //! Where each sphere can appear on screen, and why that bound never misses a hit the tests
 //! would report, is `screen/bound.rs`.
@@ -41,14 +42,16 @@ use rayon::prelude::*;
 mod bound;
 mod cut;
 mod held;
+mod tile_sphere;
 
 pub(crate) use bound::pixel_rect;
 use bound::{tile_rect, NO_RECT};
 pub(crate) use held::HeldRow;
+use tile_sphere::{test_sphere, TileSphere};
 
 use super::{Aggregate, EyeRays, Nearest, EYE_PACKET};
 use crate::camera::EyeView;
-use crate::simd::{each3, nearest_root, F, U};
+use crate::simd::{F, U};
 use crate::surface::NO_OBJECT;
 
 /// A group of lanes' first hits: per lane the hit parameter (+∞ for none), the sphere
@@ -130,35 +133,6 @@ pub(crate) struct ScreenBins {
     /// begins (+∞ when every sphere is binned): a hit nearer than it (with a margin) is the
     /// first, any other ray goes through the BVH.
     cut: f32,
-}
-
-/// A sphere as a sliced view's tile lists it: its terms seen from the eye, made once a frame
-/// by `spheres_t`'s own operations (so its `t` is bit for bit every other query's), and its
-/// id. A tile's lanes read its spheres in a row instead of gathering each from the scene's
-/// arrays: on a million spheres those gathers missed the cache (the first 1M field's frame
-/// took 8 % less). Six times the bytes of an id, so only a sliced view, whose bins hold at
-/// most a sphere a pixel, lists them; full bins list ids (2BTV's assembly, binned in full
-/// at its converged 4 × 4 samples a pixel, peaked 440 MB higher in the window with terms).
-#[derive(Clone, Copy, Debug, Default)]
-pub(crate) struct TileSphere {
-    /// The eye less the centre.
-    oc: [f32; 3],
-    /// The radius squared.
-    r2: f32,
-    /// |oc|² − r².
-    cc: f32,
-    id: u32,
-}
-
-impl TileSphere {
-    /// Sphere `id`, centre `c` and radius `r`, seen from the eye at `o`.
-    #[inline]
-    fn new(id: u32, o: Vec3, c: Vec3, r: f32) -> Self {
-        let oc = [o.x - c.x, o.y - c.y, o.z - c.z];
-        let r2 = r * r;
-        let cc = (oc[0] * oc[0] + oc[1] * oc[1] + oc[2] * oc[2]) - r2;
-        Self { oc, r2, cc, id }
-    }
 }
 
 /// A hit nearer than this share of the cut is nearer than any unbinned sphere can be hit,
@@ -359,7 +333,7 @@ impl ScreenBins {
         // Sliced: the lanes whose hit is not surely nearer than every unbinned sphere search
         // again, through the BVH, from the binned hit they have (a real sphere's: the nearer
         // of the two, of equal `t` the lower id, is the whole search's).
-        let open = if self.cut < f32::INFINITY {
+        let open = if self.is_sliced() {
             t_best.simd_ge(F::<S>::splat(simd, self.cut * CUT_MARGIN)).to_bitmask() as u32 & mask & every
         } else {
             0
@@ -381,18 +355,6 @@ impl ScreenBins {
     pub(crate) fn is_sliced(&self) -> bool {
         self.cut < f32::INFINITY
     }
-}
-
-/// One sphere's test against the lanes' rays from the eye along `d`: where it is hit nearer
-/// than `t` (no farther on a tie, which keeps the earlier, lower id), `t` and `ids` take it.
-#[inline(always)]
-fn test_sphere<S: Simd>(simd: S, s: TileSphere, d: [F<S>; 3], (t, ids): (&mut F<S>, &mut U<S>)) {
-    let oc = each3(|a| F::<S>::splat(simd, s.oc[a]));
-    let (r2, cc) = (F::<S>::splat(simd, s.r2), F::<S>::splat(simd, s.cc));
-    let root = nearest_root(simd, oc, d, r2, cc, *t);
-    let nearer = root.simd_lt(*t);
-    *t = nearer.select(root, *t);
-    *ids = nearer.select(U::<S>::splat(simd, s.id), *ids);
 }
 
 /// The counting sort's second pass: each sphere with a rectangle of `rects` placed in every
