@@ -32,24 +32,23 @@ fn cross<S: Simd>(simd: S, ring: &SweptRing, o: [F<S>; 3], d: [F<S>; 3], s_max: 
     let splat = |x: f32| F::<S>::splat(simd, x);
     let (zero, one) = (splat(0.0), splat(1.0));
     let s_max = s_max.min(splat(FAR));
+    // From the segment's point nearest the centre, as `SweptRing`'s scalar test does.
     let q = each3(|a| o[a] - splat3(simd, ring.center)[a]);
+    let (along, dd) = (-dot::<S>(q, d), dot::<S>(d, d));
+    let to_end = along.simd_ge(s_max * dd);
+    let foot = along / dd.simd_gt(zero).select(dd, one);
+    let s0 = along.simd_le(zero).select(zero, to_end.select(s_max, foot));
+    let q = each3(|a| q[a] + s0 * d[a]);
     // The ball that holds the washer.
-    let (along, dd, qq) = (-dot::<S>(q, d), dot::<S>(d, d), dot::<S>(q, q));
-    let end = each3(|a| q[a] + s_max * d[a]);
-    let ball2 = splat(ring.ball2());
-    let far = along.simd_le(zero).select(
-        qq.simd_gt(ball2),
-        along
-            .simd_ge(s_max * dd)
-            .select(dot::<S>(end, end).simd_gt(ball2), (qq * dd - along * along).simd_gt(ball2 * dd)),
-    );
+    let far = dot::<S>(q, q).simd_gt(splat(ring.ball2()));
     // The slab.
     let h = splat(ring.half_height);
     let flat = d[1].simd_eq(zero);
     let inv = one / flat.select(one, d[1]);
     let (a1, b1) = ((-h - q[1]) * inv, (h - q[1]) * inv);
-    let lo = flat.select(zero, zero.max(a1.min(b1)));
-    let hi = flat.select(s_max, s_max.min(a1.max(b1)));
+    let (lo, hi) = (-s0, s_max - s0);
+    let lo = flat.select(lo, lo.max(a1.min(b1)));
+    let hi = flat.select(hi, hi.min(a1.max(b1)));
     let in_slab = flat.select(q[1].abs().simd_le(h), lo.simd_le(hi));
     // The annulus: ρ²(s) = A·s² + 2B·s + K.
     let big_a = d[0] * d[0] + d[2] * d[2];
@@ -213,7 +212,7 @@ pub(super) fn mark<S: Simd>(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use fearless_simd::dispatch;
     use glam::Vec3;
 
@@ -225,6 +224,11 @@ mod tests {
         let (meets, full, fa, fb) = cross(simd, ring, splat3(simd, o), splat3(simd, d), F::<S>::splat(simd, s_max));
         (meets.to_bitmask() & 1 != 0)
             .then(|| SweptRing::arc_between(fa.as_slice()[0], fb.as_slice()[0], full.to_bitmask() & 1 != 0))
+    }
+
+    /// [`lane0`] at the machine's SIMD level.
+    pub(in crate::reuse) fn lane0_of(ring: &SweptRing, segment: (Vec3, Vec3, f32)) -> Option<super::super::Arc> {
+        dispatch!(crate::simd::level(), simd => lane0(simd, ring, segment))
     }
 
     /// The lanes say what the scalar `SweptRing::touch` says: the same segments meet the

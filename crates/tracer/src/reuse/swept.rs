@@ -161,24 +161,27 @@ impl SweptRing {
     /// [`SweptRing::meets`]).
     #[inline]
     fn crossing(&self, o: Vec3, d: Vec3, s_max: f32) -> Option<Crossing> {
+        // The segment is taken from its point nearest the centre: the origin, the end, or
+        // the foot of the perpendicular. From there every square below is of a length about
+        // the washer's size, not the camera's distance, so its rounding stays far under the
+        // margin (from the origin, ρ²'s terms cancel to worse than the washer itself).
         let q = o - self.center;
-        // First the cheap test most segments fail: their nearest point to the centre lies
-        // outside a ball that holds the washer.
-        // (Without a division: the nearest point is the origin, the end, or the foot of the
-        // perpendicular at distance² |q|² − (q·d)²/|d|².)
-        let (along, dd, qq) = (-q.dot(d), d.length_squared(), q.length_squared());
-        let far = if along <= 0.0 {
-            qq > self.ball2
+        let (along, dd) = (-q.dot(d), d.length_squared());
+        let s0 = if along <= 0.0 {
+            0.0
         } else if along >= s_max * dd {
-            (q + s_max * d).length_squared() > self.ball2
+            s_max
         } else {
-            qq * dd - along * along > self.ball2 * dd
+            along / dd
         };
-        if far {
+        let q = q + s0 * d;
+        // First the cheap test most segments fail: that point lies outside a ball that
+        // holds the washer.
+        if q.length_squared() > self.ball2 {
             return None;
         }
-        // The slab: the part of the segment between the planes y = ±half_height.
-        let (mut lo, mut hi) = (0.0f32, s_max);
+        // The slab: the part of the segment between the planes y = ±half_height, in s − s0.
+        let (mut lo, mut hi) = (-s0, s_max - s0);
         if d.y == 0.0 {
             if q.y.abs() > self.half_height {
                 return None;
@@ -210,8 +213,8 @@ impl SweptRing {
     }
 }
 
-/// A segment's part in a washer's slab: its origin from the ring's centre, its parameter
-/// range, and ρ²(s) = a·s² + 2b·s + k.
+/// A segment's part in a washer's slab: its point nearest the ring's centre, from that
+/// centre, as `q`; its parameter range from that point; and ρ²(s) = a·s² + 2b·s + k.
 #[derive(Clone, Copy, Debug)]
 struct Crossing {
     q: Vec3,
@@ -476,9 +479,29 @@ mod tests {
         assert!(!wedge.overlaps(far));
     }
 
+    /// A small orbit far from the segment's origin (CI's case, stop 46): measured from the
+    /// origin, ρ²'s terms are ~10⁴ and cancel to an error larger than the washer's ~10⁻³,
+    /// and the segment ending on the sphere was said to miss it.
+    #[test]
+    fn a_small_ring_far_away_is_met() {
+        let motion = orbit(Vec3::new(42.707_893, 28.971_373, -28.842_712), 0.014_969_059);
+        let r = 0.01;
+        let bound = SweptRing::of(0, r, &motion).unwrap();
+        let centre = motion.center_at(0.0);
+        let p = centre - Vec3::Z * r;
+        let o = Vec3::new(0.0, 0.0, 68.073_01);
+        let d = (p - o).normalize();
+        assert!(bound.meets(o, d, (p - o).length()), "the segment ending on the sphere");
+        assert!(bound.meets(o, p - o, f32::INFINITY), "the ray through it");
+        let wedge = bound.wedge(centre, r);
+        assert!(bound.touch(o, d, (p - o).length()).is_some_and(|t| t.overlaps(wedge)));
+        let lanes = crate::reuse::lanes::tests::lane0_of(&bound, (o, d, (p - o).length()));
+        assert!(lanes.is_some_and(|t| t.overlaps(wedge)), "the lanes: {lanes:?}");
+    }
+
     proptest! {
         /// Every position of the orbit is held, and every ray through a point of the moving
-        /// sphere, or ending on it, meets the bound.
+        /// sphere, or ending on it, meets the bound, in scalar code and in lanes.
         #[test]
         fn the_bound_holds_the_sphere_and_every_ray_to_it(
             c in prop::array::uniform3(-50.0f32..50.0),
@@ -504,6 +527,9 @@ mod tests {
             let touch = bound.touch(o, d, (p - o).length()).unwrap();
             prop_assert!(touch.overlaps(wedge), "{touch:?} misses {wedge:?}");
             prop_assert!(bound.touch(o, p - o, f32::INFINITY).unwrap().overlaps(wedge));
+            // The lanes of `lanes.rs` too.
+            let lanes = crate::reuse::lanes::tests::lane0_of(&bound, (o, d, (p - o).length()));
+            prop_assert!(lanes.is_some_and(|t| t.overlaps(wedge)), "the lanes: {lanes:?} against {wedge:?}");
             // Every point of the sphere is in the wedge.
             prop_assert!(Arc { start: bound.angle_of(p), len: 0 }.overlaps(wedge), "{p} outside {wedge:?}");
         }
